@@ -1,0 +1,72 @@
+// The one definition of every struct that C++ and GLSL share.
+//
+// Included by the host (C++20, glm) and by the compute shaders (GLSL 4.60, std430). Every struct
+// is built from 16-byte rows so std430 and C++ agree without padding rules; the C++ side
+// static_asserts every size and offset (host/bvh/gpu_layout.h).
+#ifndef HRPP_GPU_TYPES_H
+#define HRPP_GPU_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace hrpp::gpu {
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using uint = std::uint32_t;
+#endif
+
+// Aila–Laine 64-byte BVH node: the boxes of both children live in the parent, so one node fetch
+// gives everything the slab tests of a traversal step need.
+//   left_xy  = (left.lo.x,  left.hi.x,  left.lo.y,  left.hi.y)
+//   right_xy = (right.lo.x, right.hi.x, right.lo.y, right.hi.y)
+//   lr_z     = (left.lo.z,  left.hi.z,  right.lo.z, right.hi.z)
+//   link     = (left child, right child, parent node (-1 at the root), depth (root = 0))
+// A child reference >= 0 is an interior node index; < 0 is a leaf: leaf index = ~reference.
+struct BvhNode {
+  vec4 left_xy;
+  vec4 right_xy;
+  vec4 lr_z;
+  ivec4 link;
+};
+
+// A leaf: a run of triangle records. parent/depth serve HRPP's go-up level.
+struct BvhLeaf {
+  uint first_triangle;  // index into the triangle records
+  uint triangle_count;  // 0 only for the empty placeholder of a single-leaf tree
+  int parent;           // interior node holding this leaf
+  uint depth;           // depth of the leaf (root node = 0)
+};
+
+// World-space triangle in leaf order, laid out for the watertight test (Woop, Benthin, Wald
+// 2013): the vertices plus the triangle's id in the scene's flattened order.
+struct TriangleRecord {
+  vec3 v0;
+  uint prim;  // triangle id (DESIGN.md: flattened order)
+  vec3 v1;
+  uint pad0;
+  vec3 v2;
+  uint pad1;
+};
+
+// A ray as in the rays file (32 bytes): origin, tmin, direction, tmax.
+struct Ray {
+  vec3 origin;
+  float tmin;
+  vec3 dir;
+  float tmax;
+};
+
+// A hit as in the hits file (16 bytes). prim = -1: miss. u, v: barycentrics of v1 and v2.
+struct Hit {
+  int prim;
+  float t;
+  float u;
+  float v;
+};
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_GPU_TYPES_H
