@@ -1,0 +1,126 @@
+// hrpp scene [SCENE] [--json] [--dump-triangles FILE]: what a scene holds and the BVH built
+// over it.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "bvh/binned_sah_builder.h"
+#include "bvh/bvh_stats.h"
+#include "bvh/gpu_layout.h"
+#include "scene/load_scene.h"
+
+namespace hrpp::app {
+namespace {
+
+struct SceneOptions {
+  std::string scene = "builtin:cornell";
+  bool json = false;
+  std::string dump_triangles;
+  BvhConfig bvh;
+};
+
+nlohmann::json vec_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+const char* light_name(LightType t) {
+  switch (t) {
+    case LightType::kPoint: return "point";
+    case LightType::kSpot: return "spot";
+    case LightType::kDirectional: return "directional";
+    case LightType::kAreaQuad: return "area";
+    case LightType::kEnvironment: return "environment";
+  }
+  return "?";
+}
+
+void run_scene(const SceneOptions& o) {
+  const Scene scene = load_scene(o.scene);
+  if (!o.dump_triangles.empty()) write_triangle_dump(scene, o.dump_triangles);
+  const Bvh bvh = build_bvh(scene, o.bvh);
+  const BvhStats s = compute_bvh_stats(bvh, o.bvh);
+  const GpuBvh layout = make_gpu_layout(bvh, scene);
+
+  std::size_t textured = 0, emissive = 0;
+  for (const Material& m : scene.materials) {
+    textured += m.base_color_texture >= 0;
+    emissive += (m.emission.x > 0.0f || m.emission.y > 0.0f || m.emission.z > 0.0f);
+  }
+  nlohmann::json lights = nlohmann::json::object();
+  for (const Light& l : scene.lights) lights[light_name(l.type)] = lights.value(light_name(l.type), 0) + 1;
+
+  nlohmann::json j = {
+      {"scene", scene.name},
+      {"triangles", scene.triangles.size()},
+      {"degenerate_triangles", s.degenerate},
+      {"materials", scene.materials.size()},
+      {"textured_materials", textured},
+      {"emissive_materials", emissive},
+      {"textures", scene.textures.size()},
+      {"lights", lights},
+      {"cameras", scene.cameras.size()},
+      {"default_camera", scene.default_camera},
+      {"bounds", {{"lo", vec_json(layout.bounds.lo)}, {"hi", vec_json(layout.bounds.hi)}}},
+      {"bvh",
+       {{"bins", o.bvh.bin_count},
+        {"max_leaf_size_limit", o.bvh.max_leaf_size},
+        {"interior_nodes", s.interior_nodes},
+        {"leaves", s.leaves},
+        {"max_depth", s.max_depth},
+        {"mean_leaf_depth", s.mean_leaf_depth},
+        {"mean_leaf_size", s.mean_leaf_size},
+        {"max_leaf_size", s.max_leaf_size},
+        {"sah_cost", s.sah_cost},
+        {"build_ms", s.build_ms},
+        {"gpu_bytes", layout.bytes()}}},
+  };
+  if (o.json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::printf("scene       %s\n", scene.name.c_str());
+  std::printf("triangles   %zu (%u degenerate, kept out of the BVH)\n", scene.triangles.size(),
+              s.degenerate);
+  std::printf("materials   %zu (%zu textured, %zu emissive), textures %zu\n",
+              scene.materials.size(), textured, emissive, scene.textures.size());
+  std::printf("lights      %zu%s%s\n", scene.lights.size(), scene.lights.empty() ? "" : " ",
+              scene.lights.empty() ? "" : lights.dump().c_str());
+  std::printf("cameras     %zu%s\n", scene.cameras.size(),
+              scene.default_camera ? " (default, framing the bounds)" : "");
+  std::printf("bounds      (%g, %g, %g) .. (%g, %g, %g)\n", layout.bounds.lo.x,
+              layout.bounds.lo.y, layout.bounds.lo.z, layout.bounds.hi.x, layout.bounds.hi.y,
+              layout.bounds.hi.z);
+  std::printf("bvh         %u interior nodes, %u leaves, depth max %u mean %.2f\n",
+              s.interior_nodes, s.leaves, s.max_depth, s.mean_leaf_depth);
+  std::printf("            triangles/leaf mean %.2f max %u, SAH cost %.3f\n", s.mean_leaf_size,
+              s.max_leaf_size, s.sah_cost);
+  std::printf("            built in %.1f ms (%d bins, leaves <= %d), GPU layout %.2f MiB\n",
+              s.build_ms, o.bvh.bin_count, o.bvh.max_leaf_size,
+              static_cast<double>(layout.bytes()) / (1024.0 * 1024.0));
+}
+
+}  // namespace
+
+void add_scene_command(CLI::App& app) {
+  auto o = std::make_shared<SceneOptions>();
+  CLI::App* cmd = app.add_subcommand("scene", "Load a scene, build its BVH and print statistics");
+  cmd->add_option("scene", o->scene,
+                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
+                  "manifest in scenes/")
+      ->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print the statistics as JSON");
+  cmd->add_option("--dump-triangles", o->dump_triangles,
+                  "Write the triangles (9 float32 each, id order) to FILE");
+  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
+      ->capture_default_str();
+  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->bvh.threads, "BVH build threads (0: all)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([o] { run_scene(*o); });
+}
+
+}  // namespace hrpp::app

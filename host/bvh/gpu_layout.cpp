@@ -1,0 +1,91 @@
+#include "bvh/gpu_layout.h"
+
+#include <string>
+
+#include "common/error.h"
+
+namespace hrpp {
+namespace {
+
+class Flattener {
+ public:
+  Flattener(const Bvh& bvh, const Scene& scene, GpuBvh& out) : bvh_(bvh), scene_(scene), out_(out) {}
+
+  // Returns the child reference of base node `index` placed under `parent` at `depth`.
+  int place(std::uint32_t index, int parent, int depth) {
+    const Bvh::Node& n = bvh_.nodes[index];
+    if (n.is_leaf()) return leaf_ref(add_leaf(n.first, n.count, parent, depth));
+    if (depth + 1 >= HRPP_STACK_SIZE)
+      throw Error("BVH is deeper than the traversal stack (" + std::to_string(HRPP_STACK_SIZE) +
+                  " levels)");
+    const int self = static_cast<int>(out_.nodes.size());
+    out_.nodes.emplace_back();
+    const int left = place(n.first, self, depth + 1);
+    const int right = place(n.first + 1, self, depth + 1);
+    write_node(self, bvh_.nodes[n.first].bounds, bvh_.nodes[n.first + 1].bounds, left, right,
+               parent, depth);
+    return self;
+  }
+
+  // Root that is a single leaf (0 or 1 triangles): interior root, the leaf and an empty leaf.
+  void place_lone_leaf() {
+    const Bvh::Node& n = bvh_.nodes[0];
+    out_.nodes.emplace_back();
+    const int left = leaf_ref(add_leaf(n.first, n.count, 0, 1));
+    const int right = leaf_ref(add_leaf(0, 0, 0, 1));
+    write_node(0, n.bounds, n.bounds, left, right, -1, 0);
+  }
+
+ private:
+  int add_leaf(std::uint32_t first, std::uint32_t count, int parent, int depth) {
+    gpu::BvhLeaf leaf;
+    leaf.first_triangle = static_cast<gpu::uint>(out_.triangles.size());
+    leaf.triangle_count = count;
+    leaf.parent = parent;
+    leaf.depth = static_cast<gpu::uint>(depth);
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      const std::uint32_t id = bvh_.prim_ids[i];
+      const Triangle& t = scene_.triangles[id];
+      gpu::TriangleRecord r{};
+      r.v0 = t.v0;
+      r.v1 = t.v1;
+      r.v2 = t.v2;
+      r.prim = id;
+      out_.triangles.push_back(r);
+    }
+    out_.leaves.push_back(leaf);
+    return static_cast<int>(out_.leaves.size() - 1);
+  }
+
+  void write_node(int self, const Aabb& l, const Aabb& r, int left, int right, int parent,
+                  int depth) {
+    gpu::BvhNode& node = out_.nodes[self];
+    node.left_xy = {l.lo.x, l.hi.x, l.lo.y, l.hi.y};
+    node.right_xy = {r.lo.x, r.hi.x, r.lo.y, r.hi.y};
+    node.lr_z = {l.lo.z, l.hi.z, r.lo.z, r.hi.z};
+    node.link = {left, right, parent, depth};
+  }
+
+  const Bvh& bvh_;
+  const Scene& scene_;
+  GpuBvh& out_;
+};
+
+}  // namespace
+
+GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene) {
+  GpuBvh out;
+  if (bvh.nodes.empty()) throw Error("BVH has no nodes");
+  out.bounds = bvh.nodes[0].bounds;
+  out.nodes.reserve(bvh.nodes.size() / 2 + 1);
+  out.leaves.reserve(bvh.nodes.size() / 2 + 2);
+  out.triangles.reserve(bvh.prim_ids.size());
+  Flattener f(bvh, scene, out);
+  if (bvh.nodes[0].is_leaf() || bvh.nodes.size() == 1)
+    f.place_lone_leaf();
+  else
+    f.place(0, -1, 0);
+  return out;
+}
+
+}  // namespace hrpp

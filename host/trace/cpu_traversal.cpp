@@ -1,0 +1,81 @@
+#include "trace/cpu_traversal.h"
+
+#include "trace/slab_test.h"
+#include "trace/watertight.h"
+
+namespace hrpp {
+namespace {
+
+// Tests the leaf's triangles; returns true when `best` improved (any_only: on the first hit).
+bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, gpu::Hit& best,
+               float& tmax, bool any_only, TraversalCounters& c) {
+  ++c.leaves_visited;
+  bool found = false;
+  for (gpu::uint i = leaf.first_triangle; i < leaf.first_triangle + leaf.triangle_count; ++i) {
+    const gpu::TriangleRecord& tri = bvh.triangles[i];
+    ++c.triangles_tested;
+    TriangleHit h;
+    if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, &h)) continue;
+    const int prim = static_cast<int>(tri.prim);
+    if (best.prim >= 0 && h.t == best.t && prim > best.prim) continue;  // tie: lower id wins
+    best = {prim, h.t, h.u, h.v};
+    tmax = h.t;
+    found = true;
+    if (any_only) return true;
+  }
+  return found;
+}
+
+gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out) {
+  TraversalCounters c;
+  c.rays = 1;
+  gpu::Hit best = kMiss;
+  const RaySetup r = setup_ray(ray);
+  if (r.valid && !bvh.nodes.empty()) {
+    float tmax = ray.tmax;
+    int stack[HRPP_STACK_SIZE];
+    int sp = 0;
+    int node = 0;
+    while (true) {
+      if (is_leaf_ref(node)) {
+        if (test_leaf(bvh, r, bvh.leaves[leaf_index(node)], best, tmax, any_only, c) && any_only)
+          break;
+      } else {
+        ++c.interior_visited;
+        const gpu::BvhNode& n = bvh.nodes[node];
+        float t_left, t_right;
+        const bool hit_left = slab_test(r, {n.left_xy.x, n.left_xy.z, n.lr_z.x},
+                                        {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left);
+        const bool hit_right = slab_test(r, {n.right_xy.x, n.right_xy.z, n.lr_z.z},
+                                         {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right);
+        if (hit_left && hit_right) {
+          const bool right_first = t_right < t_left;
+          stack[sp++] = right_first ? n.link.x : n.link.y;
+          node = right_first ? n.link.y : n.link.x;
+          continue;
+        }
+        if (hit_left || hit_right) {
+          node = hit_left ? n.link.x : n.link.y;
+          continue;
+        }
+      }
+      if (sp == 0) break;
+      node = stack[--sp];
+    }
+  }
+  if (best.prim >= 0) ++c.hits;
+  if (out) *out += c;
+  return best;
+}
+
+}  // namespace
+
+gpu::Hit trace_closest(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters) {
+  return traverse(bvh, ray, false, counters);
+}
+
+bool trace_any(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters) {
+  return traverse(bvh, ray, true, counters).prim >= 0;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,156 @@
+// host/app/: the hrpp command line as a user meets it: help, statistics, the triangle dump, and
+// one-line errors with a non-zero exit for bad files and flags.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/load_scene.h"
+
+namespace hrpp {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+class Cli : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hrpp_cli_test_" + std::to_string(::getpid()) + "_" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& args) const {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(HRPP_BINARY) + " " + args + " >" + out.string() + " 2>" +
+                            err.string() + " </dev/null";
+    const int raw = std::system(cmd.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    r.out = read_file(out);
+    r.err = read_file(err);
+    return r;
+  }
+
+  fs::path write(const std::string& name, const std::string& content) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << content;
+    return p;
+  }
+
+  // A bad input must end in exactly one line on stderr, naming `needle`, and exit status 1.
+  void expect_one_line_error(const Result& r, const std::string& needle) const {
+    EXPECT_EQ(r.status, 1) << r.err;
+    ASSERT_FALSE(r.err.empty());
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.rfind("hrpp: error: ", 0), 0u) << r.err;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpListsTheSubcommandAndItsOptions) {
+  const Result top = run("--help");
+  EXPECT_EQ(top.status, 0);
+  EXPECT_NE(top.out.find("scene"), std::string::npos);
+  const Result sub = run("scene --help");
+  EXPECT_EQ(sub.status, 0);
+  for (const char* opt : {"--json", "--dump-triangles", "--bvh-bins", "--bvh-max-leaf"})
+    EXPECT_NE(sub.out.find(opt), std::string::npos) << opt;
+}
+
+TEST_F(Cli, SceneDefaultsToTheCornellBox) {
+  const Result r = run("scene");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("builtin:cornell"), std::string::npos);
+  EXPECT_NE(r.out.find("SAH cost"), std::string::npos);
+}
+
+TEST_F(Cli, SceneJsonHasSceneAndBvhStatistics) {
+  const Result r = run("scene builtin:cornell --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const Scene scene = builtin_cornell();
+  EXPECT_EQ(j.at("triangles").get<std::size_t>(), scene.triangles.size());
+  EXPECT_GT(j.at("bvh").at("sah_cost").get<double>(), 1.0);
+  EXPECT_GE(j.at("bvh").at("leaves").get<int>(), 2);
+  EXPECT_EQ(j.at("bvh").at("leaves").get<int>(), j.at("bvh").at("interior_nodes").get<int>() + 1);
+}
+
+TEST_F(Cli, TriangleDumpIsNineFloatsPerTriangleInIdOrder) {
+  const fs::path dump = dir_ / "tris.bin";
+  const Result r = run("scene builtin:cornell --dump-triangles " + dump.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Scene scene = builtin_cornell();
+  const std::string bytes = read_file(dump);
+  ASSERT_EQ(bytes.size(), scene.triangles.size() * 9 * sizeof(float));
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    float f[9];
+    std::memcpy(f, bytes.data() + i * sizeof(f), sizeof(f));
+    const Triangle& t = scene.triangles[i];
+    EXPECT_EQ(glm::vec3(f[0], f[1], f[2]), t.v0);
+    EXPECT_EQ(glm::vec3(f[3], f[4], f[5]), t.v1);
+    EXPECT_EQ(glm::vec3(f[6], f[7], f[8]), t.v2);
+  }
+}
+
+TEST_F(Cli, MissingSceneFileIsAOneLineError) {
+  expect_one_line_error(run("scene " + (dir_ / "nope.glb").string()), "nope.glb");
+}
+
+TEST_F(Cli, TruncatedGlbIsAOneLineError) {
+  const std::string glb = read_file(fs::path(HRPP_TEST_SCENES_DIR) / "meshes/utah_teapot.glb");
+  ASSERT_GT(glb.size(), 200u);
+  const fs::path p = write("cut.glb", glb.substr(0, glb.size() / 2));
+  expect_one_line_error(run("scene " + p.string()), "cut.glb");
+}
+
+TEST_F(Cli, BadManifestJsonIsAOneLineError) {
+  const fs::path p = write("bad.scene.json", "{ \"objects\": [ { \"gltf\": ");
+  expect_one_line_error(run("scene " + p.string()), "bad.scene.json");
+}
+
+TEST_F(Cli, UnknownBuiltinIsAOneLineError) {
+  expect_one_line_error(run("scene builtin:nothing"), "builtin:nothing");
+}
+
+TEST_F(Cli, BadBvhSettingsAreOneLineErrors) {
+  expect_one_line_error(run("scene --bvh-bins 1"), "--bvh-bins");
+  expect_one_line_error(run("scene --bvh-max-leaf 0"), "--bvh-max-leaf");
+}
+
+TEST_F(Cli, UnwritableDumpPathIsAOneLineError) {
+  expect_one_line_error(run("scene --dump-triangles " + (dir_ / "no/such/dir/t.bin").string()),
+                        "t.bin");
+}
+
+TEST_F(Cli, UnknownOptionsFailWithoutACrash) {
+  const Result r = run("scene --no-such-flag");
+  EXPECT_NE(r.status, 0);
+  EXPECT_LT(r.status, 128) << "crashed";
+  EXPECT_NE(r.err.find("--no-such-flag"), std::string::npos) << r.err;
+  EXPECT_NE(run("frobnicate").status, 0);
+}
+
+}  // namespace
+}  // namespace hrpp

@@ -1,0 +1,33 @@
+// Scenes the BVH and traversal suites run on: the built-in Cornell box and the committed meshes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "scene/load_scene.h"
+
+namespace hrpp::test {
+
+inline std::vector<std::string> reference_scene_names() {
+  return {"builtin:cornell", "meshes/cornell_box.glb", "meshes/utah_teapot.glb",
+          "meshes/mcguire_bunny.glb"};
+}
+
+// Loads a name from reference_scene_names(); mesh paths are relative to the source scenes/.
+inline Scene load_test_scene(const std::string& name) {
+  if (name.rfind("builtin:", 0) == 0) return load_scene(name);
+  return load_scene((std::filesystem::path(HRPP_TEST_SCENES_DIR) / name).string());
+}
+
+// Test-name-safe form of a scene name for INSTANTIATE_TEST_SUITE_P.
+inline std::string scene_param_name(const testing::TestParamInfo<std::string>& info) {
+  std::string s = std::filesystem::path(info.param).stem().string();
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+}  // namespace hrpp::test
