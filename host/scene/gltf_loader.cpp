@@ -1,0 +1,732 @@
+// glTF 2.0 loader (.gltf / .glb) on top of tinygltf. tinygltf parses the JSON and the buffers; this
+// file validates everything it reads itself (indices, byte ranges, component types, node graph,
+// finite positions) and flattens the default scene into world-space triangles in the id order of
+// DESIGN.md: root nodes in listed order, each node depth-first (its own mesh, then its children),
+// primitives in order, triangles in index order.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <tiny_gltf.h>
+
+#include "common/error.h"
+#include "scene/load_scene.h"
+
+namespace hrpp {
+namespace {
+
+// tinygltf messages are multi-line; errors are one line.
+std::string one_line(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    if (c == ' ' && (out.empty() || out.back() == ' ')) continue;
+    out.push_back(c);
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+// Image loader hook: decode nothing while tinygltf parses. Images referenced by URI keep their
+// raw bytes (as_is); images in buffer views are decoded later from a range validated here (tinygltf
+// does not check that range). Only images actually used as base colour textures get decoded.
+bool defer_image(tinygltf::Image* image, const int /*image_idx*/, std::string* /*err*/,
+                 std::string* /*warn*/, int /*req_width*/, int /*req_height*/,
+                 const unsigned char* bytes, int size, void* /*user_data*/) {
+  if (image->bufferView < 0 && bytes != nullptr && size > 0) {
+    image->image.assign(bytes, bytes + size);
+    image->as_is = true;
+  }
+  return true;
+}
+
+const char* mode_name(int mode) {
+  switch (mode) {
+    case TINYGLTF_MODE_POINTS: return "POINTS";
+    case TINYGLTF_MODE_LINE: return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
+    case TINYGLTF_MODE_TRIANGLE_STRIP: return "TRIANGLE_STRIP";
+    case TINYGLTF_MODE_TRIANGLE_FAN: return "TRIANGLE_FAN";
+    default: return "unknown";
+  }
+}
+
+int component_size(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+const char* component_name(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+    default: return "invalid";
+  }
+}
+
+int type_components(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT2: return 4;
+    case TINYGLTF_TYPE_MAT3: return 9;
+    case TINYGLTF_TYPE_MAT4: return 16;
+    default: return 0;
+  }
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    case TINYGLTF_TYPE_VEC4: return "VEC4";
+    case TINYGLTF_TYPE_MAT2: return "MAT2";
+    case TINYGLTF_TYPE_MAT3: return "MAT3";
+    case TINYGLTF_TYPE_MAT4: return "MAT4";
+    default: return "invalid";
+  }
+}
+
+// A validated accessor: every element lies inside its buffer.
+struct View {
+  const std::uint8_t* base = nullptr;
+  std::size_t stride = 0;
+  std::size_t count = 0;
+  int component_type = 0;
+  int components = 0;
+  bool normalized = false;
+
+  template <typename T>
+  T load(std::size_t element, int component) const {
+    T v;
+    std::memcpy(&v, base + element * stride + component * sizeof(T), sizeof(T));
+    return v;
+  }
+  // Float value of a float or (normalised) unsigned integer component.
+  float read_float(std::size_t element, int component) const {
+    switch (component_type) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(element, component);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return static_cast<float>(load<std::uint8_t>(element, component)) / 255.0f;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return static_cast<float>(load<std::uint16_t>(element, component)) / 65535.0f;
+      default: return 0.0f;
+    }
+  }
+  std::uint32_t read_index(std::size_t element) const {
+    switch (component_type) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load<std::uint8_t>(element, 0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load<std::uint16_t>(element, 0);
+      default: return load<std::uint32_t>(element, 0);
+    }
+  }
+};
+
+glm::dmat4 node_local_matrix(const tinygltf::Node& node) {
+  if (!node.matrix.empty()) return glm::make_mat4(node.matrix.data());  // column-major
+  glm::dmat4 m(1.0);
+  if (!node.translation.empty()) {
+    m[3] = glm::dvec4(node.translation[0], node.translation[1], node.translation[2], 1.0);
+  }
+  if (!node.rotation.empty()) {
+    // glTF stores quaternions as x, y, z, w; glm's constructor takes w first.
+    const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    m = m * glm::mat4_cast(glm::normalize(q));
+  }
+  if (!node.scale.empty()) {
+    m = m * glm::dmat4(glm::dvec4(node.scale[0], 0, 0, 0), glm::dvec4(0, node.scale[1], 0, 0),
+                       glm::dvec4(0, 0, node.scale[2], 0), glm::dvec4(0, 0, 0, 1));
+  }
+  return m;
+}
+
+glm::vec3 to_vec3(const std::vector<double>& v, glm::vec3 fallback) {
+  if (v.size() < 3) return fallback;
+  return glm::vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+}
+
+class GltfLoader {
+ public:
+  GltfLoader(const tinygltf::Model& model, std::string file, Scene& scene)
+      : m_(model), file_(std::move(file)), scene_(scene) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(one_line(file_ + ": " + what));
+  }
+
+  void load() {
+    if (m_.scenes.empty()) fail("glTF has no scene");
+    int scene_index = m_.defaultScene;
+    if (scene_index < 0) scene_index = 0;
+    if (static_cast<std::size_t>(scene_index) >= m_.scenes.size()) {
+      fail("default scene " + std::to_string(scene_index) + " does not exist");
+    }
+    convert_materials();
+    texture_of_image_.assign(m_.images.size(), -1);
+    state_.assign(m_.nodes.size(), 0);
+    for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
+  }
+
+ private:
+  // ---- materials -----------------------------------------------------------------------------
+  static double ext_number(const tinygltf::ExtensionMap& ext, const char* name, const char* key,
+                           double fallback) {
+    auto it = ext.find(name);
+    if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return fallback;
+    const tinygltf::Value& v = it->second.Get(key);
+    return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+  }
+
+  void convert_materials() {
+    for (std::size_t i = 0; i < m_.materials.size(); ++i) {
+      const tinygltf::Material& gm = m_.materials[i];
+      const auto& pbr = gm.pbrMetallicRoughness;
+      Material mat;
+      mat.name = gm.name.empty() ? "material " + std::to_string(i) : gm.name;
+      mat.base_color = to_vec3(pbr.baseColorFactor, glm::vec3(1.0f));
+      mat.metallic = static_cast<float>(pbr.metallicFactor);
+      mat.roughness = static_cast<float>(pbr.roughnessFactor);
+      const double strength =
+          ext_number(gm.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+      mat.emission = to_vec3(gm.emissiveFactor, glm::vec3(0.0f)) * static_cast<float>(strength);
+      mat.ior = static_cast<float>(ext_number(gm.extensions, "KHR_materials_ior", "ior", 1.5));
+      mat.transmission = static_cast<float>(
+          ext_number(gm.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
+      const glm::vec3 checks[] = {mat.base_color, mat.emission,
+                                  glm::vec3(mat.metallic, mat.roughness, mat.ior),
+                                  glm::vec3(mat.transmission)};
+      for (const glm::vec3& c : checks) {
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
+          fail("material " + std::to_string(i) + " has a non-finite factor");
+        }
+      }
+      scene_.materials.push_back(std::move(mat));
+      // Texture decoding is deferred until first use (see walk), but resolved here for errors.
+      base_texture_.push_back(pbr.baseColorTexture.index);
+    }
+  }
+
+  int texture_for(int material_index) {
+    const int tex = base_texture_[material_index];
+    if (tex < 0) return -1;
+    const std::string where = "material " + std::to_string(material_index) + " baseColorTexture";
+    if (static_cast<std::size_t>(tex) >= m_.textures.size()) {
+      fail(where + ": texture " + std::to_string(tex) + " does not exist");
+    }
+    const int img = m_.textures[tex].source;
+    if (img < 0) return -1;  // e.g. only an extension source (KTX2, WebP): not supported, untextured
+    if (static_cast<std::size_t>(img) >= m_.images.size()) {
+      fail("texture " + std::to_string(tex) + ": image " + std::to_string(img) +
+           " does not exist");
+    }
+    if (texture_of_image_[img] >= 0) return texture_of_image_[img];
+    texture_of_image_[img] = decode_image(img);
+    return texture_of_image_[img];
+  }
+
+  int decode_image(int img) {
+    const tinygltf::Image& gi = m_.images[img];
+    const std::uint8_t* bytes = nullptr;
+    std::size_t size = 0;
+    if (gi.bufferView >= 0) {
+      const std::string where = "image " + std::to_string(img);
+      if (static_cast<std::size_t>(gi.bufferView) >= m_.bufferViews.size()) {
+        fail(where + ": bufferView " + std::to_string(gi.bufferView) + " does not exist");
+      }
+      const tinygltf::BufferView& bv = m_.bufferViews[gi.bufferView];
+      const std::vector<unsigned char>& buf = buffer_of(bv, gi.bufferView);
+      bytes = buf.data() + bv.byteOffset;
+      size = bv.byteLength;
+    } else if (gi.as_is) {
+      bytes = gi.image.data();
+      size = gi.image.size();
+    } else {
+      fail("image " + std::to_string(img) + " has no data");
+    }
+    if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+      fail("image " + std::to_string(img) + " has an invalid size");
+    }
+    tinygltf::Image decoded;
+    decoded.name = gi.name;
+    std::string err, warn;
+    if (!tinygltf::LoadImageData(&decoded, img, &err, &warn, 0, 0, bytes, static_cast<int>(size),
+                                 nullptr)) {
+      fail("image " + std::to_string(img) + ": " + err);
+    }
+    Texture tex;
+    tex.name = gi.name.empty() ? (gi.uri.empty() ? "image " + std::to_string(img) : gi.uri)
+                               : gi.name;
+    tex.width = decoded.width;
+    tex.height = decoded.height;
+    const std::size_t texels = static_cast<std::size_t>(tex.width) * tex.height;
+    if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) ||
+        decoded.image.size() < texels * 4 * (decoded.bits / 8)) {
+      fail("image " + std::to_string(img) + ": unexpected decoded format");
+    }
+    if (decoded.bits == 8) {
+      tex.rgba.assign(decoded.image.begin(), decoded.image.begin() + texels * 4);
+    } else {  // 16-bit channels in host order: keep the high byte
+      tex.rgba.resize(texels * 4);
+      for (std::size_t i = 0; i < texels * 4; ++i) {
+        std::uint16_t v;
+        std::memcpy(&v, decoded.image.data() + 2 * i, 2);
+        tex.rgba[i] = static_cast<std::uint8_t>(v >> 8);
+      }
+    }
+    scene_.textures.push_back(std::move(tex));
+    return static_cast<int>(scene_.textures.size() - 1);
+  }
+
+  std::uint32_t material_for(int index, int mesh, int prim) {
+    if (index < 0) {
+      if (default_material_ < 0) {
+        Material def;
+        def.name = "default";
+        scene_.materials.push_back(def);
+        default_material_ = static_cast<int>(scene_.materials.size() - 1);
+      }
+      return static_cast<std::uint32_t>(default_material_);
+    }
+    if (static_cast<std::size_t>(index) >= m_.materials.size()) {
+      fail("mesh " + std::to_string(mesh) + " primitive " + std::to_string(prim) +
+           ": material " + std::to_string(index) + " does not exist");
+    }
+    if (!texture_resolved_.count(index)) {
+      texture_resolved_.insert(index);
+      scene_.materials[index].base_color_texture = texture_for(index);
+    }
+    return static_cast<std::uint32_t>(index);
+  }
+
+  // ---- buffers and accessors -----------------------------------------------------------------
+  const std::vector<unsigned char>& buffer_of(const tinygltf::BufferView& bv, int bv_index) const {
+    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
+      fail("bufferView " + std::to_string(bv_index) + ": buffer " + std::to_string(bv.buffer) +
+           " does not exist");
+    }
+    const std::vector<unsigned char>& data = m_.buffers[bv.buffer].data;
+    std::size_t end = 0;
+    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &end) || end > data.size()) {
+      fail("bufferView " + std::to_string(bv_index) + " lies past the end of buffer " +
+           std::to_string(bv.buffer));
+    }
+    return data;
+  }
+
+  View view(int index, const std::string& use) const {
+    const std::string where = "accessor " + std::to_string(index) + " (" + use + ")";
+    if (index < 0 || static_cast<std::size_t>(index) >= m_.accessors.size()) {
+      fail(use + ": accessor " + std::to_string(index) + " does not exist");
+    }
+    const tinygltf::Accessor& acc = m_.accessors[index];
+    if (acc.sparse.isSparse) fail(where + ": sparse accessors are not supported");
+    View v;
+    v.count = acc.count;
+    v.component_type = acc.componentType;
+    v.components = type_components(acc.type);
+    v.normalized = acc.normalized;
+    const int csize = component_size(acc.componentType);
+    if (csize == 0) fail(where + ": invalid componentType " + std::to_string(acc.componentType));
+    if (v.components == 0) fail(where + ": invalid type");
+    if (acc.bufferView < 0 || static_cast<std::size_t>(acc.bufferView) >= m_.bufferViews.size()) {
+      fail(where + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
+    }
+    const tinygltf::BufferView& bv = m_.bufferViews[acc.bufferView];
+    const std::size_t element = static_cast<std::size_t>(csize) * v.components;
+    v.stride = bv.byteStride != 0 ? bv.byteStride : element;
+    if (v.stride < element) {
+      fail(where + ": byteStride " + std::to_string(bv.byteStride) +
+           " is smaller than the element size " + std::to_string(element));
+    }
+    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
+      fail("bufferView " + std::to_string(acc.bufferView) + ": buffer " +
+           std::to_string(bv.buffer) + " does not exist");
+    }
+    const std::size_t buffer_size = m_.buffers[bv.buffer].data.size();
+    if (v.count == 0) {
+      v.base = m_.buffers[bv.buffer].data.data();
+      return v;
+    }
+    // Bytes the accessor reads, relative to the view: byteOffset + stride*(count-1) + element.
+    std::size_t span = 0, in_view_end = 0, abs_end = 0;
+    bool overflow = __builtin_mul_overflow(v.stride, v.count - 1, &span) ||
+                    __builtin_add_overflow(span, element, &span) ||
+                    __builtin_add_overflow(span, acc.byteOffset, &in_view_end) ||
+                    __builtin_add_overflow(in_view_end, bv.byteOffset, &abs_end);
+    if (overflow || abs_end > buffer_size) {
+      fail("accessor " + std::to_string(index) + " reads past the end of buffer " +
+           std::to_string(bv.buffer));
+    }
+    std::size_t view_end = 0;
+    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) ||
+        view_end > buffer_size) {
+      fail("bufferView " + std::to_string(acc.bufferView) + " lies past the end of buffer " +
+           std::to_string(bv.buffer));
+    }
+    if (in_view_end > bv.byteLength) {
+      fail("accessor " + std::to_string(index) + " reads past the end of bufferView " +
+           std::to_string(acc.bufferView));
+    }
+    v.base = m_.buffers[bv.buffer].data.data() + bv.byteOffset + acc.byteOffset;
+    return v;
+  }
+
+  // ---- node graph ----------------------------------------------------------------------------
+  // Iterative depth-first walk (deep hierarchies must not overflow the call stack); state_ marks
+  // nodes on the current path so that cycles are detected.
+  void walk(int root, const glm::dmat4& parent) {
+    struct Frame {
+      int node;
+      glm::dmat4 world;
+      std::size_t next_child;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int node, const glm::dmat4& parent_world, const std::string& from) {
+      if (node < 0 || static_cast<std::size_t>(node) >= m_.nodes.size()) {
+        fail(from + ": node " + std::to_string(node) + " does not exist");
+      }
+      if (state_[node] == 1) fail("node graph has a cycle through node " + std::to_string(node));
+      const tinygltf::Node& n = m_.nodes[node];
+      check_transform(n, node);
+      const glm::dmat4 world = parent_world * node_local_matrix(n);
+      state_[node] = 1;
+      emit_node(n, node, world);
+      stack.push_back(Frame{node, world, 0});
+    };
+    enter(root, parent, "scene");
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const tinygltf::Node& n = m_.nodes[f.node];
+      if (f.next_child < n.children.size()) {
+        const int child = n.children[f.next_child++];
+        const glm::dmat4 world = f.world;  // f may dangle after push_back
+        enter(child, world, "node " + std::to_string(f.node));
+      } else {
+        state_[f.node] = 0;
+        stack.pop_back();
+      }
+    }
+  }
+
+  void check_transform(const tinygltf::Node& n, int index) const {
+    const std::string where = "node " + std::to_string(index);
+    auto check = [&](const std::vector<double>& v, std::size_t want, const char* name) {
+      if (!v.empty() && v.size() != want) {
+        fail(where + ": " + name + " has " + std::to_string(v.size()) + " numbers, expected " +
+             std::to_string(want));
+      }
+      for (double d : v) {
+        if (!std::isfinite(d)) fail(where + ": " + name + " is not finite");
+      }
+    };
+    check(n.matrix, 16, "matrix");
+    check(n.translation, 3, "translation");
+    check(n.rotation, 4, "rotation");
+    check(n.scale, 3, "scale");
+  }
+
+  void emit_node(const tinygltf::Node& n, int index, const glm::dmat4& world) {
+    if (n.mesh >= 0) {
+      if (static_cast<std::size_t>(n.mesh) >= m_.meshes.size()) {
+        fail("node " + std::to_string(index) + ": mesh " + std::to_string(n.mesh) +
+             " does not exist");
+      }
+      emit_mesh(n.mesh, world);
+    } else if (n.mesh < -1) {
+      fail("node " + std::to_string(index) + ": mesh " + std::to_string(n.mesh) +
+           " does not exist");
+    }
+    if (n.camera >= 0) emit_camera(n, index, world);
+    auto lit = n.extensions.find("KHR_lights_punctual");
+    if (lit != n.extensions.end() && lit->second.IsObject() && lit->second.Has("light")) {
+      const tinygltf::Value& l = lit->second.Get("light");
+      if (!l.IsNumber()) fail("node " + std::to_string(index) + ": light index is not a number");
+      emit_light(l.GetNumberAsInt(), index, world);
+    }
+  }
+
+  void emit_camera(const tinygltf::Node& n, int index, const glm::dmat4& world) {
+    if (static_cast<std::size_t>(n.camera) >= m_.cameras.size()) {
+      fail("node " + std::to_string(index) + ": camera " + std::to_string(n.camera) +
+           " does not exist");
+    }
+    const tinygltf::Camera& gc = m_.cameras[n.camera];
+    if (gc.type != "perspective") return;  // orthographic cameras are not supported: skipped
+    Camera cam;
+    cam.name = !gc.name.empty() ? gc.name : (!n.name.empty() ? n.name : "camera " +
+                                                                           std::to_string(n.camera));
+    const glm::dmat3 r(world);
+    cam.position = glm::vec3(world[3]);
+    glm::dvec3 fwd = r * glm::dvec3(0, 0, -1);
+    glm::dvec3 up = r * glm::dvec3(0, 1, 0);
+    if (!(glm::length(fwd) > 0.0)) fail("camera node " + std::to_string(index) + " is degenerate");
+    fwd = glm::normalize(fwd);
+    up = up - glm::dot(up, fwd) * fwd;
+    if (!(glm::length(up) > 0.0)) fail("camera node " + std::to_string(index) + " is degenerate");
+    cam.forward = glm::vec3(fwd);
+    cam.up = glm::vec3(glm::normalize(up));
+    cam.yfov = static_cast<float>(gc.perspective.yfov);
+    cam.aspect = static_cast<float>(gc.perspective.aspectRatio);
+    if (!(cam.yfov > 0.0f && cam.yfov < 3.14159f)) {
+      fail("camera " + std::to_string(n.camera) + ": yfov " + std::to_string(cam.yfov) +
+           " is out of range");
+    }
+    if (!(cam.aspect >= 0.0f) || !std::isfinite(cam.aspect)) {
+      fail("camera " + std::to_string(n.camera) + ": invalid aspectRatio");
+    }
+    scene_.cameras.push_back(cam);
+  }
+
+  void emit_light(int light, int index, const glm::dmat4& world) {
+    if (light < 0 || static_cast<std::size_t>(light) >= m_.lights.size()) {
+      fail("node " + std::to_string(index) + ": KHR_lights_punctual light " +
+           std::to_string(light) + " does not exist");
+    }
+    const tinygltf::Light& gl = m_.lights[light];
+    Light out;
+    if (gl.type == "point") {
+      out.type = LightType::kPoint;
+    } else if (gl.type == "spot") {
+      out.type = LightType::kSpot;
+    } else if (gl.type == "directional") {
+      out.type = LightType::kDirectional;
+    } else {
+      fail("light " + std::to_string(light) + ": unknown type \"" + gl.type + "\"");
+    }
+    out.color = to_vec3(gl.color, glm::vec3(1.0f)) * static_cast<float>(gl.intensity);
+    out.position = glm::vec3(world[3]);
+    glm::dvec3 dir = glm::dmat3(world) * glm::dvec3(0, 0, -1);
+    if (glm::length(dir) > 0.0) dir = glm::normalize(dir);
+    out.direction = glm::vec3(dir);
+    out.inner_cone = static_cast<float>(gl.spot.innerConeAngle);
+    out.outer_cone = static_cast<float>(gl.spot.outerConeAngle);
+    out.range = static_cast<float>(gl.range);
+    if (!std::isfinite(out.color.x + out.color.y + out.color.z) || !(out.range >= 0.0f)) {
+      fail("light " + std::to_string(light) + " has invalid values");
+    }
+    scene_.lights.push_back(out);
+  }
+
+  // ---- geometry ------------------------------------------------------------------------------
+  void emit_mesh(int mesh_index, const glm::dmat4& world) {
+    const tinygltf::Mesh& mesh = m_.meshes[mesh_index];
+    const glm::dmat3 linear(world);
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = mesh.primitives[p];
+      const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " +
+                                std::to_string(p);
+      const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES) {
+        fail(where + ": mode " + std::to_string(mode) + " (" + mode_name(mode) +
+             ") is not supported, only TRIANGLES (4)");
+      }
+      auto pos_it = prim.attributes.find("POSITION");
+      if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
+      const View pos = view(pos_it->second, "POSITION");
+      if (pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || pos.components != 3 ||
+          m_.accessors[pos_it->second].type != TINYGLTF_TYPE_VEC3) {
+        fail("accessor " + std::to_string(pos_it->second) + " (POSITION) is " +
+             component_name(pos.component_type) + " " +
+             type_name(m_.accessors[pos_it->second].type) + ", expected FLOAT VEC3");
+      }
+      View nrm;
+      bool has_normals = false;
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+        nrm = view(it->second, "NORMAL");
+        if (nrm.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            m_.accessors[it->second].type != TINYGLTF_TYPE_VEC3) {
+          fail("accessor " + std::to_string(it->second) + " (NORMAL) is " +
+               component_name(nrm.component_type) + " " +
+               type_name(m_.accessors[it->second].type) + ", expected FLOAT VEC3");
+        }
+        if (nrm.count != pos.count) {
+          fail("accessor " + std::to_string(it->second) + " (NORMAL) has " +
+               std::to_string(nrm.count) + " elements, POSITION has " +
+               std::to_string(pos.count));
+        }
+        has_normals = true;
+      }
+      View tc;
+      bool has_uv = false;
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+        tc = view(it->second, "TEXCOORD_0");
+        const bool ok_type = m_.accessors[it->second].type == TINYGLTF_TYPE_VEC2;
+        const bool ok_comp =
+            tc.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            (tc.normalized && (tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                               tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+        if (!ok_type || !ok_comp) {
+          fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) is " +
+               (tc.normalized ? "normalized " : "") + component_name(tc.component_type) + " " +
+               type_name(m_.accessors[it->second].type) +
+               ", expected FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC2");
+        }
+        if (tc.count != pos.count) {
+          fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) has " +
+               std::to_string(tc.count) + " elements, POSITION has " +
+               std::to_string(pos.count));
+        }
+        has_uv = true;
+      }
+
+      // Transform every vertex once.
+      const std::size_t nv = pos.count;
+      std::vector<glm::vec3> wp(nv), wn(has_normals ? nv : 0);
+      std::vector<glm::vec2> uv(has_uv ? nv : 0);
+      for (std::size_t i = 0; i < nv; ++i) {
+        const glm::dvec3 v(pos.load<float>(i, 0), pos.load<float>(i, 1), pos.load<float>(i, 2));
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+          fail("accessor " + std::to_string(pos_it->second) +
+               " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
+        }
+        wp[i] = glm::vec3(world * glm::dvec4(v, 1.0));
+      }
+      if (has_normals) {
+        for (std::size_t i = 0; i < nv; ++i) {
+          glm::dvec3 n(nrm.load<float>(i, 0), nrm.load<float>(i, 1), nrm.load<float>(i, 2));
+          n = normal_matrix * n;
+          const double len = glm::length(n);
+          wn[i] = (len > 0.0 && std::isfinite(len)) ? glm::vec3(n / len) : glm::vec3(0.0f);
+        }
+      }
+      if (has_uv) {
+        for (std::size_t i = 0; i < nv; ++i) uv[i] = glm::vec2(tc.read_float(i, 0), tc.read_float(i, 1));
+      }
+
+      std::size_t n_indices = nv;
+      View idx;
+      const bool indexed = prim.indices >= 0;
+      if (indexed) {
+        idx = view(prim.indices, "indices");
+        if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
+            (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+             idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+             idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+          fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
+               component_name(idx.component_type) + " " +
+               type_name(m_.accessors[prim.indices].type) +
+               ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
+        }
+        n_indices = idx.count;
+      } else if (prim.indices < -1) {
+        fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
+      }
+      if (n_indices % 3 != 0) {
+        fail(where + ": " + (indexed ? "index" : "vertex") + " count " +
+             std::to_string(n_indices) + " is not a multiple of 3");
+      }
+      const std::uint32_t material = material_for(prim.material, mesh_index, static_cast<int>(p));
+
+      const std::size_t nt = n_indices / 3;
+      scene_.triangles.reserve(scene_.triangles.size() + nt);
+      scene_.shading.reserve(scene_.shading.size() + nt);
+      for (std::size_t t = 0; t < nt; ++t) {
+        std::uint32_t k[3];
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t e = 3 * t + c;
+          k[c] = indexed ? idx.read_index(e) : static_cast<std::uint32_t>(e);
+          if (k[c] >= nv) {
+            fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
+                 std::to_string(k[c]) + " at element " + std::to_string(e) +
+                 " is out of range (vertex count " + std::to_string(nv) + ")");
+          }
+        }
+        scene_.triangles.push_back(Triangle{wp[k[0]], wp[k[1]], wp[k[2]]});
+        TriangleShading s;
+        if (has_normals) {
+          s.n0 = wn[k[0]];
+          s.n1 = wn[k[1]];
+          s.n2 = wn[k[2]];
+        }
+        if (has_uv) {
+          s.uv0 = uv[k[0]];
+          s.uv1 = uv[k[1]];
+          s.uv2 = uv[k[2]];
+        }
+        s.material = material;
+        scene_.shading.push_back(s);
+      }
+    }
+  }
+
+  const tinygltf::Model& m_;
+  std::string file_;
+  Scene& scene_;
+  std::vector<int> base_texture_;       // per glTF material: baseColorTexture.index
+  std::vector<int> texture_of_image_;   // glTF image -> Scene::textures index, -1: not decoded
+  std::set<int> texture_resolved_;
+  std::vector<std::uint8_t> state_;     // per node: 1 while on the current path
+  int default_material_ = -1;
+};
+
+}  // namespace
+
+Scene load_gltf(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw Error(name + ": no such file");
+  if (std::filesystem::is_directory(file, ec)) throw Error(name + ": is a directory");
+
+  tinygltf::TinyGLTF gltf;
+  gltf.SetImageLoader(defer_image, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  bool binary = ext == ".glb";
+  if (ext != ".glb" && ext != ".gltf") {
+    // Unknown extension: sniff the GLB magic.
+    std::FILE* f = std::fopen(name.c_str(), "rb");
+    char magic[4] = {};
+    if (f != nullptr) {
+      binary = std::fread(magic, 1, 4, f) == 4 && std::memcmp(magic, "glTF", 4) == 0;
+      std::fclose(f);
+    }
+  }
+  const bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, name)
+                         : gltf.LoadASCIIFromFile(&model, &err, &warn, name);
+  if (!ok) {
+    if (err.empty()) err = "cannot be parsed as glTF";
+    throw Error(one_line(name + ": " + err));
+  }
+  Scene scene;
+  scene.name = file.filename().string();
+  GltfLoader(model, name, scene).load();
+  return scene;
+}
+
+}  // namespace hrpp
