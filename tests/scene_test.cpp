@@ -245,6 +245,33 @@ TEST_F(SceneTest, BaseColourFactorAndTexture) {
   expect_near(mat[s.shading[2].material].base_color, {0.1f, 0.2f, 0.3f});
 }
 
+TEST_F(SceneTest, TextureFromExternalFileAndDataUri) {
+  const std::vector<std::uint8_t> pixels = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+  const std::vector<std::uint8_t> png = hrpp::test::make_png(3, 1, pixels);
+  hrpp::test::write_file(dir_ / "tex.png", png);
+  GltfWriter w;
+  w.doc["images"] = {{{"uri", "tex.png"}}};
+  w.doc["textures"] = {{{"source", 0}}};
+  const int m = w.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  w.add_scene({w.add_node(w.add_triangles(kTri, {}, m))});
+  const Scene s = load(w, "ext.gltf");
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].width, 3);
+  EXPECT_EQ(s.textures[0].height, 1);
+  EXPECT_EQ(s.textures[0].rgba, pixels);
+
+  fs::remove(dir_ / "tex.png");
+  expect_error([&] { hrpp::load_gltf(dir_ / "ext.gltf"); }, path("ext.gltf"));
+
+  GltfWriter bad;  // an image that is not an image
+  const std::vector<std::uint8_t> junk = {1, 2, 3, 4, 5, 6, 7, 8};
+  const int tex = bad.add_png_texture(junk);
+  const int bm = bad.add_material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", tex}}}}}});
+  bad.add_scene({bad.add_node(bad.add_triangles(kTri, {}, bm))});
+  bad.write(dir_ / "junk.glb");
+  expect_error([&] { hrpp::load_gltf(dir_ / "junk.glb"); }, path("junk.glb"), "image 0");
+}
+
 TEST_F(SceneTest, MetallicRoughnessEmissiveAndExtensions) {
   GltfWriter w;
   const int m = w.add_material(

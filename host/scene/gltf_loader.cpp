@@ -721,6 +721,22 @@ Scene load_gltf(const std::filesystem::path& file) {
                          : gltf.LoadASCIIFromFile(&model, &err, &warn, name);
   if (!ok) {
     if (err.empty()) err = "cannot be parsed as glTF";
+    if (binary) {
+      // Say so when the GLB header promises more bytes than the file has.
+      std::uint8_t header[12] = {};
+      std::FILE* f = std::fopen(name.c_str(), "rb");
+      if (f != nullptr) {
+        const bool full = std::fread(header, 1, 12, f) == 12;
+        std::fclose(f);
+        std::uint32_t length = 0;
+        std::memcpy(&length, header + 8, 4);  // little-endian host (x86-64, aarch64)
+        const auto size = std::filesystem::file_size(file, ec);
+        if (full && std::memcmp(header, "glTF", 4) == 0 && !ec && length > size) {
+          err += " (truncated: the header says " + std::to_string(length) +
+                 " bytes, the file has " + std::to_string(size) + ")";
+        }
+      }
+    }
     throw Error(one_line(name + ": " + err));
   }
   Scene scene;

@@ -42,6 +42,7 @@ class ManifestLoader {
     std::ifstream in(file_, std::ios::binary);
     std::error_code ec;
     if (!std::filesystem::exists(file_, ec)) fail("", "no such file");
+    if (std::filesystem::is_directory(file_, ec)) fail("", "is a directory");
     if (!in) fail("", "cannot open for reading");
     std::stringstream ss;
     ss << in.rdbuf();
