@@ -1,0 +1,147 @@
+// hrpp trace SCENE --rays R.bin --hits H.bin [--any-hit] [--device D] [--validate]: trace a file
+// of rays on the GPU and write one hit record per ray (formats: README, DESIGN.md).
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/vulkan_context.h"
+#include "scene/load_scene.h"
+
+namespace hrpp::app {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the ray and hit files are little-endian");
+
+struct TraceOptions {
+  std::string scene = "builtin:cornell";
+  std::string rays;
+  std::string hits;
+  bool any_hit = false;
+  VulkanOptions vulkan;
+  GpuTracerConfig tracer;
+  int repeat = 1;
+  BvhConfig bvh;
+};
+
+std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+  if (ec) throw Error(file.string() + ": cannot read rays: " + ec.message());
+  if (bytes % sizeof(gpu::Ray) != 0)
+    throw Error(file.string() + ": " + std::to_string(bytes) +
+                " bytes is not a whole number of 32-byte ray records");
+  std::vector<gpu::Ray> rays(bytes / sizeof(gpu::Ray));
+  std::ifstream in(file, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(rays.data()), static_cast<std::streamsize>(bytes)))
+    throw Error(file.string() + ": cannot read rays");
+  return rays;
+}
+
+// Writes next to the target and renames, so an error never leaves a partial file behind.
+void write_hits(const std::filesystem::path& file, const std::vector<gpu::Hit>& hits) {
+  const std::filesystem::path tmp = file.string() + ".partial";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(file.string() + ": cannot write hits: " + std::strerror(errno));
+    out.write(reinterpret_cast<const char*>(hits.data()),
+              static_cast<std::streamsize>(hits.size() * sizeof(gpu::Hit)));
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw Error(file.string() + ": cannot write hits");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(file.string() + ": cannot write hits: " + ec.message());
+  }
+}
+
+void run_trace(const TraceOptions& o) {
+  const std::vector<gpu::Ray> rays = read_rays(o.rays);
+  const Scene scene = load_scene(o.scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  VulkanContext ctx(o.vulkan);
+  GpuTracer tracer(ctx, bvh, o.tracer);
+  if (o.repeat > 1) tracer.warm_up();
+
+  GpuTraceResult result;
+  std::vector<double> ms;
+  for (int i = 0; i < o.repeat; ++i) {
+    result = tracer.trace(rays, o.any_hit);
+    ms.push_back(result.kernel_ms);
+  }
+  if (ctx.validation_messages() != 0)
+    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
+                " Vulkan validation messages (printed above)");
+  write_hits(o.hits, result.hits);
+
+  std::sort(ms.begin(), ms.end());
+  const double median = ms[ms.size() / 2];
+  const TraversalCounters& c = result.counters;
+  const double n = static_cast<double>(rays.size());
+  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
+              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
+  std::printf("rays        %zu %s queries, %llu hit%s\n", rays.size(),
+              o.any_hit ? "any-hit" : "closest-hit", static_cast<unsigned long long>(c.hits),
+              o.any_hit ? " (occluded)" : "");
+  std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
+              o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
+              median > 0.0 ? n / (median * 1e3) : 0.0, static_cast<int>(o.tracer.rays_per_invocation));
+  std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
+              n > 0 ? static_cast<double>(c.interior_visited) / n : 0.0,
+              n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
+              n > 0 ? static_cast<double>(c.triangles_tested) / n : 0.0);
+}
+
+}  // namespace
+
+void add_trace_command(CLI::App& app) {
+  auto o = std::make_shared<TraceOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "trace", "Trace a file of rays on the GPU (32-byte records) and write hits (16-byte records)");
+  cmd->add_option("scene", o->scene,
+                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
+                  "manifest in scenes/")
+      ->capture_default_str();
+  cmd->add_option("--rays", o->rays, "Rays: {float ox, oy, oz, tmin, dx, dy, dz, tmax} each")
+      ->required();
+  cmd->add_option("--hits", o->hits,
+                  "Hits written: {int32 prim (-1 miss), float t, u, v} each; any-hit: prim 0 "
+                  "occluded, -1 free")
+      ->required();
+  cmd->add_flag("--any-hit", o->any_hit, "Any-hit (occlusion) queries instead of closest hit");
+  cmd->add_option("--device", o->vulkan.device,
+                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
+  cmd->add_flag("--validate", o->vulkan.validate,
+                "Vulkan validation layer on; any message fails the command");
+  cmd->add_option("--rays-per-invocation", o->tracer.rays_per_invocation,
+                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
+  cmd->add_option("--repeat", o->repeat, "Trace N times after a warm-up; report the median")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
+      ->capture_default_str();
+  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
+      ->capture_default_str();
+  cmd->callback([o] { run_trace(*o); });
+}
+
+}  // namespace hrpp::app

@@ -1,0 +1,219 @@
+#include "gpu/compute_pipeline.h"
+
+#include <vector>
+
+#include "common/error.h"
+#include "gpu/storage_buffer.h"
+#include "gpu/vulkan_context.h"
+
+namespace hrpp {
+
+struct ComputePipeline::State {
+  VkDevice device = VK_NULL_HANDLE;
+  std::string name;
+  std::uint32_t push_bytes = 0;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+
+  ~State() {
+    if (!device) return;
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (pool) vkDestroyDescriptorPool(device, pool, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (module) vkDestroyShaderModule(device, module, nullptr);
+  }
+};
+
+ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
+                                 std::span<const std::uint32_t> spirv, std::uint32_t binding_count,
+                                 std::uint32_t push_constant_bytes,
+                                 std::span<const SpecializationConstant> specialization)
+    : s_(std::make_unique<State>()) {
+  State& s = *s_;
+  s.device = ctx.device();
+  s.name = std::move(name);
+  s.push_bytes = push_constant_bytes;
+  const std::string what = " (" + s.name + ")";
+
+  VkShaderModuleCreateInfo mci{};
+  mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  mci.codeSize = spirv.size_bytes();
+  mci.pCode = spirv.data();
+  check_vk(vkCreateShaderModule(s.device, &mci, nullptr, &s.module), "vkCreateShaderModule" + what);
+
+  std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
+  for (std::uint32_t i = 0; i < binding_count; ++i) {
+    bindings[i] = {};
+    bindings[i].binding = i;
+    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorCount = 1;
+    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo dli{};
+  dli.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  dli.bindingCount = binding_count;
+  dli.pBindings = bindings.data();
+  check_vk(vkCreateDescriptorSetLayout(s.device, &dli, nullptr, &s.set_layout),
+           "vkCreateDescriptorSetLayout" + what);
+
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
+  VkPipelineLayoutCreateInfo pli{};
+  pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  pli.setLayoutCount = 1;
+  pli.pSetLayouts = &s.set_layout;
+  pli.pushConstantRangeCount = push_constant_bytes ? 1 : 0;
+  pli.pPushConstantRanges = &range;
+  check_vk(vkCreatePipelineLayout(s.device, &pli, nullptr, &s.layout),
+           "vkCreatePipelineLayout" + what);
+
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<std::uint32_t> values;
+  for (const SpecializationConstant& c : specialization) {
+    entries.push_back({c.id, static_cast<std::uint32_t>(values.size() * 4), 4});
+    values.push_back(c.value);
+  }
+  VkSpecializationInfo spec{};
+  spec.mapEntryCount = static_cast<std::uint32_t>(entries.size());
+  spec.pMapEntries = entries.data();
+  spec.dataSize = values.size() * 4;
+  spec.pData = values.data();
+  VkComputePipelineCreateInfo cpi{};
+  cpi.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  cpi.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cpi.stage.module = s.module;
+  cpi.stage.pName = "main";
+  cpi.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
+  cpi.layout = s.layout;
+  check_vk(vkCreateComputePipelines(s.device, VK_NULL_HANDLE, 1, &cpi, nullptr, &s.pipeline),
+           "vkCreateComputePipelines" + what);
+
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, binding_count ? binding_count : 1};
+  VkDescriptorPoolCreateInfo dpi{};
+  dpi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+  dpi.maxSets = 1;
+  dpi.poolSizeCount = 1;
+  dpi.pPoolSizes = &size;
+  check_vk(vkCreateDescriptorPool(s.device, &dpi, nullptr, &s.pool), "vkCreateDescriptorPool" + what);
+  VkDescriptorSetAllocateInfo dai{};
+  dai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+  dai.descriptorPool = s.pool;
+  dai.descriptorSetCount = 1;
+  dai.pSetLayouts = &s.set_layout;
+  check_vk(vkAllocateDescriptorSets(s.device, &dai, &s.set), "vkAllocateDescriptorSets" + what);
+}
+
+ComputePipeline::~ComputePipeline() = default;
+ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;
+ComputePipeline& ComputePipeline::operator=(ComputePipeline&&) noexcept = default;
+
+void ComputePipeline::bind(std::uint32_t binding, const StorageBuffer& buffer) {
+  VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet w{};
+  w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+  w.dstSet = s_->set;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  w.pBufferInfo = &info;
+  vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
+}
+
+const std::string& ComputePipeline::name() const { return s_->name; }
+VkPipeline ComputePipeline::pipeline() const { return s_->pipeline; }
+VkPipelineLayout ComputePipeline::layout() const { return s_->layout; }
+VkDescriptorSet ComputePipeline::descriptor_set() const { return s_->set; }
+std::uint32_t ComputePipeline::push_constant_bytes() const { return s_->push_bytes; }
+
+struct KernelTimer::State {
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueryPool pool = VK_NULL_HANDLE;
+  std::uint32_t capacity = 0;  // dispatches
+  double period_ns = 0.0;
+  std::vector<std::string> kernels;  // of the dispatches since reset()
+
+  ~State() {
+    if (pool) vkDestroyQueryPool(device, pool, nullptr);
+  }
+};
+
+KernelTimer::KernelTimer(VulkanContext& ctx, std::uint32_t max_dispatches)
+    : s_(std::make_unique<State>()) {
+  s_->device = ctx.device();
+  s_->capacity = max_dispatches;
+  s_->period_ns = ctx.info().timestamp_period_ns;
+  if (!ctx.info().timestamps) return;
+  VkQueryPoolCreateInfo qpi{};
+  qpi.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+  qpi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  qpi.queryCount = 2 * max_dispatches;
+  check_vk(vkCreateQueryPool(s_->device, &qpi, nullptr, &s_->pool), "vkCreateQueryPool");
+}
+
+KernelTimer::~KernelTimer() = default;
+KernelTimer::KernelTimer(KernelTimer&&) noexcept = default;
+KernelTimer& KernelTimer::operator=(KernelTimer&&) noexcept = default;
+
+bool KernelTimer::has_timestamps() const { return s_->pool != VK_NULL_HANDLE; }
+
+void KernelTimer::reset(VkCommandBuffer cmd) {
+  s_->kernels.clear();
+  if (s_->pool) vkCmdResetQueryPool(cmd, s_->pool, 0, 2 * s_->capacity);
+}
+
+void KernelTimer::begin(VkCommandBuffer cmd, const std::string& kernel) {
+  if (s_->kernels.size() >= s_->capacity)
+    throw Error("KernelTimer: more than " + std::to_string(s_->capacity) +
+                " timed dispatches in one submit");
+  s_->kernels.push_back(kernel);
+  if (s_->pool)
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, s_->pool,
+                        static_cast<std::uint32_t>(2 * (s_->kernels.size() - 1)));
+}
+
+void KernelTimer::end(VkCommandBuffer cmd) {
+  if (s_->pool)
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s_->pool,
+                        static_cast<std::uint32_t>(2 * s_->kernels.size() - 1));
+}
+
+std::map<std::string, double> KernelTimer::read_ms() const {
+  std::map<std::string, double> ms;
+  const std::uint32_t n = static_cast<std::uint32_t>(s_->kernels.size());
+  if (n == 0) return ms;
+  std::vector<std::uint64_t> ticks(2 * n, 0);
+  if (s_->pool)
+    check_vk(vkGetQueryPoolResults(s_->device, s_->pool, 0, 2 * n, ticks.size() * 8, ticks.data(),
+                                   8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+             "vkGetQueryPoolResults");
+  for (std::uint32_t i = 0; i < n; ++i)
+    ms[s_->kernels[i]] += static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * s_->period_ns * 1e-6;
+  return ms;
+}
+
+void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
+                     std::uint32_t groups, KernelTimer* timer) {
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline());
+  const VkDescriptorSet set = pipeline.descriptor_set();
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0,
+                          nullptr);
+  if (pipeline.push_constant_bytes())
+    vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                       pipeline.push_constant_bytes(), push);
+  if (timer) timer->begin(cmd, pipeline.name());
+  vkCmdDispatch(cmd, groups, 1, 1);
+  if (timer) timer->end(cmd);
+  VkMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace hrpp

@@ -1,0 +1,79 @@
+// A compute pipeline from embedded SPIR-V (specialization constants, push constants) with its
+// own descriptor set of storage buffers, and the timestamp pool that times dispatches per kernel
+// name. Move-only.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+namespace hrpp {
+
+class VulkanContext;
+class StorageBuffer;
+
+struct SpecializationConstant {
+  std::uint32_t id;
+  std::uint32_t value;
+};
+
+class ComputePipeline {
+ public:
+  // `binding_count` storage buffers at bindings 0..binding_count-1 of set 0.
+  ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
+                  std::uint32_t binding_count, std::uint32_t push_constant_bytes,
+                  std::span<const SpecializationConstant> specialization = {});
+  ~ComputePipeline();
+  ComputePipeline(ComputePipeline&&) noexcept;
+  ComputePipeline& operator=(ComputePipeline&&) noexcept;
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+  // Points a binding at a buffer (do not call while a submit using the set is in flight).
+  void bind(std::uint32_t binding, const StorageBuffer& buffer);
+
+  const std::string& name() const;
+  VkPipeline pipeline() const;
+  VkPipelineLayout layout() const;
+  VkDescriptorSet descriptor_set() const;
+  std::uint32_t push_constant_bytes() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+// Timestamp query pool: dispatches recorded with a timer are timed on the device and summed per
+// kernel name. When the queue has no timestamps, times are left at 0 (has_timestamps() false).
+class KernelTimer {
+ public:
+  explicit KernelTimer(VulkanContext& ctx, std::uint32_t max_dispatches = 64);
+  ~KernelTimer();
+  KernelTimer(KernelTimer&&) noexcept;
+  KernelTimer& operator=(KernelTimer&&) noexcept;
+  KernelTimer(const KernelTimer&) = delete;
+  KernelTimer& operator=(const KernelTimer&) = delete;
+
+  bool has_timestamps() const;
+  // Call once at the start of each command buffer that times dispatches.
+  void reset(VkCommandBuffer cmd);
+  void begin(VkCommandBuffer cmd, const std::string& kernel);
+  void end(VkCommandBuffer cmd);
+  // After the submit has finished: milliseconds per kernel name for the dispatches since reset().
+  std::map<std::string, double> read_ms() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+// Records push constants + bind + dispatch of `groups` workgroups along x, timed when `timer` is
+// given, then a compute→compute barrier so the next dispatch sees this one's writes.
+void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
+                     std::uint32_t groups, KernelTimer* timer);
+
+}  // namespace hrpp

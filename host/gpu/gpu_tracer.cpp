@@ -1,0 +1,163 @@
+#include "gpu/gpu_tracer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <string>
+
+#include "common/error.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/storage_buffer.h"
+#include "gpu/vulkan_context.h"
+#include "trace/slab_test.h"
+#include "trace_interface.h"
+
+namespace hrpp {
+
+static_assert(sizeof(gpu::TraceCounters) == 64);
+static_assert(offsetof(gpu::TraceCounters, wide) == 16);
+static_assert(sizeof(gpu::TracePushConstants) == 16);
+static_assert(HRPP_STACK_SIZE == 64, "shaders/shared/trace_interface.h and host/bvh/gpu_layout.h");
+static_assert(std::bit_cast<std::uint32_t>(kSlabFarScale) == HRPP_SLAB_FAR_SCALE_BITS);
+static_assert(std::bit_cast<std::uint32_t>(0x1p-80f) == HRPP_TWO_POW_M80_BITS);
+static_assert(std::bit_cast<std::uint32_t>(0x1p80f) == HRPP_TWO_POW_80_BITS);
+
+namespace {
+
+constexpr std::uint32_t kCanaryIterations = 2;
+
+std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
+  return static_cast<std::uint64_t>(c.wide[2 * counter]) |
+         (static_cast<std::uint64_t>(c.wide[2 * counter + 1]) << 32);
+}
+
+}  // namespace
+
+struct GpuTracer::State {
+  VulkanContext* ctx = nullptr;
+  GpuTracerConfig config;
+  StorageBuffer nodes, leaves, triangles, counters;
+  StorageBuffer rays, hits;  // grown on demand
+  ComputePipeline closest, any;
+  KernelTimer timer;
+  gpu::Ray probe{};  // warm-up ray: through the scene's centre
+
+  State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg)
+      : ctx(&c),
+        config(cfg),
+        nodes(c, bvh.nodes.size() * sizeof(gpu::BvhNode), "BVH node array"),
+        leaves(c, bvh.leaves.size() * sizeof(gpu::BvhLeaf), "BVH leaf array"),
+        triangles(c, bvh.triangles.size() * sizeof(gpu::TriangleRecord), "BVH triangle array"),
+        counters(c, sizeof(gpu::TraceCounters), "trace counters"),
+        closest(c, "trace_closest", embedded_spirv("trace_closest"), HRPP_TRACE_BINDING_COUNT,
+                sizeof(gpu::TracePushConstants)),
+        any(c, "trace_any", embedded_spirv("trace_any"), HRPP_TRACE_BINDING_COUNT,
+            sizeof(gpu::TracePushConstants)),
+        timer(c, 4) {
+    if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
+    nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
+    leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
+    triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
+    for (ComputePipeline* p : {&closest, &any}) {
+      p->bind(HRPP_TRACE_BINDING_NODES, nodes);
+      p->bind(HRPP_TRACE_BINDING_LEAVES, leaves);
+      p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangles);
+      p->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
+    }
+    const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
+    probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
+    probe.tmin = 0.0f;
+    probe.dir = {1.0f, 0.0f, 0.0f};
+    probe.tmax = 1e30f;
+  }
+
+  // Rays per dispatch: what one storage buffer holds and one dispatch's workgroups reach.
+  std::size_t chunk_rays() const {
+    const DeviceInfo& d = ctx->info();
+    const std::uint64_t by_range = d.max_storage_buffer_range / sizeof(gpu::Ray);
+    const std::uint64_t by_groups = static_cast<std::uint64_t>(d.max_workgroup_count_x) *
+                                    HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
+    return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
+  }
+
+  void ensure_capacity(std::size_t n) {
+    if (rays.size() >= n * sizeof(gpu::Ray)) return;
+    rays = StorageBuffer();  // free first: one at a time in the heap
+    hits = StorageBuffer();
+    rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), "ray array");
+    hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), "hit array");
+    for (ComputePipeline* p : {&closest, &any}) {
+      p->bind(HRPP_TRACE_BINDING_RAYS, rays);
+      p->bind(HRPP_TRACE_BINDING_HITS, hits);
+    }
+  }
+
+  // One dispatch over rays[0..n) of the current buffers; adds into `out`.
+  void dispatch(std::size_t n, bool any_hit, GpuTraceResult& out, std::size_t first) {
+    ComputePipeline& p = any_hit ? any : closest;
+    gpu::TraceCounters zero{};
+    counters.upload(&zero, sizeof zero);
+    gpu::TracePushConstants pc{};
+    pc.ray_count = static_cast<std::uint32_t>(n);
+    pc.rays_per_invocation = config.rays_per_invocation;
+    pc.canary_iterations = kCanaryIterations;
+    const std::uint64_t per_group =
+        static_cast<std::uint64_t>(HRPP_TRACE_WORKGROUP_SIZE) * config.rays_per_invocation;
+    const auto groups = static_cast<std::uint32_t>((n + per_group - 1) / per_group);
+    ctx->submit_and_wait(
+        [&](VkCommandBuffer cmd) {
+          timer.reset(cmd);
+          record_dispatch(cmd, p, &pc, groups, &timer);
+        },
+        p.name());
+    for (const auto& [kernel, ms] : timer.read_ms()) out.kernel_ms += ms;
+
+    gpu::TraceCounters c{};
+    counters.download(&c, sizeof c);
+    const std::uint64_t done = wide(c, HRPP_COUNTER_RAYS);
+    if (done != n || c.aborted != 0)
+      throw Error(p.name() + ": only " + std::to_string(done) + " of " + std::to_string(n) +
+                  " rays finished (" + std::to_string(c.aborted) +
+                  " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
+                  "subgroup) ended the kernel's loops at " +
+                  std::to_string(config.rays_per_invocation) +
+                  " rays per invocation; lower rays_per_invocation");
+    hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
+    out.counters.rays += done;
+    out.counters.interior_visited += wide(c, HRPP_COUNTER_INTERIOR);
+    out.counters.leaves_visited += wide(c, HRPP_COUNTER_LEAVES);
+    out.counters.triangles_tested += wide(c, HRPP_COUNTER_TRIANGLES);
+    out.counters.hits += wide(c, HRPP_COUNTER_HITS);
+  }
+};
+
+GpuTracer::GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config)
+    : s_(std::make_unique<State>(ctx, bvh, config)) {}
+
+GpuTracer::~GpuTracer() = default;
+GpuTracer::GpuTracer(GpuTracer&&) noexcept = default;
+GpuTracer& GpuTracer::operator=(GpuTracer&&) noexcept = default;
+
+const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
+
+GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+  GpuTraceResult out;
+  out.hits.resize(rays.size());
+  const std::size_t chunk = s_->chunk_rays();
+  for (std::size_t first = 0; first < rays.size(); first += chunk) {
+    const std::size_t n = std::min(chunk, rays.size() - first);
+    s_->ensure_capacity(n);
+    s_->rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
+    s_->dispatch(n, any_hit, out, first);
+  }
+  return out;
+}
+
+void GpuTracer::warm_up() {
+  const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
+  trace(rays, false);
+  trace(rays, true);
+}
+
+}  // namespace hrpp

@@ -1,0 +1,59 @@
+// Closest-hit and any-hit ray queries on the GPU: the BVH uploaded once, rays traced by the
+// trace_closest / trace_any kernels with the CPU reference's semantics (host/trace/
+// cpu_traversal.h), results, work counters and kernel time read back.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+#include "gpu_types.h"
+#include "trace/traversal_counters.h"
+
+namespace hrpp {
+
+class VulkanContext;
+
+struct GpuTracerConfig {
+  // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
+  // instead). Lavapipe's loop limiter (DESIGN.md) ends every loop of a subgroup after 65,535
+  // iterations in total, a few hundred rays' worth; 16 keeps a wide margin. A dispatch whose
+  // rays do not all finish throws hrpp::Error naming the limit.
+  std::uint32_t rays_per_invocation = 16;
+};
+
+struct GpuTraceResult {
+  std::vector<gpu::Hit> hits;   // one per ray; any-hit: prim 0 occluded, -1 free (t, u, v = 0)
+  TraversalCounters counters;   // summed over the ray chunks of the call
+  double kernel_ms = 0.0;       // device timestamps around the trace dispatches
+};
+
+class GpuTracer {
+ public:
+  // Uploads the BVH. Throws hrpp::Error when an array exceeds maxStorageBufferRange.
+  GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {});
+  ~GpuTracer();
+  GpuTracer(GpuTracer&&) noexcept;
+  GpuTracer& operator=(GpuTracer&&) noexcept;
+  GpuTracer(const GpuTracer&) = delete;
+  GpuTracer& operator=(const GpuTracer&) = delete;
+
+  // Traces every ray (closest hit, or any hit when any_hit). Rays beyond one storage buffer's
+  // range are traced in several dispatches. Throws hrpp::Error when a dispatch does not finish
+  // every ray (loop limiter) or the device is lost.
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
+
+  // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on
+  // lavapipe, so call this before timing.
+  void warm_up();
+
+  const GpuTracerConfig& config() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+}  // namespace hrpp

@@ -1,0 +1,60 @@
+// A storage buffer in host-visible memory, mapped for its whole life: upload, download and fill
+// are memcpy (plus flush/invalidate on non-coherent memory). Move-only.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+namespace hrpp {
+
+class VulkanContext;
+
+class StorageBuffer {
+ public:
+  StorageBuffer() = default;
+  // `name` says what the array is in errors. Throws hrpp::Error when `bytes` exceeds the
+  // device's maxStorageBufferRange (naming the array and the limit) or memory runs out.
+  StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name);
+  ~StorageBuffer();
+  StorageBuffer(StorageBuffer&& o) noexcept;
+  StorageBuffer& operator=(StorageBuffer&& o) noexcept;
+  StorageBuffer(const StorageBuffer&) = delete;
+  StorageBuffer& operator=(const StorageBuffer&) = delete;
+
+  void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
+  void download(void* out, std::size_t bytes, std::size_t offset = 0) const;
+  void fill(std::uint32_t word);  // every 32-bit word of the buffer
+
+  template <class T>
+  void upload(std::span<const T> items) {
+    upload(items.data(), items.size_bytes());
+  }
+  template <class T>
+  void download(std::span<T> items) const {
+    download(items.data(), items.size_bytes());
+  }
+
+  VkBuffer handle() const { return buffer_; }
+  std::size_t size() const { return bytes_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  void release() noexcept;
+
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  void* mapped_ = nullptr;
+  bool coherent_ = true;
+  std::size_t bytes_ = 0;
+  std::string name_;
+};
+
+// Bytes as "12.3 MiB" for messages.
+std::string format_bytes(std::uint64_t bytes);
+
+}  // namespace hrpp

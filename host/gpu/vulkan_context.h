@@ -1,0 +1,79 @@
+// The Vulkan instance, the chosen compute device and its queue: the root of host/gpu/, the only
+// stage that creates and destroys Vulkan objects. Move-only; everything else borrows it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace hrpp {
+
+struct VulkanOptions {
+  // "" picks a real GPU when there is one, else a CPU driver (lavapipe). Digits: the index in
+  // Vulkan's enumeration order; anything else: a case-insensitive substring of the device name.
+  std::string device;
+  // VK_LAYER_KHRONOS_validation with a debug-utils messenger that prints every warning and error
+  // to stderr and counts them (validation_messages()).
+  bool validate = false;
+};
+
+// What the kernels and the reports need to know about the chosen device.
+struct DeviceInfo {
+  std::string name;
+  std::uint32_t index = 0;  // in vkEnumeratePhysicalDevices order
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  std::uint32_t api_version = 0;
+  std::string driver;               // driver name and info, e.g. "llvmpipe Mesa 22.3.6"
+  std::uint32_t subgroup_size = 0;  // never assumed by the kernels, reported only
+  bool float64 = false;             // shaderFloat64 (required: watertight double fallback)
+  bool int64 = false;               // shaderInt64
+  bool int64_atomics = false;       // shaderBufferInt64Atomics
+  std::uint64_t max_storage_buffer_range = 0;  // bytes one storage-buffer binding may span
+  std::uint32_t max_workgroup_count_x = 0;
+  double timestamp_period_ns = 0.0;  // ns per timestamp tick
+  bool timestamps = false;           // the compute queue writes timestamps
+
+  const char* type_name() const;
+};
+
+class VulkanContext {
+ public:
+  // Throws hrpp::Error with one line when there is no Vulkan driver, no device with compute
+  // (Vulkan 1.2, shaderFloat64, subgroup vote/ballot/arithmetic), or no device matching
+  // options.device.
+  explicit VulkanContext(const VulkanOptions& options = {});
+  ~VulkanContext();
+  VulkanContext(VulkanContext&&) noexcept;
+  VulkanContext& operator=(VulkanContext&&) noexcept;
+  VulkanContext(const VulkanContext&) = delete;
+  VulkanContext& operator=(const VulkanContext&) = delete;
+
+  const DeviceInfo& info() const;
+  // Every device Vulkan lists, capable or not (for messages and `--device` help).
+  const std::vector<DeviceInfo>& devices() const;
+  // Validation warnings and errors seen so far (0 when validation is off).
+  std::uint64_t validation_messages() const;
+
+  // Records commands into a fresh primary command buffer, submits it on the compute queue and
+  // waits on a fence. `what` names the work in errors (device lost).
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
+
+  VkDevice device() const;
+  VkPhysicalDevice physical_device() const;
+  std::uint32_t queue_family() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+// Throws hrpp::Error("<what>: <VkResult name>") when r is not VK_SUCCESS; a lost device gets its
+// own message.
+void check_vk(VkResult r, const std::string& what);
+const char* vk_result_name(VkResult r);
+
+}  // namespace hrpp

@@ -1,0 +1,66 @@
+// Interface of the trace kernels (shaders/trace_closest.comp, shaders/trace_any.comp): binding
+// slots, push constants, workgroup size and the counters block. Included by the host
+// (host/gpu/gpu_tracer.cpp, which static_asserts the sizes) and by GLSL; one definition.
+#ifndef HRPP_TRACE_INTERFACE_H
+#define HRPP_TRACE_INTERFACE_H
+
+#include "gpu_types.h"
+
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
+
+// Deepest traversal stack (one entry per tree level). The same value as host/bvh/gpu_layout.h,
+// which refuses deeper trees; the #ifndef keeps the two definitions one token sequence.
+#ifndef HRPP_STACK_SIZE
+#define HRPP_STACK_SIZE 64
+#endif
+
+#define HRPP_TRACE_WORKGROUP_SIZE 64
+
+#define HRPP_TRACE_BINDING_NODES 0
+#define HRPP_TRACE_BINDING_LEAVES 1
+#define HRPP_TRACE_BINDING_TRIANGLES 2
+#define HRPP_TRACE_BINDING_RAYS 3
+#define HRPP_TRACE_BINDING_HITS 4
+#define HRPP_TRACE_BINDING_COUNTERS 5
+#define HRPP_TRACE_BINDING_COUNT 6
+
+// Float bits of the slab test's far-distance scale 1 + 2γ(3) (host/trace/slab_test.h); GLSL has
+// no hex floats, the host static_asserts that the bits match kSlabFarScale.
+#define HRPP_SLAB_FAR_SCALE_BITS 0x3F800003u
+// Safe reciprocal (host/trace/ray_setup.h): |d| < 2^-80 becomes ±2^80.
+#define HRPP_TWO_POW_M80_BITS 0x17800000u
+#define HRPP_TWO_POW_80_BITS 0x67800000u
+
+// 64-bit counters kept as (lo, hi) pairs of 32-bit words so the kernels need 32-bit atomics only
+// (a carry out of lo adds 1 to hi). Index = 2 × HRPP_COUNTER_*.
+#define HRPP_COUNTER_RAYS 0              // rays traced to completion (result written)
+#define HRPP_COUNTER_INTERIOR 1          // interior nodes whose two child boxes were tested
+#define HRPP_COUNTER_LEAVES 2            // leaves whose triangles were tested
+#define HRPP_COUNTER_TRIANGLES 3         // triangles tested
+#define HRPP_COUNTER_HITS 4              // rays that hit (any-hit: occluded)
+#define HRPP_COUNTER_COUNT 5
+
+struct TraceCounters {
+  uint next_ray;  // persistent fetch cursor (atomicAdd by one lane per subgroup)
+  uint aborted;   // rays whose traversal was cut short by a loop limiter (lavapipe): never valid
+  uint pad0;
+  uint pad1;
+  uint wide[2 * HRPP_COUNTER_COUNT];  // (lo, hi) pairs, see HRPP_COUNTER_*
+  uint pad2;
+  uint pad3;
+};
+
+struct TracePushConstants {
+  uint ray_count;            // rays in this dispatch
+  uint rays_per_invocation;  // cap on the rays one invocation traces (loop limiter, DESIGN.md)
+  uint canary_iterations;    // always 2; a loop bound the compiler cannot know (limiter probe)
+  uint pad;
+};
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_TRACE_INTERFACE_H
