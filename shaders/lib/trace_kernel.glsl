@@ -134,6 +134,7 @@ bool loop_budget_left() {
 }
 
 void add_wide(uint counter, uint value) {
+  if (value == 0u) return;
   const uint old = atomicAdd(counters.wide[2u * counter], value);
   if (old + value < old) atomicAdd(counters.wide[2u * counter + 1u], 1u);  // carry
 }
@@ -166,9 +167,14 @@ void main() {
                                                subgroupAdd(g_leaves), subgroupAdd(g_triangles),
                                                subgroupAdd(hit_count));
   const uint aborted_sum = subgroupAdd(aborted);
+  // No loop here: a limiter that fired during the last ray would cut a loop short and lose
+  // counts of rays that did finish.
   if (subgroupElect()) {
-    for (uint c = 0u; c < HRPP_COUNTER_COUNT; ++c)
-      if (sums[c] != 0u) add_wide(c, sums[c]);
+    add_wide(HRPP_COUNTER_RAYS, sums[HRPP_COUNTER_RAYS]);
+    add_wide(HRPP_COUNTER_INTERIOR, sums[HRPP_COUNTER_INTERIOR]);
+    add_wide(HRPP_COUNTER_LEAVES, sums[HRPP_COUNTER_LEAVES]);
+    add_wide(HRPP_COUNTER_TRIANGLES, sums[HRPP_COUNTER_TRIANGLES]);
+    add_wide(HRPP_COUNTER_HITS, sums[HRPP_COUNTER_HITS]);
     if (aborted_sum != 0u) atomicAdd(counters.aborted, aborted_sum);
   }
 }
