@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "hrpp 0.1.0");
   hrpp::app::add_scene_command(app);
   hrpp::app::add_trace_command(app);
+  hrpp::app::add_bench_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,454 @@
+// hrpp bench SCENE [--rays N] [--kinds primary,ao,diffuse] [--json FILE]: ray-tracing speed in
+// the style of Aila and Laine (HPG 2009) and tinybvh's speed test. Fixed batches of one view
+// (trace/ray_batches.h), each traced by the CPU reference (all threads), Embree 3 (all threads,
+// when the build has it) and the Vulkan device (GpuTracer). Every tracer is warmed up, then timed
+// `--repeat` times over the whole batch (median reported), and its hits are checked against the
+// CPU reference on a subset; mismatches are printed loudly and recorded in the JSON.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "bvh/binned_sah_builder.h"
+#include "bvh/bvh_stats.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/vulkan_context.h"
+#include "reference/embree_tracer.h"
+#include "scene/load_scene.h"
+#include "trace/ray_batches.h"
+
+namespace hrpp::app {
+namespace {
+
+struct BenchOptions {
+  std::string scene = "builtin:cornell";
+  std::size_t rays = std::size_t{1} << 20;
+  std::vector<std::string> kinds = {"primary", "ao", "diffuse"};
+  std::string json;
+  int repeat = 3;
+  std::size_t validate = 100000;  // rays checked against the CPU reference; 0: all
+  int threads = 0;                // CPU reference and Embree threads; 0: all hardware threads
+  std::uint64_t seed = 1;
+  bool jitter = false;
+  float ao_radius = 0.1f;
+  bool no_embree = false;
+  bool no_gpu = false;
+  bool strict = false;
+  VulkanOptions vulkan;
+  GpuTracerConfig tracer;
+  BvhConfig bvh;
+};
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const std::size_t colon = line.find(':');
+      if (colon != std::string::npos) {
+        std::size_t b = line.find_first_not_of(" \t", colon + 1);
+        return b == std::string::npos ? "unknown" : line.substr(b);
+      }
+    }
+  }
+  return "unknown";
+}
+
+// Closest hits agree when the triangle and t agree (t within 1e-5 relative, plus a tiny absolute
+// floor for t ≈ 0); a different triangle at the same t is a tie (both are right: shared edges,
+// coplanar triangles), anything else a mismatch. Any-hit: occluded or not.
+struct Validation {
+  std::size_t checked = 0, exact = 0, ties = 0, mismatches = 0;
+  std::vector<std::string> examples;  // first few mismatches, printed
+};
+
+Validation validate(std::span<const gpu::Ray> rays, std::span<const gpu::Hit> ref,
+                    std::span<const gpu::Hit> test, std::span<const std::size_t> subset,
+                    bool any_hit, float scene_diagonal) {
+  Validation v;
+  for (const std::size_t i : subset) {
+    const gpu::Hit& r = ref[i];
+    const gpu::Hit& t = test[i];
+    ++v.checked;
+    bool ok;
+    if (any_hit) {
+      ok = (r.prim >= 0) == (t.prim >= 0);
+      if (ok) ++v.exact;
+    } else if (r.prim < 0 || t.prim < 0) {
+      ok = r.prim == t.prim;
+      if (ok) ++v.exact;
+    } else {
+      const float tol = 1e-5f * std::fabs(r.t) + 1e-7f * scene_diagonal;
+      const bool same_t = std::fabs(r.t - t.t) <= tol;
+      ok = same_t;
+      if (same_t && r.prim != t.prim) ++v.ties;
+      if (r.prim == t.prim && r.t == t.t) ++v.exact;
+    }
+    if (!ok) {
+      ++v.mismatches;
+      if (v.examples.size() < 5) {
+        char buf[320];
+        const gpu::Ray& ray = rays[i];
+        std::snprintf(buf, sizeof buf,
+                      "ray %zu o=(%.9g %.9g %.9g) d=(%.9g %.9g %.9g) [%g, %g]: reference prim %d "
+                      "t %.9g, this tracer prim %d t %.9g",
+                      i, ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z,
+                      ray.tmin, ray.tmax, r.prim, r.t, t.prim, t.t);
+        v.examples.emplace_back(buf);
+      }
+    }
+  }
+  return v;
+}
+
+struct TracerResult {
+  std::string name;
+  std::vector<double> ms;  // per timed run
+  double median_ms = 0.0;
+  double mrays = 0.0;
+  std::size_t hits = 0;
+  Validation validation;
+  std::optional<TraversalCounters> counters;  // GPU: work per batch
+  std::string timing;                         // what the ms measure
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Warm-up on a slice, then `repeat` timed runs over the whole batch.
+TracerResult time_tracer(const std::string& name, std::span<const gpu::Ray> rays, int repeat,
+                         const std::function<double(std::span<const gpu::Ray>,
+                                                    std::vector<gpu::Hit>&)>& run,
+                         std::vector<gpu::Hit>& hits) {
+  TracerResult r;
+  r.name = name;
+  std::vector<gpu::Hit> warm;
+  run(rays.first(std::min<std::size_t>(rays.size(), 65536)), warm);
+  for (int i = 0; i < repeat; ++i) r.ms.push_back(run(rays, hits));
+  r.median_ms = median(r.ms);
+  r.mrays = r.median_ms > 0.0 ? static_cast<double>(rays.size()) / (r.median_ms * 1e3) : 0.0;
+  r.hits = static_cast<std::size_t>(
+      std::count_if(hits.begin(), hits.end(), [](const gpu::Hit& h) { return h.prim >= 0; }));
+  return r;
+}
+
+RayKind parse_kind(const std::string& s) {
+  if (s == "primary") return RayKind::kPrimary;
+  if (s == "ao") return RayKind::kAo;
+  if (s == "diffuse") return RayKind::kDiffuse;
+  throw Error("--kinds: unknown kind '" + s + "' (primary, ao, diffuse)");
+}
+
+nlohmann::json tracer_json(const TracerResult& t) {
+  nlohmann::json j = {{"tracer", t.name},
+                      {"mrays_per_s", t.mrays},
+                      {"median_ms", t.median_ms},
+                      {"runs_ms", t.ms},
+                      {"timing", t.timing},
+                      {"hits", t.hits},
+                      {"validation",
+                       {{"checked", t.validation.checked},
+                        {"exact", t.validation.exact},
+                        {"ties", t.validation.ties},
+                        {"mismatches", t.validation.mismatches},
+                        {"examples", t.validation.examples}}}};
+  if (t.counters)
+    j["counters"] = {{"rays", t.counters->rays},
+                     {"interior_visited", t.counters->interior_visited},
+                     {"leaves_visited", t.counters->leaves_visited},
+                     {"triangles_tested", t.counters->triangles_tested},
+                     {"hits", t.counters->hits}};
+  return j;
+}
+
+void run_bench(const BenchOptions& o) {
+  std::vector<RayKind> kinds;
+  for (const std::string& k : o.kinds) kinds.push_back(parse_kind(k));
+  if (o.rays == 0) throw Error("--rays: must be at least 1");
+  const int threads = resolve_threads(o.threads);
+
+  // Machine first, so a crash later still says where it ran.
+  nlohmann::json report;
+  const std::string cpu = cpu_model();
+  std::printf("machine     %s, %u hardware threads; CPU reference and Embree on %d threads\n",
+              cpu.c_str(), std::thread::hardware_concurrency(), threads);
+  report["machine"] = {{"cpu", cpu},
+                       {"hardware_threads", std::thread::hardware_concurrency()},
+                       {"cpu_tracer_threads", threads}};
+
+  std::unique_ptr<VulkanContext> ctx;
+  if (!o.no_gpu) {
+    try {
+      ctx = std::make_unique<VulkanContext>(o.vulkan);
+      const DeviceInfo& d = ctx->info();
+      std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
+                  d.driver.c_str(), d.subgroup_size);
+      report["machine"]["vulkan_device"] = d.name;
+      report["machine"]["vulkan_driver"] = d.driver;
+      report["machine"]["vulkan_device_type"] = d.type_name();
+    } catch (const Error& e) {
+      std::printf("vulkan      not available: %s (GPU skipped)\n", e.what());
+      report["machine"]["vulkan_device"] = nullptr;
+    }
+  }
+
+  const Scene scene = load_scene(o.scene);
+  const Bvh base = build_bvh(scene, o.bvh);
+  const BvhStats stats = compute_bvh_stats(base, o.bvh);
+  const GpuBvh bvh = make_gpu_layout(base, scene);
+  std::printf("scene       %s: %zu triangles (%u degenerate), BVH %.1f ms, %u interior, %u leaves, "
+              "depth %u\n",
+              scene.name.c_str(), scene.triangles.size(), stats.degenerate, base.build_ms,
+              stats.interior_nodes, stats.leaves, stats.max_depth);
+  report["scene"] = {{"name", scene.name},
+                     {"spec", o.scene},
+                     {"triangles", scene.triangles.size()},
+                     {"degenerate", stats.degenerate},
+                     {"bvh_build_ms", base.build_ms},
+                     {"bvh_interior_nodes", stats.interior_nodes},
+                     {"bvh_leaves", stats.leaves},
+                     {"bvh_max_depth", stats.max_depth},
+                     {"bvh_sah_cost", stats.sah_cost}};
+
+  std::unique_ptr<EmbreeTracer> embree;
+  if (o.no_embree) {
+    std::printf("embree      off (--no-embree)\n");
+  } else if (!embree_available()) {
+    std::printf("embree      Embree not available: skipped\n");
+  } else {
+    embree = std::make_unique<EmbreeTracer>(scene);
+    std::printf("embree      %s, build %.1f ms (quality high, rtcIntersect1/rtcOccluded1)\n",
+                embree_version().c_str(), embree->build_ms());
+    report["embree"] = {{"version", embree_version()}, {"build_ms", embree->build_ms()}};
+  }
+
+  std::unique_ptr<GpuTracer> gpu_tracer;
+  if (ctx) {
+    gpu_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer);
+    gpu_tracer->warm_up();
+  }
+
+  // Batches: the primary grid is the smallest near-square one with >= N pixels, cut to N rays.
+  RayBatchConfig bc;
+  bc.width = static_cast<std::uint32_t>(std::ceil(std::sqrt(static_cast<double>(o.rays))));
+  bc.height = static_cast<std::uint32_t>((o.rays + bc.width - 1) / bc.width);
+  bc.secondary_count = o.rays;
+  bc.seed = o.seed;
+  bc.jitter = o.jitter;
+  bc.ao_radius_fraction = o.ao_radius;
+  bc.threads = threads;
+  const auto gen_start = Clock::now();
+  RayBatches batches = make_ray_batches(scene, bvh, bc);
+  batches.primary.resize(o.rays);
+  batches.primary_hits.resize(o.rays);
+  std::printf("batches     primary %ux%u%s (%s), %zu of %zu hit; ao tmax %.6g (%.3g x diagonal "
+              "%.6g); diffuse tmax inf; seed %llu; generated in %.0f ms\n",
+              bc.width, bc.height, bc.width * bc.height != o.rays ? " cut to --rays" : "",
+              o.jitter ? "jittered" : "pixel centres", batches.primary_hit_count,
+              static_cast<std::size_t>(bc.width) * bc.height, batches.ao_tmax, o.ao_radius,
+              batches.scene_diagonal, static_cast<unsigned long long>(o.seed), ms_since(gen_start));
+  report["batches"] = {{"rays", o.rays},
+                       {"primary_width", bc.width},
+                       {"primary_height", bc.height},
+                       {"jitter", o.jitter},
+                       {"primary_hits", batches.primary_hit_count},
+                       {"ao_tmax", batches.ao_tmax},
+                       {"ao_radius_fraction", o.ao_radius},
+                       {"scene_diagonal", batches.scene_diagonal},
+                       {"seed", o.seed},
+                       {"repeat", o.repeat},
+                       {"validate", o.validate}};
+
+  std::printf("\n%-8s %9s %-7s %-8s %9s %10s %9s %9s %6s %10s\n", "kind", "rays", "query",
+              "tracer", "Mrays/s", "median ms", "hits", "checked", "ties", "mismatches");
+  std::size_t total_mismatches = 0;
+  report["kinds"] = nlohmann::json::array();
+  for (const RayKind kind : kinds) {
+    const bool any_hit = is_any_hit_kind(kind);
+    std::span<const gpu::Ray> rays = kind == RayKind::kPrimary ? std::span<const gpu::Ray>(batches.primary)
+                                     : kind == RayKind::kAo   ? std::span<const gpu::Ray>(batches.ao.rays)
+                                                              : std::span<const gpu::Ray>(batches.diffuse.rays);
+    const char* kname = ray_kind_name(kind);
+    if (rays.empty()) {
+      std::printf("%-8s no rays: no primary ray hit the scene\n", kname);
+      report["kinds"].push_back({{"kind", kname}, {"rays", 0}});
+      continue;
+    }
+    // Evenly spread validation subset.
+    std::vector<std::size_t> subset;
+    const std::size_t want = o.validate == 0 ? rays.size() : std::min(o.validate, rays.size());
+    subset.reserve(want);
+    for (std::size_t k = 0; k < want; ++k) subset.push_back(k * rays.size() / want);
+
+    std::vector<TracerResult> results;
+    std::vector<gpu::Hit> ref_hits, hits;
+    TracerResult cpu_ref = time_tracer(
+        "cpu-ref", rays, o.repeat,
+        [&](std::span<const gpu::Ray> r, std::vector<gpu::Hit>& out) {
+          const auto start = Clock::now();
+          out = trace_batch_cpu(bvh, r, any_hit, threads);
+          return ms_since(start);
+        },
+        ref_hits);
+    cpu_ref.timing = "wall";
+    cpu_ref.validation.checked = subset.size();
+    cpu_ref.validation.exact = subset.size();
+    results.push_back(cpu_ref);
+
+    if (embree) {
+      TracerResult r = time_tracer(
+          "embree", rays, o.repeat,
+          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
+            const auto start = Clock::now();
+            out = embree->trace(rs, any_hit, threads);
+            return ms_since(start);
+          },
+          hits);
+      r.timing = "wall";
+      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
+      results.push_back(std::move(r));
+    }
+    if (gpu_tracer) {
+      TraversalCounters counters;
+      TracerResult r = time_tracer(
+          "gpu", rays, o.repeat,
+          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
+            GpuTraceResult g = gpu_tracer->trace(rs, any_hit);
+            out = std::move(g.hits);
+            counters = g.counters;
+            return g.kernel_ms;
+          },
+          hits);
+      r.timing = "device timestamps around the trace dispatches";
+      r.counters = counters;
+      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
+      results.push_back(std::move(r));
+    }
+
+    nlohmann::json kj = {{"kind", kname},
+                         {"rays", rays.size()},
+                         {"query", any_hit ? "any" : "closest"},
+                         {"tracers", nlohmann::json::array()}};
+    const TracerResult* emb = nullptr;
+    const TracerResult* gpu = nullptr;
+    bool first = true;
+    for (const TracerResult& r : results) {
+      if (r.name == "embree") emb = &r;
+      if (r.name == "gpu") gpu = &r;
+      std::printf("%-8s %9s %-7s %-8s %9.2f %10.1f %9zu %9zu %6zu %10zu%s\n", first ? kname : "",
+                  first ? std::to_string(rays.size()).c_str() : "", first ? (any_hit ? "any" : "closest") : "",
+                  r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
+                  r.validation.ties, r.validation.mismatches,
+                  r.validation.mismatches ? "  <-- MISMATCHES vs CPU reference" : "");
+      first = false;
+      kj["tracers"].push_back(tracer_json(r));
+      total_mismatches += r.validation.mismatches;
+      for (const std::string& ex : r.validation.examples)
+        std::fprintf(stderr, "hrpp bench: MISMATCH %s %s: %s\n", kname, r.name.c_str(), ex.c_str());
+    }
+    if (gpu && gpu->counters && gpu->counters->rays > 0) {
+      const double n = static_cast<double>(gpu->counters->rays);
+      std::printf("%-8s %9s %-7s gpu per ray: %.2f interior nodes, %.2f leaves, %.2f triangles\n",
+                  "", "", "", static_cast<double>(gpu->counters->interior_visited) / n,
+                  static_cast<double>(gpu->counters->leaves_visited) / n,
+                  static_cast<double>(gpu->counters->triangles_tested) / n);
+    }
+    if (gpu && emb && emb->mrays > 0.0) {
+      std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
+      kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
+    }
+    report["kinds"].push_back(std::move(kj));
+  }
+
+  std::printf("\ntiming: median of %d runs after a warm-up; cpu-ref and embree: wall clock on %d "
+              "threads; gpu: device timestamps (kernel time). validation: %s rays per kind vs the "
+              "CPU reference (t within 1e-5 relative; same t, other triangle = tie)\n",
+              o.repeat, threads, o.validate == 0 ? "all" : std::to_string(o.validate).c_str());
+  report["total_mismatches"] = total_mismatches;
+  if (total_mismatches > 0) {
+    std::printf("!! %zu MISMATCHES against the CPU reference (examples on stderr)\n",
+                total_mismatches);
+    std::fprintf(stderr, "hrpp bench: %zu mismatches against the CPU reference\n",
+                 total_mismatches);
+  }
+  if (!o.json.empty()) {
+    std::ofstream out(o.json);
+    if (!out) throw Error(o.json + ": cannot write --json");
+    out << report.dump(2) << '\n';
+    if (!out) throw Error(o.json + ": cannot write --json");
+  }
+  if (o.strict && total_mismatches > 0)
+    throw Error("--strict: " + std::to_string(total_mismatches) +
+                " mismatches against the CPU reference");
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "bench",
+      "Mrays/s on fixed primary / AO / diffuse batches: CPU reference, Embree, Vulkan device");
+  cmd->add_option("scene", o->scene,
+                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
+                  "manifest in scenes/")
+      ->capture_default_str();
+  cmd->add_option("--rays", o->rays,
+                  "Rays per batch; primaries on the smallest near-square grid with >= N pixels "
+                  "(2^20: 1024x1024)")
+      ->capture_default_str();
+  cmd->add_option("--kinds", o->kinds, "Batches: primary (closest), ao (any), diffuse (closest)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--json", o->json, "Write every figure, the machine and the validation as JSON");
+  cmd->add_option("--repeat", o->repeat, "Timed runs per tracer and batch (median reported)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--validate", o->validate,
+                  "Rays per batch checked against the CPU reference (evenly spread; 0: all)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "CPU reference and Embree threads (0: all)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Batch seed")->capture_default_str();
+  cmd->add_flag("--jitter", o->jitter, "Jittered primaries (default: pixel centres)");
+  cmd->add_option("--ao-radius", o->ao_radius, "AO tmax as a fraction of the scene diagonal")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--no-embree", o->no_embree, "Skip Embree");
+  cmd->add_flag("--no-gpu", o->no_gpu, "Skip the Vulkan device");
+  cmd->add_flag("--strict", o->strict, "Exit with status 1 when any tracer mismatches");
+  cmd->add_option("--device", o->vulkan.device,
+                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
+  cmd->add_option("--rays-per-invocation", o->tracer.rays_per_invocation,
+                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
+  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
+      ->capture_default_str();
+  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
+      ->capture_default_str();
+  cmd->callback([o] { run_bench(*o); });
+}
+
+}  // namespace hrpp::app
