@@ -211,6 +211,8 @@ void run_bench(const BenchOptions& o) {
       std::printf("vulkan      not available: %s (GPU skipped)\n", e.what());
       report["machine"]["vulkan_device"] = nullptr;
     }
+  } else {
+    std::printf("vulkan      off (--no-gpu)\n");
   }
 
   const Scene scene = load_scene(o.scene);
