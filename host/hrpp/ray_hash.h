@@ -1,0 +1,45 @@
+// HRPP ray hashes on the CPU: the mirror of shaders/lib/hrpp_hash.glsl, operation for operation,
+// so a key computed here equals the kernels' key bit for bit (tests/hrpp_hash_gpu_test.cpp).
+// The definitions (special floats, bins, packing) are documented in the GLSL file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "bvh/aabb.h"
+#include "hrpp_types.h"
+
+namespace hrpp {
+
+static_assert(sizeof(gpu::HashParams) == 64);
+static_assert(offsetof(gpu::HashParams, grid_scale) == 16 && offsetof(gpu::HashParams, far_lo) == 32 &&
+              offsetof(gpu::HashParams, reach) == 44);
+
+enum class HashKind : std::uint32_t {
+  kIeee = HRPP_HASH_IEEE,
+  kGridSpherical = HRPP_HASH_GRID_SPHERICAL,
+  kTwoPoint = HRPP_HASH_TWO_POINT,
+};
+
+struct HashConfig {
+  HashKind kind = HashKind::kIeee;
+  std::uint32_t bits = 6;  // precision N, 1..8 (the paper's Table 1 uses 6)
+};
+
+// "hrpp", "grid-spherical", "two-point" (the --hash values); throws hrpp::Error otherwise.
+HashKind parse_hash_kind(std::string_view name);
+const char* hash_kind_name(HashKind kind);
+
+// The parameters the kernels get: grid origin and scales over `scene_box`. Throws hrpp::Error
+// when bits is outside 1..8.
+gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box);
+
+// The paper's per-float hash at precision n (sign | top n exponent bits | top min(n, 7)
+// mantissa bits), on the canonical bits (-0 → +0, NaN → 0x7FC00000).
+std::uint32_t float_hash(float f, std::uint32_t n);
+
+// The key of a ray (< 2^48).
+std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir, const gpu::HashParams& params);
+
+}  // namespace hrpp

@@ -1,0 +1,168 @@
+// host/hrpp/ray_hash: the C++ hashes on their edges: keys fit 48 bits, the paper's bit layout and
+// swizzle, sign handling (-0 = +0, negative ≠ positive), special floats (NaNs equal, ≠ Inf,
+// subnormals keep their top mantissa bits), and monotone precision (rays with equal keys at
+// precision N+1 have equal keys at N, for every hash kind).
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/error.h"
+#include "hrpp/ray_hash.h"
+
+namespace hrpp {
+namespace {
+
+const Aabb kBox{{-1.25f, -0.5f, -2.0f}, {2.75f, 3.0f, 1.0f}};
+constexpr HashKind kKinds[] = {HashKind::kIeee, HashKind::kGridSpherical, HashKind::kTwoPoint};
+
+float f(std::uint32_t bits) { return std::bit_cast<float>(bits); }
+
+std::uint64_t key(HashKind kind, std::uint32_t bits, glm::vec3 o, glm::vec3 d) {
+  return hash_ray(o, d, make_hash_params({kind, bits}, kBox));
+}
+
+const std::vector<float>& extremes() {
+  static const std::vector<float> v = {
+      0.0f, -0.0f, f(1), f(0x80000001u), f(0x00400000u), f(0x007FFFFFu), f(0x00800000u),
+      1.0f, -1.0f, 0.5f, -3.0f, 1e-30f, f(0x21800000u), f(0x217FFFFFu),
+      std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+      std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+      f(0x7FC00000u), f(0xFFC00000u), f(0x7F800001u), f(0x7FFFFFFFu), 2.75f, -1.25f, 3.0f};
+  return v;
+}
+
+TEST(RayHash, KeysFit48BitsForEveryKindAndPrecision) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::uint32_t> any_bits;
+  const auto& ex = extremes();
+  std::uniform_int_distribution<std::size_t> pick(0, ex.size() - 1);
+  for (HashKind kind : kKinds)
+    for (std::uint32_t n = 1; n <= 8; ++n) {
+      std::uint64_t all = 0;
+      for (int i = 0; i < 2000; ++i) {
+        const glm::vec3 o{f(any_bits(rng)), ex[pick(rng)], f(any_bits(rng))};
+        const glm::vec3 d{ex[pick(rng)], f(any_bits(rng)), ex[pick(rng)]};
+        const std::uint64_t k = key(kind, n, o, d);
+        EXPECT_LT(k, std::uint64_t{1} << 48) << hash_kind_name(kind) << " N=" << n;
+        all |= k;
+      }
+      // The fields the kinds use: IEEE 3 × 16-bit fields of 2N+1 bits (16 at N = 8), grid 5N,
+      // two-point 6N: random bits must reach the top of the layout.
+      const int top = kind == HashKind::kIeee ? 32 + static_cast<int>(n + std::min(n, 7u))
+                      : kind == HashKind::kGridSpherical ? static_cast<int>(5 * n) - 1
+                                                         : static_cast<int>(6 * n) - 1;
+      EXPECT_NE(all >> top, 0u) << hash_kind_name(kind) << " N=" << n;
+      EXPECT_EQ(all >> (top + 1), 0u) << hash_kind_name(kind) << " N=" << n;
+    }
+}
+
+TEST(RayHash, FloatHashIsSignExponentMantissa) {
+  // 1.0 = 0x3F800000: sign 0, exponent 0111'1111, mantissa 0.
+  EXPECT_EQ(float_hash(1.0f, 2), 0b0'01'00u);
+  EXPECT_EQ(float_hash(-1.0f, 2), 0b1'01'00u);
+  // 3.0 = 0x40400000: exponent 1000'0000, mantissa 100...
+  EXPECT_EQ(float_hash(3.0f, 3), 0b0'100'100u);
+  EXPECT_EQ(float_hash(-3.0f, 8), (1u << 15) | (0x80u << 7) | 0x40u);
+  // 16 bits at N = 8: 1 + 8 exponent + 7 mantissa bits.
+  EXPECT_EQ(float_hash(-std::numeric_limits<float>::max(), 8), 0xFFFFu - (1u << 7));
+  for (std::uint32_t n = 1; n <= 8; ++n) EXPECT_LT(float_hash(f(0xFFFFFFFFu), n), 1u << 16);
+}
+
+TEST(RayHash, IeeeKeyIsTheSwizzle) {
+  const glm::vec3 o{1.0f, -3.0f, 0.5f}, d{-1.0f, 3.0f, 0.25f};
+  for (std::uint32_t n = 1; n <= 8; ++n) {
+    const std::uint64_t h0 = float_hash(o.x, n) ^ float_hash(d.z, n);
+    const std::uint64_t h1 = float_hash(o.y, n) ^ float_hash(d.y, n);
+    const std::uint64_t h2 = float_hash(o.z, n) ^ float_hash(d.x, n);
+    EXPECT_EQ(key(HashKind::kIeee, n, o, d), h0 | (h1 << 16) | (h2 << 32));
+  }
+}
+
+TEST(RayHash, SignsAndSpecialFloats) {
+  for (std::uint32_t n = 1; n <= 8; ++n) {
+    EXPECT_EQ(float_hash(-0.0f, n), float_hash(0.0f, n));
+    EXPECT_NE(float_hash(-2.0f, n), float_hash(2.0f, n));
+    const std::uint32_t nan = float_hash(f(0x7FC00000u), n);
+    for (std::uint32_t b : {0xFFC00000u, 0x7F800001u, 0xFFFFFFFFu, 0x7FBFFFFFu})
+      EXPECT_EQ(float_hash(f(b), n), nan);
+    EXPECT_NE(nan, float_hash(std::numeric_limits<float>::infinity(), n));
+    EXPECT_NE(float_hash(-std::numeric_limits<float>::infinity(), n),
+              float_hash(std::numeric_limits<float>::infinity(), n));
+    // Subnormals: exponent 0, the mantissa's top bits kept.
+    EXPECT_EQ(float_hash(f(0x00400000u), n), 1u << (std::min(n, 7u) - 1));
+    EXPECT_EQ(float_hash(f(1), n), 0u);
+  }
+  for (HashKind kind : kKinds)
+    for (std::uint32_t n = 1; n <= 8; ++n) {
+      const glm::vec3 o{0.5f, 1.0f, -0.75f};
+      EXPECT_EQ(key(kind, n, {0.0f, 1.0f, -0.75f}, {-0.0f, 0.0f, 1.0f}),
+                key(kind, n, {-0.0f, 1.0f, -0.75f}, {0.0f, -0.0f, 1.0f}));
+      EXPECT_EQ(key(kind, n, o, {f(0x7FC00000u), 1.0f, 0.0f}),
+                key(kind, n, o, {f(0xFFFFFFFFu), 1.0f, 0.0f}));
+      if (kind == HashKind::kIeee || n >= 2) {  // the direction's sign is seen
+        EXPECT_NE(key(kind, n, o, {0.0f, 0.0f, 1.0f}), key(kind, n, o, {0.0f, 0.0f, -1.0f}));
+      }
+    }
+}
+
+TEST(RayHash, GridHashesQuantiseTheSceneBox) {
+  // The box's low corner is cell 0; its high corner the last cell; outside clamps.
+  for (std::uint32_t n = 1; n <= 8; ++n) {
+    const std::uint64_t mask = (std::uint64_t{1} << (3 * n)) - 1;
+    const std::uint64_t last = mask;  // every axis in cell 2^n - 1
+    const glm::vec3 d{0.0f, 0.0f, 1.0f};
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.lo, d) & mask, 0u);
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.hi, d) & mask, last);
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.hi + 5.0f, d) & mask, last);
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.lo - 5.0f, d) & mask, 0u);
+    // θ: +z is the last θ bin, -z the first; φ of +x is bin 0.
+    const std::uint64_t theta_plus = (key(HashKind::kGridSpherical, n, kBox.lo, d) >> (3 * n)) &
+                                     ((1u << n) - 1);
+    EXPECT_EQ(theta_plus, (1u << n) - 1);
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.lo, -d) >> (3 * n), 0u);
+    EXPECT_EQ(key(HashKind::kGridSpherical, n, kBox.lo, {1.0f, 0.0f, 0.0f}) >> (4 * n), 0u);
+  }
+  EXPECT_THROW(make_hash_params({HashKind::kIeee, 0}, kBox), Error);
+  EXPECT_THROW(make_hash_params({HashKind::kIeee, 9}, kBox), Error);
+  EXPECT_THROW(parse_hash_kind("md5"), Error);
+}
+
+// Rays with equal keys at precision N+1 have equal keys at N: a finer hash only splits entries.
+TEST(RayHash, PrecisionIsMonotone) {
+  std::mt19937 rng(11);
+  std::normal_distribution<float> jitter(0.0f, 1.0f);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<std::pair<glm::vec3, glm::vec3>> rays;
+  for (int c = 0; c < 64; ++c) {  // clusters of similar rays so keys collide
+    const glm::vec3 o{u(rng) * 2.0f, u(rng) * 2.0f, u(rng) * 2.0f};
+    const glm::vec3 d = glm::normalize(glm::vec3{u(rng), u(rng), u(rng)});
+    const float spread = std::ldexp(1.0f, -(c % 12));
+    for (int i = 0; i < 64; ++i)
+      rays.emplace_back(o + spread * glm::vec3{jitter(rng), jitter(rng), jitter(rng)},
+                        d + spread * glm::vec3{jitter(rng), jitter(rng), jitter(rng)});
+  }
+  for (HashKind kind : kKinds)
+    for (std::uint32_t n = 1; n < 8; ++n) {
+      std::map<std::uint64_t, std::uint64_t> coarse_of_fine;
+      int collisions = 0;
+      for (const auto& [o, d] : rays) {
+        const std::uint64_t fine = key(kind, n + 1, o, d), coarse = key(kind, n, o, d);
+        const auto [it, inserted] = coarse_of_fine.emplace(fine, coarse);
+        if (!inserted) {
+          ++collisions;
+          EXPECT_EQ(it->second, coarse) << hash_kind_name(kind) << " N=" << n;
+        }
+      }
+      EXPECT_GT(collisions, 0) << hash_kind_name(kind) << " N=" << n;
+      EXPECT_LE(coarse_of_fine.size(), rays.size());
+    }
+}
+
+}  // namespace
+}  // namespace hrpp
