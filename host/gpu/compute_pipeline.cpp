@@ -1,9 +1,11 @@
 #include "gpu/compute_pipeline.h"
 
+#include <map>
 #include <vector>
 
 #include "common/error.h"
 #include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 
 namespace hrpp {
@@ -33,7 +35,17 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
                                  std::span<const std::uint32_t> spirv, std::uint32_t binding_count,
                                  std::uint32_t push_constant_bytes,
                                  std::span<const SpecializationConstant> specialization)
+    : ComputePipeline(ctx, std::move(name), spirv,
+                      std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+                      push_constant_bytes, specialization) {}
+
+ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
+                                 std::span<const std::uint32_t> spirv,
+                                 std::span<const VkDescriptorType> binding_types,
+                                 std::uint32_t push_constant_bytes,
+                                 std::span<const SpecializationConstant> specialization)
     : s_(std::make_unique<State>()) {
+  const auto binding_count = static_cast<std::uint32_t>(binding_types.size());
   State& s = *s_;
   s.device = ctx.device();
   s.name = std::move(name);
@@ -50,7 +62,7 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   for (std::uint32_t i = 0; i < binding_count; ++i) {
     bindings[i] = {};
     bindings[i].binding = i;
-    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorType = binding_types[i];
     bindings[i].descriptorCount = 1;
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -93,12 +105,16 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   check_vk(vkCreateComputePipelines(s.device, VK_NULL_HANDLE, 1, &cpi, nullptr, &s.pipeline),
            "vkCreateComputePipelines" + what);
 
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, binding_count ? binding_count : 1};
+  std::map<VkDescriptorType, std::uint32_t> per_type;
+  for (VkDescriptorType t : binding_types) ++per_type[t];
+  std::vector<VkDescriptorPoolSize> sizes;
+  for (const auto& [type, count] : per_type) sizes.push_back({type, count});
+  if (sizes.empty()) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1});
   VkDescriptorPoolCreateInfo dpi{};
   dpi.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
   dpi.maxSets = 1;
-  dpi.poolSizeCount = 1;
-  dpi.pPoolSizes = &size;
+  dpi.poolSizeCount = static_cast<std::uint32_t>(sizes.size());
+  dpi.pPoolSizes = sizes.data();
   check_vk(vkCreateDescriptorPool(s.device, &dpi, nullptr, &s.pool), "vkCreateDescriptorPool" + what);
   VkDescriptorSetAllocateInfo dai{};
   dai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
@@ -121,6 +137,18 @@ void ComputePipeline::bind(std::uint32_t binding, const StorageBuffer& buffer) {
   w.descriptorCount = 1;
   w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   w.pBufferInfo = &info;
+  vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
+}
+
+void ComputePipeline::bind(std::uint32_t binding, const TexelView& view) {
+  const VkBufferView handle = view.handle();
+  VkWriteDescriptorSet w{};
+  w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+  w.dstSet = s_->set;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  w.pTexelBufferView = &handle;
   vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
 }
 

@@ -1,5 +1,5 @@
 // A compute pipeline from embedded SPIR-V (specialization constants, push constants) with its
-// own descriptor set of storage buffers, and the timestamp pool that times dispatches per kernel
+// own descriptor set of storage buffers and uniform texel buffers, and the timestamp pool that times dispatches per kernel
 // name. Move-only.
 #pragma once
 
@@ -15,6 +15,7 @@ namespace hrpp {
 
 class VulkanContext;
 class StorageBuffer;
+class TexelView;
 
 struct SpecializationConstant {
   std::uint32_t id;
@@ -27,6 +28,12 @@ class ComputePipeline {
   ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
                   std::uint32_t binding_count, std::uint32_t push_constant_bytes,
                   std::span<const SpecializationConstant> specialization = {});
+  // Binding i of set 0 has descriptor type binding_types[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER or
+  // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER.
+  ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
+                  std::span<const VkDescriptorType> binding_types,
+                  std::uint32_t push_constant_bytes,
+                  std::span<const SpecializationConstant> specialization = {});
   ~ComputePipeline();
   ComputePipeline(ComputePipeline&&) noexcept;
   ComputePipeline& operator=(ComputePipeline&&) noexcept;
@@ -35,6 +42,8 @@ class ComputePipeline {
 
   // Points a binding at a buffer (do not call while a submit using the set is in flight).
   void bind(std::uint32_t binding, const StorageBuffer& buffer);
+  // Same for a uniform texel buffer binding.
+  void bind(std::uint32_t binding, const TexelView& view);
 
   const std::string& name() const;
   VkPipeline pipeline() const;

@@ -1,6 +1,7 @@
 #include "gpu/gpu_tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <string>
@@ -9,6 +10,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "trace/slab_test.h"
 #include "trace_interface.h"
@@ -22,10 +24,24 @@ static_assert(HRPP_STACK_SIZE == 64, "shaders/shared/trace_interface.h and host/
 static_assert(std::bit_cast<std::uint32_t>(kSlabFarScale) == HRPP_SLAB_FAR_SCALE_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p-80f) == HRPP_TWO_POW_M80_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p80f) == HRPP_TWO_POW_80_BITS);
+// shaders/lib/bvh_fetch.glsl reads these records as 4, 1 and 3 16-byte texels.
+static_assert(sizeof(gpu::BvhNode) == 4 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::BvhLeaf) == 1 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::TriangleRecord) == 3 * TexelView::kTexelBytes);
 
 namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
+
+// Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h).
+constexpr std::array<VkDescriptorType, HRPP_TRACE_BINDING_COUNT> kBindingTypes = [] {
+  std::array<VkDescriptorType, HRPP_TRACE_BINDING_COUNT> t{};
+  t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}();
 
 std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
   return static_cast<std::uint64_t>(c.wide[2 * counter]) |
@@ -38,6 +54,7 @@ struct GpuTracer::State {
   VulkanContext* ctx = nullptr;
   GpuTracerConfig config;
   StorageBuffer nodes, leaves, triangles, counters;
+  TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
   StorageBuffer rays, hits;  // grown on demand
   ComputePipeline closest, any;
   KernelTimer timer;
@@ -50,9 +67,12 @@ struct GpuTracer::State {
         leaves(c, bvh.leaves.size() * sizeof(gpu::BvhLeaf), "BVH leaf array"),
         triangles(c, bvh.triangles.size() * sizeof(gpu::TriangleRecord), "BVH triangle array"),
         counters(c, sizeof(gpu::TraceCounters), "trace counters"),
-        closest(c, "trace_closest", embedded_spirv("trace_closest"), HRPP_TRACE_BINDING_COUNT,
+        node_view(c, nodes),
+        leaf_view(c, leaves),
+        triangle_view(c, triangles),
+        closest(c, "trace_closest", embedded_spirv("trace_closest"), kBindingTypes,
                 sizeof(gpu::TracePushConstants)),
-        any(c, "trace_any", embedded_spirv("trace_any"), HRPP_TRACE_BINDING_COUNT,
+        any(c, "trace_any", embedded_spirv("trace_any"), kBindingTypes,
             sizeof(gpu::TracePushConstants)),
         timer(c, 4) {
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
@@ -60,9 +80,9 @@ struct GpuTracer::State {
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (ComputePipeline* p : {&closest, &any}) {
-      p->bind(HRPP_TRACE_BINDING_NODES, nodes);
-      p->bind(HRPP_TRACE_BINDING_LEAVES, leaves);
-      p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangles);
+      p->bind(HRPP_TRACE_BINDING_NODES, node_view);
+      p->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
+      p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
       p->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
     }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);

@@ -193,6 +193,7 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
   info.int64 = f2.features.shaderInt64;
   info.int64_atomics = f12.shaderBufferInt64Atomics;
   info.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  info.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   info.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   info.timestamp_period_ns = p.limits.timestampPeriod;
   return info;

@@ -33,6 +33,7 @@ struct DeviceInfo {
   bool int64 = false;               // shaderInt64
   bool int64_atomics = false;       // shaderBufferInt64Atomics
   std::uint64_t max_storage_buffer_range = 0;  // bytes one storage-buffer binding may span
+  std::uint32_t max_texel_buffer_elements = 0;  // texels one texel-buffer view may span
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps

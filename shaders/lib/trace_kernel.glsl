@@ -20,19 +20,10 @@
 #include "trace_interface.h"
 #include "slab_test.glsl"
 #include "watertight.glsl"
+#include "bvh_fetch.glsl"
 
 layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_NODES) readonly restrict buffer NodeBuffer {
-  BvhNode nodes[];
-};
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_LEAVES) readonly restrict buffer LeafBuffer {
-  BvhLeaf leaves[];
-};
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) readonly restrict buffer
-    TriangleBuffer {
-  TriangleRecord triangles[];
-};
 layout(std430, set = 0, binding = HRPP_TRACE_BINDING_RAYS) readonly restrict buffer RayBuffer {
   Ray rays[];
 };
@@ -57,11 +48,11 @@ bool is_interior(int ref) { return uint(ref) < uint(kSentinel); }  // leaves are
 // Tests a leaf's triangles. Returns true when an any-hit query is answered.
 bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
   ++g_leaves;
-  const BvhLeaf leaf = leaves[~leaf_ref];
+  const BvhLeaf leaf = load_leaf(~leaf_ref);
   const uint end = leaf.first_triangle + leaf.triangle_count;
   for (uint i = leaf.first_triangle; i < end; ++i) {
     ++g_triangles;
-    const TriangleRecord tri = triangles[i];
+    const TriangleRecord tri = load_triangle(i);
     float t, u, v;
     if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) continue;
 #if HRPP_ANY_HIT
@@ -89,7 +80,7 @@ bool traverse(RaySetup r, inout Hit best) {
     bool searching = true;
     while (is_interior(node)) {
       ++g_interior;
-      const BvhNode n = nodes[node];
+      const BvhNode n = load_node(node);
       float t_left, t_right;
       const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
                                       vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);

@@ -18,6 +18,9 @@ namespace hrpp::gpu {
 
 #define HRPP_TRACE_WORKGROUP_SIZE 64
 
+// NODES, LEAVES and TRIANGLES are uniform texel buffers (R32G32B32A32_UINT views of the
+// BvhNode, BvhLeaf and TriangleRecord arrays: shaders/lib/bvh_fetch.glsl); the others storage
+// buffers.
 #define HRPP_TRACE_BINDING_NODES 0
 #define HRPP_TRACE_BINDING_LEAVES 1
 #define HRPP_TRACE_BINDING_TRIANGLES 2

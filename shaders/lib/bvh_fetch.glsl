@@ -1,0 +1,37 @@
+// The BVH arrays of shaders/shared/gpu_types.h read through uniform texel buffers
+// (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4 texels, a BvhLeaf 1, a
+// TriangleRecord 3; bits are reinterpreted, never converted, so values are exactly the host's.
+// Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
+// word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
+#ifndef HRPP_BVH_FETCH_GLSL
+#define HRPP_BVH_FETCH_GLSL
+
+layout(set = 0, binding = HRPP_TRACE_BINDING_NODES) uniform usamplerBuffer node_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform usamplerBuffer leaf_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform usamplerBuffer triangle_texels;
+
+BvhNode load_node(int index) {
+  const int t = 4 * index;
+  BvhNode n;
+  n.left_xy = uintBitsToFloat(texelFetch(node_texels, t));
+  n.right_xy = uintBitsToFloat(texelFetch(node_texels, t + 1));
+  n.lr_z = uintBitsToFloat(texelFetch(node_texels, t + 2));
+  n.link = ivec4(texelFetch(node_texels, t + 3));
+  return n;
+}
+
+BvhLeaf load_leaf(int index) {
+  const uvec4 w = texelFetch(leaf_texels, index);
+  return BvhLeaf(w.x, w.y, int(w.z), w.w);
+}
+
+TriangleRecord load_triangle(uint index) {
+  const int t = 3 * int(index);
+  const uvec4 a = texelFetch(triangle_texels, t);
+  const uvec4 b = texelFetch(triangle_texels, t + 1);
+  const uvec4 c = texelFetch(triangle_texels, t + 2);
+  return TriangleRecord(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
+                        uintBitsToFloat(c.xyz), c.w);
+}
+
+#endif  // HRPP_BVH_FETCH_GLSL
