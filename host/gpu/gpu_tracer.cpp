@@ -9,10 +9,12 @@
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
+#include "gpu/gpu_predictor.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "trace/slab_test.h"
+#include "hrpp_interface.h"
 #include "trace_interface.h"
 
 namespace hrpp {
@@ -34,14 +36,19 @@ namespace {
 constexpr std::uint32_t kCanaryIterations = 2;
 
 // Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h).
-constexpr std::array<VkDescriptorType, HRPP_TRACE_BINDING_COUNT> kBindingTypes = [] {
-  std::array<VkDescriptorType, HRPP_TRACE_BINDING_COUNT> t{};
+// The trace kernels' bindings; the HRPP variants add the predictor's storage buffers after them.
+template <std::size_t N>
+constexpr std::array<VkDescriptorType, N> binding_types() {
+  std::array<VkDescriptorType, N> t{};
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
-}();
+}
+constexpr auto kBindingTypes = binding_types<HRPP_TRACE_BINDING_COUNT>();
+constexpr auto kPredictBindingTypes = binding_types<HRPP_PREDICT_BINDING_COUNT>();
+static_assert(HRPP_PREDICT_BINDING_FIRST == HRPP_TRACE_BINDING_COUNT);
 
 std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
   return static_cast<std::uint64_t>(c.wide[2 * counter]) |
@@ -58,9 +65,13 @@ struct GpuTracer::State {
   StorageBuffer rays, hits;  // grown on demand
   ComputePipeline closest, any;
   KernelTimer timer;
+  std::unique_ptr<GpuPredictor> predictor;  // HRPP on
+  std::unique_ptr<ComputePipeline> closest_hrpp, any_hrpp;  // HRPP on
+  std::uint32_t clock = 0;                  // HRPP use stamps: rays traced so far
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
-  State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg)
+  State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
+        const PredictorConfig& predictor_config)
       : ctx(&c),
         config(cfg),
         nodes(c, bvh.nodes.size() * sizeof(gpu::BvhNode), "BVH node array"),
@@ -75,11 +86,21 @@ struct GpuTracer::State {
         any(c, "trace_any", embedded_spirv("trace_any"), kBindingTypes,
             sizeof(gpu::TracePushConstants)),
         timer(c, 4) {
+    if (predictor_config.enabled) {
+      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config);
+      closest_hrpp = std::make_unique<ComputePipeline>(
+          c, "trace_closest_hrpp", embedded_spirv("trace_closest_hrpp"), kPredictBindingTypes,
+          sizeof(gpu::TracePushConstants));
+      any_hrpp = std::make_unique<ComputePipeline>(c, "trace_any_hrpp",
+                                                   embedded_spirv("trace_any_hrpp"),
+                                                   kPredictBindingTypes,
+                                                   sizeof(gpu::TracePushConstants));
+    }
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
     nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
-    for (ComputePipeline* p : {&closest, &any}) {
+    for (ComputePipeline* p : pipelines()) {
       p->bind(HRPP_TRACE_BINDING_NODES, node_view);
       p->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
       p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
@@ -90,6 +111,11 @@ struct GpuTracer::State {
     probe.tmin = 0.0f;
     probe.dir = {1.0f, 0.0f, 0.0f};
     probe.tmax = 1e30f;
+  }
+
+  std::vector<ComputePipeline*> pipelines() {
+    if (predictor) return {&closest, &any, closest_hrpp.get(), any_hrpp.get()};
+    return {&closest, &any};
   }
 
   // Rays per dispatch: what one storage buffer holds and one dispatch's workgroups reach.
@@ -107,15 +133,20 @@ struct GpuTracer::State {
     hits = StorageBuffer();
     rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), "ray array");
     hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), "hit array");
-    for (ComputePipeline* p : {&closest, &any}) {
+    for (ComputePipeline* p : pipelines()) {
       p->bind(HRPP_TRACE_BINDING_RAYS, rays);
       p->bind(HRPP_TRACE_BINDING_HITS, hits);
+    }
+    if (predictor) {
+      predictor->bind(*closest_hrpp, false, n);
+      predictor->bind(*any_hrpp, true, n);
     }
   }
 
   // One dispatch over rays[0..n) of the current buffers; adds into `out`.
   void dispatch(std::size_t n, bool any_hit, GpuTraceResult& out, std::size_t first) {
-    ComputePipeline& p = any_hit ? any : closest;
+    ComputePipeline& p =
+        predictor ? *(any_hit ? any_hrpp : closest_hrpp) : (any_hit ? any : closest);
     gpu::TraceCounters zero{};
     counters.upload(&zero, sizeof zero);
     gpu::TracePushConstants pc{};
@@ -128,7 +159,11 @@ struct GpuTracer::State {
     ctx->submit_and_wait(
         [&](VkCommandBuffer cmd) {
           timer.reset(cmd);
-          record_dispatch(cmd, p, &pc, groups, &timer);
+          if (predictor)
+            predictor->record(cmd, p, pc, config.rays_per_invocation, counters, any_hit, clock,
+                              predictor->config().batch == 0 ? &timer : nullptr);
+          else
+            record_dispatch(cmd, p, &pc, groups, &timer);
         },
         p.name());
     for (const auto& [kernel, ms] : timer.read_ms()) out.kernel_ms += ms;
@@ -149,11 +184,13 @@ struct GpuTracer::State {
     out.counters.leaves_visited += wide(c, HRPP_COUNTER_LEAVES);
     out.counters.triangles_tested += wide(c, HRPP_COUNTER_TRIANGLES);
     out.counters.hits += wide(c, HRPP_COUNTER_HITS);
+    clock += static_cast<std::uint32_t>(n);
   }
 };
 
-GpuTracer::GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config)
-    : s_(std::make_unique<State>(ctx, bvh, config)) {}
+GpuTracer::GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config,
+                     const PredictorConfig& predictor)
+    : s_(std::make_unique<State>(ctx, bvh, config, predictor)) {}
 
 GpuTracer::~GpuTracer() = default;
 GpuTracer::GpuTracer(GpuTracer&&) noexcept = default;
@@ -164,6 +201,7 @@ const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
   GpuTraceResult out;
   out.hits.resize(rays.size());
+  if (s_->predictor) s_->predictor->begin_trace(any_hit);
   const std::size_t chunk = s_->chunk_rays();
   for (std::size_t first = 0; first < rays.size(); first += chunk) {
     const std::size_t n = std::min(chunk, rays.size() - first);
@@ -171,6 +209,7 @@ GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
     s_->rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
     s_->dispatch(n, any_hit, out, first);
   }
+  if (s_->predictor) out.predictor = s_->predictor->counters(any_hit);
   return out;
 }
 
@@ -178,6 +217,16 @@ void GpuTracer::warm_up() {
   const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
   trace(rays, false);
   trace(rays, true);
+  clear_predictor();  // the warm-up rays leave nothing behind
+}
+
+TableOccupancy GpuTracer::predictor_occupancy(bool any_hit) const {
+  return s_->predictor ? s_->predictor->occupancy(any_hit) : TableOccupancy{};
+}
+
+void GpuTracer::clear_predictor() {
+  if (s_->predictor) s_->predictor->clear();
+  s_->clock = 0;
 }
 
 }  // namespace hrpp

@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "bvh/gpu_layout.h"
+#include "gpu/gpu_predictor.h"
 #include "gpu_types.h"
+#include "hrpp/predictor_config.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -27,13 +29,17 @@ struct GpuTracerConfig {
 struct GpuTraceResult {
   std::vector<gpu::Hit> hits;   // one per ray; any-hit: prim 0 occluded, -1 free (t, u, v = 0)
   TraversalCounters counters;   // summed over the ray chunks of the call
-  double kernel_ms = 0.0;       // device timestamps around the trace dispatches
+  double kernel_ms = 0.0;       // device timestamps around the trace dispatches (0 when
+                                // HRPP runs in batches: many small dispatches)
+  gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
 };
 
 class GpuTracer {
  public:
-  // Uploads the BVH. Throws hrpp::Error when an array exceeds maxStorageBufferRange.
-  GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {});
+  // Uploads the BVH. Throws hrpp::Error when an array exceeds maxStorageBufferRange. With
+  // predictor.enabled (HRPP on), the trace_*_hrpp kernels probe the predictor before traversal.
+  GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
+            const PredictorConfig& predictor = {});
   ~GpuTracer();
   GpuTracer(GpuTracer&&) noexcept;
   GpuTracer& operator=(GpuTracer&&) noexcept;
@@ -50,6 +56,10 @@ class GpuTracer {
   void warm_up();
 
   const GpuTracerConfig& config() const;
+
+  // HRPP on: what the hit-all or hit-any table holds now; empty both tables.
+  TableOccupancy predictor_occupancy(bool any_hit) const;
+  void clear_predictor();
 
  private:
   struct State;

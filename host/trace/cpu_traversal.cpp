@@ -26,43 +26,47 @@ bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, g
   return found;
 }
 
+// Stack traversal of the subtree under `root` (interior node index or ~leaf) into `best`;
+// tmax starts at `tmax`. Returns true when an any-hit query was answered.
+bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, gpu::Hit& best,
+                   bool any_only, TraversalCounters& c) {
+  int stack[HRPP_STACK_SIZE];
+  int sp = 0;
+  int node = root;
+  while (true) {
+    if (is_leaf_ref(node)) {
+      if (test_leaf(bvh, r, bvh.leaves[leaf_index(node)], best, tmax, any_only, c) && any_only)
+        return true;
+    } else {
+      ++c.interior_visited;
+      const gpu::BvhNode& n = bvh.nodes[node];
+      float t_left, t_right;
+      const bool hit_left = slab_test(r, {n.left_xy.x, n.left_xy.z, n.lr_z.x},
+                                      {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left);
+      const bool hit_right = slab_test(r, {n.right_xy.x, n.right_xy.z, n.lr_z.z},
+                                       {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right);
+      if (hit_left && hit_right) {
+        const bool right_first = t_right < t_left;
+        stack[sp++] = right_first ? n.link.x : n.link.y;
+        node = right_first ? n.link.y : n.link.x;
+        continue;
+      }
+      if (hit_left || hit_right) {
+        node = hit_left ? n.link.x : n.link.y;
+        continue;
+      }
+    }
+    if (sp == 0) return false;
+    node = stack[--sp];
+  }
+}
+
 gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out) {
   TraversalCounters c;
   c.rays = 1;
   gpu::Hit best = kMiss;
   const RaySetup r = setup_ray(ray);
-  if (r.valid && !bvh.nodes.empty()) {
-    float tmax = ray.tmax;
-    int stack[HRPP_STACK_SIZE];
-    int sp = 0;
-    int node = 0;
-    while (true) {
-      if (is_leaf_ref(node)) {
-        if (test_leaf(bvh, r, bvh.leaves[leaf_index(node)], best, tmax, any_only, c) && any_only)
-          break;
-      } else {
-        ++c.interior_visited;
-        const gpu::BvhNode& n = bvh.nodes[node];
-        float t_left, t_right;
-        const bool hit_left = slab_test(r, {n.left_xy.x, n.left_xy.z, n.lr_z.x},
-                                        {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left);
-        const bool hit_right = slab_test(r, {n.right_xy.x, n.right_xy.z, n.lr_z.z},
-                                         {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right);
-        if (hit_left && hit_right) {
-          const bool right_first = t_right < t_left;
-          stack[sp++] = right_first ? n.link.x : n.link.y;
-          node = right_first ? n.link.y : n.link.x;
-          continue;
-        }
-        if (hit_left || hit_right) {
-          node = hit_left ? n.link.x : n.link.y;
-          continue;
-        }
-      }
-      if (sp == 0) break;
-      node = stack[--sp];
-    }
-  }
+  if (r.valid && !bvh.nodes.empty()) traverse_from(bvh, r, 0, ray.tmax, best, any_only, c);
   if (best.prim >= 0) ++c.hits;
   if (out) *out += c;
   return best;
@@ -76,6 +80,19 @@ gpu::Hit trace_closest(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
 
 bool trace_any(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters) {
   return traverse(bvh, ray, true, counters).prim >= 0;
+}
+
+gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters) {
+  return traverse(bvh, ray, true, counters);
+}
+
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, bool any_hit, gpu::Hit& best,
+                   TraversalCounters* counters) {
+  TraversalCounters c;
+  const RaySetup r = setup_ray(ray);
+  const bool answered = r.valid && traverse_from(bvh, r, root, ray.tmax, best, any_hit, c);
+  if (counters) *counters += c;
+  return answered;
 }
 
 }  // namespace hrpp

@@ -14,6 +14,17 @@ namespace hrpp {
 gpu::Hit trace_closest(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters = nullptr);
 bool trace_any(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters = nullptr);
 
+// Any-hit query that also says which triangle answered it (the first hit met, in traversal
+// order): HRPP inserts the leaf that held it.
+gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters = nullptr);
+
+// The subtree under `root` (a child reference: interior node index, or ~leaf index) with the
+// ray's [tmin, tmax], improving `best` as the traversal does (closest: smaller t, ties to the
+// lower id). any_hit: stops at the first hit, best.prim = its triangle id; returns true then.
+// Counts interior nodes, leaves and triangles only (HRPP's verification of predicted nodes).
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, bool any_hit, gpu::Hit& best,
+                   TraversalCounters* counters = nullptr);
+
 inline constexpr gpu::Hit kMiss{-1, 0.0f, 0.0f, 0.0f};
 
 }  // namespace hrpp

@@ -18,6 +18,9 @@
 #define HRPP_TRACE_KERNEL_GLSL
 
 #include "trace_interface.h"
+#ifndef HRPP_PREDICT
+#define HRPP_PREDICT 0  // 1: probe the HRPP predictor first (trace_*_hrpp.comp)
+#endif
 #include "slab_test.glsl"
 #include "watertight.glsl"
 #include "bvh_fetch.glsl"
@@ -56,7 +59,11 @@ bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
     float t, u, v;
     if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) continue;
 #if HRPP_ANY_HIT
+#if HRPP_PREDICT
+    best = Hit(int(tri.prim), 0.0, 0.0, 0.0);  // HRPP inserts the leaf of this triangle
+#else
     best = Hit(0, 0.0, 0.0, 0.0);
+#endif
     return true;
 #else
     const int prim = int(tri.prim);
@@ -68,12 +75,14 @@ bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
   return false;
 }
 
-// Traces one ray into `best`. Returns false when the traversal did not reach its end.
-bool traverse(RaySetup r, inout Hit best) {
+// Traces one ray into `best` through the subtree under interior node `start` (0: the whole
+// tree; HRPP verifies predicted interior nodes this way). Returns false when the traversal did
+// not reach its end.
+bool traverse_from(RaySetup r, int start, inout Hit best) {
   int stack[HRPP_STACK_SIZE];
   int sp = 0;
   float tmax = r.tmax;
-  int node = r.valid ? 0 : kSentinel;
+  int node = r.valid ? start : kSentinel;
   int leaf = 0;  // postponed leaf (< 0); >= 0: none
   while (node != kSentinel) {
     // Interior nodes until every lane still searching has postponed a leaf.
@@ -116,6 +125,10 @@ bool traverse(RaySetup r, inout Hit best) {
   return node == kSentinel;
 }
 
+#if HRPP_PREDICT
+#include "hrpp_predict.glsl"
+#endif
+
 // True while the loop limiter has budget left: a loop of pc.canary_iterations (2) iterations
 // runs in full. Once a limiter has fired, loops run once, so this reads false from then on.
 bool loop_budget_left() {
@@ -131,6 +144,9 @@ void add_wide(uint counter, uint value) {
 }
 
 void main() {
+#if HRPP_PREDICT
+  if (hrpp.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup
+#endif
   uint done = 0u, hit_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
     // One atomicAdd per subgroup for all its active lanes (any subgroup size).
@@ -144,7 +160,11 @@ void main() {
 
     const RaySetup r = setup_ray(rays[index]);
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
-    const bool finished = traverse(r, best);
+#if HRPP_PREDICT
+    const bool finished = hrpp_trace(r, index, best);
+#else
+    const bool finished = traverse_from(r, 0, best);
+#endif
     if (loop_budget_left() && finished) {
       hits[index] = best;
       ++done;
@@ -168,6 +188,9 @@ void main() {
     add_wide(HRPP_COUNTER_HITS, sums[HRPP_COUNTER_HITS]);
     if (aborted_sum != 0u) atomicAdd(counters.aborted, aborted_sum);
   }
+#if HRPP_PREDICT
+  hrpp_flush_counters();
+#endif
 }
 
 #endif  // HRPP_TRACE_KERNEL_GLSL

@@ -8,6 +8,7 @@
 
 #ifdef __cplusplus
 namespace hrpp::gpu {
+using uint64_t = std::uint64_t;
 #endif
 
 // Hash kinds (--hash). Every kind takes a precision N = 1..8 (--hash-bits) and gives a key of at
@@ -38,6 +39,73 @@ struct HashParams {
   float reach;
   vec3 far_scale;
   uint pad;
+};
+
+
+// Hit-all modes (--hrpp-mode). Hit-any rays are always exact: any hit answers them.
+#define HRPP_MODE_SPECULATIVE 0  // the paper: accept the closest hit among the predicted nodes
+#define HRPP_MODE_EXACT 1        // use that hit's t as tmax of a full traversal: = HRPP off
+
+// Replacement when an insert finds no room (--table-policy).
+#define HRPP_POLICY_NONE 0  // the paper: drop the insert
+#define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
+                            // shaders/lib/hrpp_table.glsl)
+
+// An empty node slot; node slots hold BVH child references (>= 0 interior node, < 0 leaf
+// ~index), as BvhNode::link does.
+#define HRPP_EMPTY_NODE 0x7FFFFFFF
+
+// One predictor (a table and how it is used); one for hit-all rays, one for hit-any rays.
+// Table: sets (a power of two) × ways entries, each a 64-bit tag (the full key; all ones =
+// empty), a use stamp and `nodes` node slots. Bytes: sets × ways × (8 + 4 + 4 × nodes).
+struct PredictorParams {
+  HashParams hash;
+  uint sets;
+  uint ways;
+  uint nodes;   // node slots per entry
+  uint policy;  // HRPP_POLICY_*
+  uint go_up;   // go-up level L: the ancestor L levels above the leaf that held the hit
+  uint mode;    // HRPP_MODE_* (hit-all)
+  uint insert_deferred;  // 0: insert during the trace; 1: write insert requests (batches)
+  uint count_baseline;   // 1: also time-free count what a full traversal of each probed ray
+                         //    visits (savings) and, speculative, whether the answer was wrong
+  uint clock;  // use stamp of the dispatch's first ray (LRU); ray i of the dispatch: clock + i
+  uint serial;  // 1: one ray per subgroup (the CPU reference's node order; deterministic runs)
+  uint pad1;
+  uint pad2;
+};
+
+// An insert request (deferred inserts): the node a ray's full traversal found, under its key.
+struct InsertRequest {
+  uint key_lo;
+  uint key_hi;
+  int node;  // HRPP_EMPTY_NODE: nothing to insert
+  uint pad;
+};
+
+// Predictor counters of one ray class, summed over a dispatch (64-bit atomics).
+//   probes = predictor_hits + negatives; predictor_hits = true_positives + false_positives;
+//   insert_requests = inserts + insert_present + insert_drops.
+// Interior nodes / leaves / triangles visited are TraceCounters' (they include verification).
+#define HRPP_PC_PROBES 0
+#define HRPP_PC_PREDICTOR_HITS 1
+#define HRPP_PC_TRUE_POSITIVES 2
+#define HRPP_PC_FALSE_POSITIVES 3
+#define HRPP_PC_NEGATIVES 4
+#define HRPP_PC_VERIFY_INTERIOR 5   // interior nodes visited testing predicted nodes
+#define HRPP_PC_VERIFY_LEAVES 6
+#define HRPP_PC_VERIFY_TRIANGLES 7
+#define HRPP_PC_BASELINE_INTERIOR 8  // count_baseline: a full traversal's interior nodes
+#define HRPP_PC_WRONG_CLOSEST 9      // count_baseline, speculative: accepted hit ≠ closest hit
+#define HRPP_PC_INSERT_REQUESTS 10
+#define HRPP_PC_INSERTS 11           // node stored
+#define HRPP_PC_INSERT_PRESENT 12    // node already in the entry
+#define HRPP_PC_INSERT_DROPS 13      // no room, policy none (or a lost replacement race)
+#define HRPP_PC_EVICTIONS 14         // entries or nodes replaced (policy lru)
+#define HRPP_PC_COUNT 16
+
+struct PredictorCounters {
+  uint64_t c[HRPP_PC_COUNT];
 };
 
 #ifdef __cplusplus

@@ -1,0 +1,23 @@
+// The node HRPP stores for a ray: the leaf that held its hit, or that leaf's ancestor `go_up`
+// levels above (the paper's go-up level). Mirrored by hrpp_prediction_node() in
+// shaders/lib/hrpp_predict.glsl.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+
+namespace hrpp {
+
+inline constexpr std::uint32_t kNoLeaf = 0xFFFFFFFFu;
+
+// leaf index of every triangle id (kNoLeaf for ids in no leaf: degenerate triangles), sized to
+// the largest id + 1 (at least 1). The kernels read the same array to find the leaf of a hit.
+std::vector<std::uint32_t> leaf_of_prim(const GpuBvh& bvh);
+
+// Child reference (~leaf, or an interior node index) of the ancestor `go_up` levels above leaf
+// `leaf`; stops at the root.
+int prediction_node(const GpuBvh& bvh, std::uint32_t leaf, std::uint32_t go_up);
+
+}  // namespace hrpp

@@ -1,0 +1,58 @@
+#include "hrpp/predictor_config.h"
+
+#include <bit>
+
+#include "common/error.h"
+
+namespace hrpp {
+
+TableConfig table_preset(std::string_view name) {
+  // unbounded: 2^17 sets × 8 ways × 16 nodes = 1M entries, 76 MiB (under lavapipe's 128 MiB
+  // storage-buffer range); small: 2^10 × 8 × 8 = 8k entries, 352 KiB.
+  if (name == "unbounded") return {1u << 17, 8, 16, TablePolicy::kNone};
+  if (name == "small") return {1u << 10, 8, 8, TablePolicy::kLru};
+  if (name == "tiny") return {4, 2, 2, TablePolicy::kLru};
+  throw Error("--table-preset: unknown preset '" + std::string(name) + "' (unbounded, small, tiny)");
+}
+
+PredictorMode parse_predictor_mode(std::string_view name) {
+  if (name == "speculative") return PredictorMode::kSpeculative;
+  if (name == "exact") return PredictorMode::kExact;
+  throw Error("--hrpp-mode: unknown mode '" + std::string(name) + "' (speculative or exact)");
+}
+
+const char* predictor_mode_name(PredictorMode mode) {
+  return mode == PredictorMode::kExact ? "exact" : "speculative";
+}
+
+TablePolicy parse_table_policy(std::string_view name) {
+  if (name == "none") return TablePolicy::kNone;
+  if (name == "lru") return TablePolicy::kLru;
+  throw Error("--table-policy: unknown policy '" + std::string(name) + "' (none or lru)");
+}
+
+const char* table_policy_name(TablePolicy policy) {
+  return policy == TablePolicy::kLru ? "lru" : "none";
+}
+
+gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box) {
+  const TableConfig& t = config.table;
+  if (t.sets == 0 || !std::has_single_bit(t.sets))
+    throw Error("--table-sets: " + std::to_string(t.sets) + " is not a power of two");
+  if (t.ways == 0 || t.ways > 64) throw Error("--table-ways: must be 1..64");
+  if (t.nodes == 0 || t.nodes > 64) throw Error("--table-nodes: must be 1..64");
+  if (config.go_up > 64) throw Error("--go-up: must be 0..64");
+  gpu::PredictorParams p{};
+  p.hash = make_hash_params(config.hash, scene_box);
+  p.sets = t.sets;
+  p.ways = t.ways;
+  p.nodes = t.nodes;
+  p.policy = static_cast<std::uint32_t>(t.policy);
+  p.go_up = config.go_up;
+  p.mode = static_cast<std::uint32_t>(config.mode);
+  p.insert_deferred = config.batch > 0 ? 1u : 0u;
+  p.count_baseline = config.count_baseline ? 1u : 0u;
+  return p;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,75 @@
+// How HRPP runs: hash, mode, go-up level, table geometry and policy, insert order. Filled by the
+// CLI (host/app/hrpp_options.h), read by the GPU predictor (host/gpu/gpu_predictor.h) and the CPU
+// reference predictor (host/hrpp/reference_predictor.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "bvh/aabb.h"
+#include "hrpp/ray_hash.h"
+#include "hrpp_types.h"
+
+namespace hrpp {
+
+static_assert(sizeof(gpu::PredictorParams) == 112);
+static_assert(sizeof(gpu::InsertRequest) == 16);
+static_assert(sizeof(gpu::PredictorCounters) == 8 * HRPP_PC_COUNT);
+
+enum class PredictorMode : std::uint32_t {
+  kSpeculative = HRPP_MODE_SPECULATIVE,
+  kExact = HRPP_MODE_EXACT,
+};
+
+enum class TablePolicy : std::uint32_t {
+  kNone = HRPP_POLICY_NONE,
+  kLru = HRPP_POLICY_LRU,
+};
+
+// Capacity = sets × ways entries of `nodes` node slots each.
+struct TableConfig {
+  std::uint32_t sets = 1u << 12;
+  std::uint32_t ways = 8;
+  std::uint32_t nodes = 8;
+  TablePolicy policy = TablePolicy::kLru;
+
+  std::uint64_t entries() const { return std::uint64_t{sets} * ways; }
+  // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots.
+  std::uint64_t bytes() const { return entries() * (8u + 4u + 4u * std::uint64_t{nodes}); }
+};
+
+// Named table sizes (--table-preset). "unbounded": the paper's limit study, big enough that
+// evictions and drops stay 0 on the stand-in scenes at 1024×1024×8 (they are counted: a run
+// that evicts says so). "small": 1 MiB-class, the goal.
+TableConfig table_preset(std::string_view name);
+
+struct PredictorConfig {
+  bool enabled = false;
+  HashConfig hash;
+  PredictorMode mode = PredictorMode::kSpeculative;
+  std::uint32_t go_up = 0;
+  TableConfig table;
+  // Insert order. 0: inserts happen during the trace, as rays finish (fast, not reproducible).
+  // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
+  // probes the table as the previous batches left it; after the batch its inserts are applied
+  // in ray-index order. With `serial` (one ray per subgroup, so the GPU visits nodes in the CPU
+  // reference's order) and a table that neither evicts nor drops, the CPU reference predictor
+  // (host/hrpp/reference_predictor.h) reproduces every GPU counter.
+  std::uint32_t batch = 0;
+  bool serial = false;
+  // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):
+  // doubles the traversal work, so timings are taken with it off.
+  bool count_baseline = false;
+};
+
+PredictorMode parse_predictor_mode(std::string_view name);
+const char* predictor_mode_name(PredictorMode mode);
+TablePolicy parse_table_policy(std::string_view name);
+const char* table_policy_name(TablePolicy policy);
+
+// The kernels' parameters of the hit-all or hit-any predictor. Throws hrpp::Error for a table
+// whose sets is not a power of two or whose sizes are 0, or a bad hash precision.
+gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box);
+
+}  // namespace hrpp

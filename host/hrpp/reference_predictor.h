@@ -1,0 +1,55 @@
+// The CPU reference predictor: the paper's limit-study table (an unbounded map key → node list
+// without duplicates) over the CPU reference traversal (host/trace/cpu_traversal.h), with the
+// kernels' semantics and counters (shaders/lib/hrpp_predict.glsl):
+//   - a valid ray is hashed and probes its class's table (hit-all / hit-any); invalid rays are
+//     traced (they miss) without probing;
+//   - predictor hit: the ray is tested against the entry's nodes in list order (leaf: its
+//     triangles; interior: its subtree), hit-all keeping the closest hit (tmax shrinking across
+//     nodes), hit-any stopping at the first hit. A hit is a true positive: hit-any and
+//     speculative hit-all take it; exact hit-all traces from the root with tmax = its t. No hit:
+//     false positive, full traversal. No entry: negative, full traversal;
+//   - after every full traversal that hit, the prediction node (host/hrpp/prediction_node.h)
+//     of the hit is inserted under the ray's key (appended when not present);
+//   - order: PredictorConfig::batch (K = 0 is taken as 1: every ray sees all earlier rays).
+// Evictions and drops never happen here; the GPU's match this only while its table has room.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+#include "hrpp/predictor_config.h"
+#include "trace/traversal_counters.h"
+
+namespace hrpp {
+
+struct PredictorTraceResult {
+  std::vector<gpu::Hit> hits;          // as the trace kernels write them (any-hit: 0 / -1)
+  TraversalCounters counters;          // all work, verification included
+  gpu::PredictorCounters predictor{};  // HRPP_PC_*
+};
+
+class ReferencePredictor {
+ public:
+  ReferencePredictor(const GpuBvh& bvh, const PredictorConfig& config);
+
+  // Traces rays of one class through its table; the table keeps its contents between calls.
+  PredictorTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
+
+  // Keys in the class's table and node references stored under them.
+  std::uint64_t entries(bool any_hit) const;
+  std::uint64_t stored_nodes(bool any_hit) const;
+
+ private:
+  using Table = std::unordered_map<std::uint64_t, std::vector<int>>;
+
+  const GpuBvh* bvh_;
+  PredictorConfig config_;
+  gpu::PredictorParams params_;
+  std::vector<std::uint32_t> leaf_of_prim_;
+  Table all_, any_;
+};
+
+}  // namespace hrpp

@@ -1,0 +1,32 @@
+// hrpp_insert: applies the deferred insert requests of one batch (shaders/lib/hrpp_table.glsl)
+// in request order, in a single invocation: the deterministic order that the CPU reference
+// predictor (host/hrpp/reference_predictor.h) reproduces. At most HRPP_INSERT_BATCH_MAX requests
+// per dispatch, far below lavapipe's loop limit (DESIGN.md).
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+
+#define HRPP_TABLE_BASE 0
+#include "lib/hrpp_table.glsl"
+
+layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
+
+layout(push_constant) uniform PushConstants { InsertPushConstants pc; };
+
+void main() {
+  uint inserted = 0u, present = 0u, dropped = 0u, evictions = 0u;
+  for (uint i = 0u; i < pc.count; ++i) {
+    const InsertRequest r = hrpp_requests[pc.first + i];
+    if (r.node == HRPP_EMPTY_NODE) continue;
+    const uint64_t key = uint64_t(r.key_lo) | (uint64_t(r.key_hi) << 32);
+    const uint outcome = hrpp_table_insert(key, r.node, pc.clock + i, evictions);
+    if (outcome == kHrppInserted) ++inserted;
+    else if (outcome == kHrppPresent) ++present;
+    else ++dropped;
+  }
+  hrpp_add_counter(HRPP_PC_INSERTS, inserted);
+  hrpp_add_counter(HRPP_PC_INSERT_PRESENT, present);
+  hrpp_add_counter(HRPP_PC_INSERT_DROPS, dropped);
+  hrpp_add_counter(HRPP_PC_EVICTIONS, evictions);
+}

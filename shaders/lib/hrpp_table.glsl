@@ -1,0 +1,130 @@
+// The HRPP predictor table on the GPU: sets × ways entries, each a 64-bit tag (the full key;
+// all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
+// set (key × golden-ratio constant) >> 32 mod sets, in any of its ways. Concurrent rays update it
+// with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
+// claimed only by a CAS from empty, after every earlier slot was seen holding another node).
+//
+// Policies (PredictorParams.policy), when an insert finds no room:
+//   none: drop it (the paper's table has no replacement);
+//   lru:  no free way: the way with the oldest use stamp (probe hits and inserts renew it) is
+//         evicted (tag swapped by CAS, slots emptied); full node list: the slot (stamp mod
+//         nodes) is overwritten. Both count as evictions.
+// Stamps are the ray's clock (PredictorParams.clock + ray index), so they wrap after 2^32 rays.
+//
+// The includer defines HRPP_TABLE_BASE (first binding) and enables 64-bit integers and atomics.
+#ifndef HRPP_TABLE_GLSL
+#define HRPP_TABLE_GLSL
+
+#include "hrpp_interface.h"
+
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_PARAMS) readonly restrict buffer
+    HrppParamBuffer {
+  PredictorParams hrpp;
+};
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) coherent buffer HrppTagBuffer {
+  uint64_t hrpp_tags[];
+};
+// The same tags as 32-bit words for plain loads (only the atomics need 64-bit access).
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) coherent buffer
+    HrppTagWordBuffer {
+  uint hrpp_tag_words[];
+};
+uint64_t hrpp_load_tag(uint i) {
+  return uint64_t(hrpp_tag_words[2u * i]) | (uint64_t(hrpp_tag_words[2u * i + 1u]) << 32);
+}
+
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_STAMPS) coherent buffer
+    HrppStampBuffer {
+  uint hrpp_stamps[];
+};
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_SLOTS) coherent buffer
+    HrppSlotBuffer {
+  uint hrpp_slots[];
+};
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_REQUESTS) restrict buffer
+    HrppRequestBuffer {
+  InsertRequest hrpp_requests[];
+};
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_COUNTERS) restrict buffer
+    HrppCounterBuffer {
+  PredictorCounters hrpp_counters;
+};
+
+const uint64_t kHrppEmptyTag = ~uint64_t(0);
+const uint kHrppEmptyNode = uint(HRPP_EMPTY_NODE);
+
+// Outcomes of hrpp_table_insert.
+const uint kHrppInserted = 0u;
+const uint kHrppPresent = 1u;
+const uint kHrppDropped = 2u;
+
+uint hrpp_set_of(uint64_t key) {
+  return uint((key * 0x9E3779B97F4A7C15ul) >> 32) & (hrpp.sets - 1u);
+}
+
+// No return or continue inside loops here: on lavapipe (Mesa 22.3) an early return from a loop
+// in divergent control flow gave wrong answers (measured: most probes of keys in the table
+// missed with 8 lanes active, none with one); loops carry a state variable instead.
+
+// Entry index holding `key`, or -1. A hit renews the entry's stamp (LRU).
+int hrpp_table_lookup(uint64_t key, uint clock) {
+  const uint base = hrpp_set_of(key) * hrpp.ways;
+  int found = -1;
+  for (uint w = 0u; w < hrpp.ways; ++w)
+    if (found < 0 && hrpp_load_tag(base + w) == key) found = int(base + w);
+  if (found >= 0 && hrpp.policy == HRPP_POLICY_LRU) atomicMax(hrpp_stamps[found], clock);
+  return found;
+}
+
+// Inserts node `node` under `key`; returns kHrppInserted / kHrppPresent / kHrppDropped and adds
+// the entries and nodes it replaced to `evictions`.
+uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions) {
+  const uint base = hrpp_set_of(key) * hrpp.ways;
+  int entry = -1;
+  for (uint w = 0u; w < hrpp.ways && entry < 0; ++w) {
+    const uint64_t tag = hrpp_load_tag(base + w);
+    if (tag == key) {
+      entry = int(base + w);
+    } else if (tag == kHrppEmptyTag) {
+      const uint64_t prev = atomicCompSwap(hrpp_tags[base + w], kHrppEmptyTag, key);
+      if (prev == kHrppEmptyTag || prev == key) entry = int(base + w);
+    }
+  }
+  if (entry < 0) {
+    if (hrpp.policy != HRPP_POLICY_LRU) return kHrppDropped;
+    uint victim = base;
+    for (uint w = 1u; w < hrpp.ways; ++w)
+      if (hrpp_stamps[base + w] < hrpp_stamps[victim]) victim = base + w;
+    const uint64_t old = hrpp_load_tag(victim);
+    const uint64_t prev = atomicCompSwap(hrpp_tags[victim], old, key);
+    if (prev != old && prev != key) return kHrppDropped;  // another ray replaced it first
+    if (prev == old && old != key) {
+      ++evictions;
+      for (uint s = 0u; s < hrpp.nodes; ++s)
+        atomicExchange(hrpp_slots[victim * hrpp.nodes + s], kHrppEmptyNode);
+    }
+    entry = int(victim);
+  }
+  if (hrpp.policy == HRPP_POLICY_LRU) atomicMax(hrpp_stamps[entry], clock);
+  const uint first = uint(entry) * hrpp.nodes;
+  uint outcome = kHrppDropped;  // until a slot holds the node
+  for (uint s = 0u; s < hrpp.nodes && outcome == kHrppDropped; ++s) {
+    uint held = hrpp_slots[first + s];
+    if (held == kHrppEmptyNode)
+      held = atomicCompSwap(hrpp_slots[first + s], kHrppEmptyNode, uint(node));
+    if (held == kHrppEmptyNode) outcome = kHrppInserted;
+    else if (held == uint(node)) outcome = kHrppPresent;
+  }
+  if (outcome == kHrppDropped && hrpp.policy == HRPP_POLICY_LRU) {
+    atomicExchange(hrpp_slots[first + clock % hrpp.nodes], uint(node));
+    ++evictions;
+    outcome = kHrppInserted;
+  }
+  return outcome;
+}
+
+void hrpp_add_counter(uint counter, uint value) {
+  if (value != 0u) atomicAdd(hrpp_counters.c[counter], uint64_t(value));
+}
+
+#endif  // HRPP_TABLE_GLSL
