@@ -26,16 +26,16 @@ static_assert(HRPP_STACK_SIZE == 64, "shaders/shared/trace_interface.h and host/
 static_assert(std::bit_cast<std::uint32_t>(kSlabFarScale) == HRPP_SLAB_FAR_SCALE_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p-80f) == HRPP_TWO_POW_M80_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p80f) == HRPP_TWO_POW_80_BITS);
-// shaders/lib/bvh_fetch.glsl reads these records as 4, 1 and 3 16-byte texels.
+// shaders/lib/texel_fetch.glsl reads these records as 4, 1, 3 and 2 16-byte texels.
 static_assert(sizeof(gpu::BvhNode) == 4 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::BvhLeaf) == 1 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::TriangleRecord) == 3 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
 
 namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
 
-// Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h).
 // The trace kernels' bindings; the HRPP variants add the predictor's storage buffers after them.
 template <std::size_t N>
 constexpr std::array<VkDescriptorType, N> binding_types() {
@@ -44,6 +44,7 @@ constexpr std::array<VkDescriptorType, N> binding_types() {
   t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
 constexpr auto kBindingTypes = binding_types<HRPP_TRACE_BINDING_COUNT>();
@@ -63,6 +64,7 @@ struct GpuTracer::State {
   StorageBuffer nodes, leaves, triangles, counters;
   TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
   StorageBuffer rays, hits;  // grown on demand
+  TexelView ray_view;        // how the kernels read the rays
   ComputePipeline closest, any;
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on
@@ -118,10 +120,14 @@ struct GpuTracer::State {
     return {&closest, &any};
   }
 
-  // Rays per dispatch: what one storage buffer holds and one dispatch's workgroups reach.
+  // Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
+  // workgroups reach.
   std::size_t chunk_rays() const {
     const DeviceInfo& d = ctx->info();
-    const std::uint64_t by_range = d.max_storage_buffer_range / sizeof(gpu::Ray);
+    const std::uint64_t by_range =
+        std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
+                                std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
+                                    sizeof(gpu::Ray));
     const std::uint64_t by_groups = static_cast<std::uint64_t>(d.max_workgroup_count_x) *
                                     HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
     return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
@@ -129,12 +135,14 @@ struct GpuTracer::State {
 
   void ensure_capacity(std::size_t n) {
     if (rays.size() >= n * sizeof(gpu::Ray)) return;
+    ray_view = TexelView();
     rays = StorageBuffer();  // free first: one at a time in the heap
     hits = StorageBuffer();
     rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), "ray array");
     hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), "hit array");
+    ray_view = TexelView(*ctx, rays);
     for (ComputePipeline* p : pipelines()) {
-      p->bind(HRPP_TRACE_BINDING_RAYS, rays);
+      p->bind(HRPP_TRACE_BINDING_RAYS, ray_view);
       p->bind(HRPP_TRACE_BINDING_HITS, hits);
     }
     if (predictor) {

@@ -63,7 +63,8 @@ bool hrpp_trace(RaySetup r, uint index, inout Hit best) {
     hrpp_requests[index] = InsertRequest(0u, 0u, HRPP_EMPTY_NODE, 0u);
   if (!r.valid) return traverse_from(r, 0, best);
   ++h_probes;
-  const uint64_t key = hrpp_hash_ray(rays[index].origin, rays[index].dir, hrpp.hash);
+  const Ray ray = load_ray(index);
+  const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, hrpp.hash);
   const int entry = hrpp_table_lookup(key, hrpp.clock + index);
   Hit predicted = Hit(-1, 0.0, 0.0, 0.0);
   bool finished = true;

@@ -23,13 +23,10 @@
 #endif
 #include "slab_test.glsl"
 #include "watertight.glsl"
-#include "bvh_fetch.glsl"
+#include "texel_fetch.glsl"
 
 layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_RAYS) readonly restrict buffer RayBuffer {
-  Ray rays[];
-};
 layout(std430, set = 0, binding = HRPP_TRACE_BINDING_HITS) writeonly restrict buffer HitBuffer {
   Hit hits[];
 };
@@ -158,7 +155,7 @@ void main() {
     const uint index = base + subgroupBallotExclusiveBitCount(lanes);
     if (index >= pc.ray_count) continue;
 
-    const RaySetup r = setup_ray(rays[index]);
+    const RaySetup r = setup_ray(load_ray(index));
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
 #if HRPP_PREDICT
     const bool finished = hrpp_trace(r, index, best);

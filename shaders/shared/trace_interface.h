@@ -18,9 +18,9 @@ namespace hrpp::gpu {
 
 #define HRPP_TRACE_WORKGROUP_SIZE 64
 
-// NODES, LEAVES and TRIANGLES are uniform texel buffers (R32G32B32A32_UINT views of the
-// BvhNode, BvhLeaf and TriangleRecord arrays: shaders/lib/bvh_fetch.glsl); the others storage
-// buffers.
+// NODES, LEAVES, TRIANGLES and RAYS are uniform texel buffers (R32G32B32A32_UINT views of the
+// BvhNode, BvhLeaf, TriangleRecord and Ray arrays: shaders/lib/texel_fetch.glsl); HITS and
+// COUNTERS are storage buffers.
 #define HRPP_TRACE_BINDING_NODES 0
 #define HRPP_TRACE_BINDING_LEAVES 1
 #define HRPP_TRACE_BINDING_TRIANGLES 2

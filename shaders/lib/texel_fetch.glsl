@@ -1,14 +1,16 @@
-// The BVH arrays of shaders/shared/gpu_types.h read through uniform texel buffers
-// (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4 texels, a BvhLeaf 1, a
-// TriangleRecord 3; bits are reinterpreted, never converted, so values are exactly the host's.
+// The trace kernels' inputs (the BVH arrays and the rays of shaders/shared/gpu_types.h) read
+// through uniform texel buffers (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4
+// texels, a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted, never converted, so
+// values are exactly the host's.
 // Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
 // word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
-#ifndef HRPP_BVH_FETCH_GLSL
-#define HRPP_BVH_FETCH_GLSL
+#ifndef HRPP_TEXEL_FETCH_GLSL
+#define HRPP_TEXEL_FETCH_GLSL
 
 layout(set = 0, binding = HRPP_TRACE_BINDING_NODES) uniform usamplerBuffer node_texels;
 layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform usamplerBuffer leaf_texels;
 layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform usamplerBuffer triangle_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_RAYS) uniform usamplerBuffer ray_texels;
 
 BvhNode load_node(int index) {
   const int t = 4 * index;
@@ -34,4 +36,12 @@ TriangleRecord load_triangle(uint index) {
                         uintBitsToFloat(c.xyz), c.w);
 }
 
-#endif  // HRPP_BVH_FETCH_GLSL
+Ray load_ray(uint index) {
+  const int t = 2 * int(index);
+  const uvec4 a = texelFetch(ray_texels, t);
+  const uvec4 b = texelFetch(ray_texels, t + 1);
+  return Ray(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
+             uintBitsToFloat(b.w));
+}
+
+#endif  // HRPP_TEXEL_FETCH_GLSL
