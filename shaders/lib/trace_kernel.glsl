@@ -92,21 +92,28 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
                                       vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
       const bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
                                        vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
+      int next = kSentinel;  // kSentinel: continue with the stack top
       if (hit_left && hit_right) {
         const bool right_first = t_right < t_left;
         stack[sp++] = right_first ? n.link.x : n.link.y;
-        node = right_first ? n.link.y : n.link.x;
+        next = right_first ? n.link.y : n.link.x;
       } else if (hit_left || hit_right) {
-        node = hit_left ? n.link.x : n.link.y;
-      } else {
-        node = sp > 0 ? stack[--sp] : kSentinel;
+        next = hit_left ? n.link.x : n.link.y;
       }
-      if (node < 0 && leaf >= 0) {  // first leaf: postpone it and keep searching
+      if (next < 0 && leaf >= 0) {  // first leaf: postpone it and keep searching
         searching = false;
-        leaf = node;
-        node = sp > 0 ? stack[--sp] : kSentinel;
+        leaf = next;
+        next = kSentinel;
       }
+      // One pop site: lavapipe runs every branch of a subgroup, so each pop written costs a
+      // gather whether a lane takes it or not.
+      node = next != kSentinel ? next : (sp > 0 ? stack[--sp] : kSentinel);
       if (!subgroupAny(searching)) break;
+    }
+    // A leaf the search popped without a postponed one becomes the postponed one.
+    if (node < 0 && leaf >= 0) {
+      leaf = node;
+      node = sp > 0 ? stack[--sp] : kSentinel;
     }
     // The postponed leaf, then any leaf the traversal stopped at.
     while (leaf < 0) {
