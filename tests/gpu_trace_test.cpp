@@ -19,6 +19,7 @@
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
@@ -328,6 +329,24 @@ TEST(StorageBuffer, OverMaxStorageBufferRangeNamesArrayAndLimit) {
     EXPECT_NE(m.find("maxStorageBufferRange"), std::string::npos) << m;
     EXPECT_NE(m.find(std::to_string(limit)), std::string::npos) << m;
   }
+}
+
+// The kernels read BVH and rays through 16-byte texels (gpu/texel_view.h): an array that is not
+// a whole number of texels is refused with its name, never read short.
+TEST(TexelView, PartialTexelNamesArray) {
+  StorageBuffer b(context(), 40, "odd array");
+  try {
+    TexelView v(context(), b);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("odd array"), std::string::npos) << m;
+    EXPECT_NE(m.find("16-byte texels"), std::string::npos) << m;
+  }
+  StorageBuffer whole(context(), 48, "whole array");
+  TexelView v(context(), whole);
+  EXPECT_NE(v.handle(), VK_NULL_HANDLE);
+  EXPECT_EQ(context().validation_messages(), 0u);
 }
 
 TEST(VulkanContext, UnknownDeviceIsOneLineError) {
