@@ -9,5 +9,6 @@ namespace hrpp::app {
 void add_scene_command(CLI::App& app);
 void add_trace_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_render_command(CLI::App& app);
 
 }  // namespace hrpp::app

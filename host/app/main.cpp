@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   hrpp::app::add_scene_command(app);
   hrpp::app::add_trace_command(app);
   hrpp::app::add_bench_command(app);
+  hrpp::app::add_render_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -186,7 +186,7 @@ struct GpuTracer::State {
                   "subgroup) ended the kernel's loops at " +
                   std::to_string(config.rays_per_invocation) +
                   " rays per invocation; lower rays_per_invocation");
-    hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
+    if (!out.hits.empty()) hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
     out.counters.rays += done;
     out.counters.interior_visited += wide(c, HRPP_COUNTER_INTERIOR);
     out.counters.leaves_visited += wide(c, HRPP_COUNTER_LEAVES);
@@ -217,6 +217,25 @@ GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
     s_->rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
     s_->dispatch(n, any_hit, out, first);
   }
+  if (s_->predictor) out.predictor = s_->predictor->counters(any_hit);
+  return out;
+}
+
+StorageBuffer& GpuTracer::ray_buffer(std::size_t rays) {
+  s_->ensure_capacity(std::max<std::size_t>(rays, 1));
+  return s_->rays;
+}
+
+StorageBuffer& GpuTracer::hit_buffer() { return s_->hits; }
+
+GpuTraceResult GpuTracer::trace_resident(std::size_t count, bool any_hit) {
+  GpuTraceResult out;
+  if (count == 0) return out;
+  if (count * sizeof(gpu::Ray) > s_->rays.size() || count > s_->chunk_rays())
+    throw Error("trace_resident: " + std::to_string(count) +
+                " rays exceed the device-resident ray array or one dispatch");
+  if (s_->predictor) s_->predictor->begin_trace(any_hit);
+  s_->dispatch(count, any_hit, out, 0);
   if (s_->predictor) out.predictor = s_->predictor->counters(any_hit);
   return out;
 }

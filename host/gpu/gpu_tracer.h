@@ -17,6 +17,7 @@
 namespace hrpp {
 
 class VulkanContext;
+class StorageBuffer;
 
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
@@ -50,6 +51,16 @@ class GpuTracer {
   // range are traced in several dispatches. Throws hrpp::Error when a dispatch does not finish
   // every ray (loop limiter) or the device is lost.
   GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
+
+  // Device-resident rays (the wavefront renderer, host/render/): the tracer's own ray and hit
+  // arrays, grown to hold at least `rays` rays, so other kernels write rays into them and read
+  // hits back without a host round trip. The references stay valid until a call asks for more.
+  StorageBuffer& ray_buffer(std::size_t rays);
+  StorageBuffer& hit_buffer();
+  // Traces ray_buffer()[0..count) in one dispatch (count <= what ray_buffer was sized for and
+  // one dispatch reaches) into hit_buffer(): the checks, counters, kernel time and HRPP path of
+  // trace(), with result.hits left empty.
+  GpuTraceResult trace_resident(std::size_t count, bool any_hit);
 
   // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on
   // lavapipe, so call this before timing.

@@ -1,0 +1,144 @@
+// hrpp render [SCENE] --spp N --size WxH --max-depth D --seed S --out FILE --stats FILE: the
+// wavefront path tracer (host/render/) on the Vulkan device; prints per-kernel device time and
+// per-ray-class counters, writes the image (EXR linear, PNG sRGB) and optionally the stats JSON.
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "app/commands.h"
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/vulkan_context.h"
+#include "render/image_output.h"
+#include "render/render_stats.h"
+#include "render/wavefront_renderer.h"
+#include "scene/load_scene.h"
+
+namespace hrpp::app {
+namespace {
+
+struct RenderOptions {
+  std::string scene = "builtin:cornell";
+  std::string size = "256x256";
+  std::string out = "render.png";
+  std::string stats;
+  RenderConfig render;
+  VulkanOptions vulkan;
+  BvhConfig bvh;
+};
+
+// "WxH" → width, height; one-line error naming the flag otherwise.
+void parse_size(const std::string& s, RenderConfig& c) {
+  unsigned w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
+      w == 0 || h == 0 || w > 16384 || h > 16384)
+    throw Error("--size \"" + s + "\": expected WxH with 1..16384 each, e.g. 256x256");
+  c.width = w;
+  c.height = h;
+}
+
+// Next to the target, then renamed: an error never leaves a partial file.
+void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
+  const std::filesystem::path tmp = file.string() + ".partial";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    if (!out) throw Error(file.string() + ": cannot write stats: " + std::strerror(errno));
+    out << j.dump(2) << '\n';
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw Error(file.string() + ": cannot write stats");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(file.string() + ": cannot write stats: " + ec.message());
+  }
+}
+
+void run_render(RenderOptions& o) {
+  parse_size(o.size, o.render);
+  check_image_format(o.out);
+  const Scene scene = load_scene(o.scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  VulkanContext ctx(o.vulkan);
+  WavefrontRenderer renderer(ctx, scene, bvh, o.render);
+
+  // A progress line on stderr once the render has taken more than a second.
+  const auto start = std::chrono::steady_clock::now();
+  bool shown = false;
+  const std::uint32_t spp = o.render.spp;
+  const RenderResult result = renderer.render([&](std::uint32_t done) {
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (s < 1.0 && !shown) return;
+    shown = true;
+    std::fprintf(stderr, "\rrender: %u/%u spp, %.1f s", done, spp, s);
+    if (done == spp) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  });
+  if (ctx.validation_messages() != 0)
+    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
+                " Vulkan validation messages (printed above)");
+  write_image(o.out, result.width, result.height, result.rgb);
+  if (!o.stats.empty())
+    write_json(o.stats, render_stats_json(scene.name, o.render, ctx.info(), result));
+
+  std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
+  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
+              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
+  std::printf("%s", render_stats_text(o.render, result).c_str());
+  std::printf("image       %s\n", o.out.c_str());
+  if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render an image with the wavefront path tracer on the Vulkan device");
+  cmd->add_option("scene", o->scene,
+                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
+                  "manifest in scenes/")
+      ->capture_default_str();
+  cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 20));
+  cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
+  cmd->add_option("--max-depth", o->render.max_depth,
+                  "Surface interactions per path (1: direct light only)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1024u));
+  cmd->add_option("--seed", o->render.seed, "Random seed (same seed: same image, bit for bit)")
+      ->capture_default_str();
+  cmd->add_option("--camera", o->render.camera, "Camera index in the scene")
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "Image: .exr (linear float) or .png (sRGB, clamped)")
+      ->capture_default_str();
+  cmd->add_option("--stats", o->stats, "Write configuration, kernel times and counters as JSON");
+  cmd->add_option("--device", o->vulkan.device,
+                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
+  cmd->add_flag("--validate", o->vulkan.validate,
+                "Vulkan validation layer on; any message fails the command");
+  cmd->add_option("--rays-per-invocation", o->render.tracer.rays_per_invocation,
+                  "Most rays one trace invocation traces (lavapipe loop limiter)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
+  cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
+  cmd->callback([o] { run_render(*o); });
+}
+
+}  // namespace hrpp::app

@@ -1,0 +1,23 @@
+// Rendered images to files through OpenImageIO, format from the extension: .exr keeps linear
+// float radiance; .png (and other 8-bit formats) are tone mapped: clamped to [0, 1] and encoded
+// with the sRGB transfer curve. Written next to the target and renamed, so an error never
+// leaves a partial file.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace hrpp {
+
+// rgb: width × height × 3 linear floats, rows top down. Throws hrpp::Error naming the file.
+void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
+                 const std::vector<float>& rgb);
+
+// Throws hrpp::Error naming the file when its extension is neither .exr nor .png.
+void check_image_format(const std::filesystem::path& file);
+
+// The sRGB transfer curve of a clamped linear value (IEC 61966-2-1).
+float linear_to_srgb(float linear);
+
+}  // namespace hrpp

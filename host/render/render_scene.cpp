@@ -1,0 +1,209 @@
+#include "render/render_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "scene/load_scene.h"
+
+namespace hrpp {
+
+static_assert(sizeof(gpu::RenderParams) == 112);
+static_assert(sizeof(gpu::PathState) == 32);
+static_assert(sizeof(gpu::ShadowRecord) == 16);
+static_assert(sizeof(gpu::RenderQueues) == 16);
+static_assert(sizeof(gpu::RenderPushConstants) == 16);
+static_assert(sizeof(gpu::ShadeTriangle) == 8 * 16);  // 8 texels (render_shade.comp)
+static_assert(sizeof(gpu::GpuMaterial) == 48);
+static_assert(sizeof(gpu::GpuLight) == 64);
+static_assert(sizeof(gpu::GpuTexture) == 16);
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+bool emits(const glm::vec3& e) { return e.r > 0.0f || e.g > 0.0f || e.b > 0.0f; }
+
+// Halves a texture with a 2×2 box filter (odd sizes keep their last row/column).
+Texture halve(const Texture& t) {
+  Texture h;
+  h.name = t.name;
+  h.width = std::max(1, t.width / 2);
+  h.height = std::max(1, t.height / 2);
+  h.rgba.resize(static_cast<std::size_t>(h.width) * h.height * 4);
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int sx = std::min(2 * x + dx, t.width - 1);
+            const int sy = std::min(2 * y + dy, t.height - 1);
+            sum += t.rgba[(static_cast<std::size_t>(sy) * t.width + sx) * 4 + c];
+          }
+        h.rgba[(static_cast<std::size_t>(y) * h.width + x) * 4 + c] =
+            static_cast<std::uint8_t>((sum + 2) / 4);
+      }
+  return h;
+}
+
+void add_textures(const Scene& scene, std::size_t budget, RenderScene& out) {
+  std::vector<Texture> tex = scene.textures;
+  const auto bytes = [&] {
+    std::size_t b = 0;
+    for (const Texture& t : tex) b += static_cast<std::size_t>(t.width) * t.height * 4;
+    return b;
+  };
+  while (bytes() > budget) {
+    for (Texture& t : tex) t = halve(t);
+    ++out.texture_halvings;
+  }
+  for (const Texture& t : tex) {
+    gpu::GpuTexture g{};
+    g.offset = static_cast<std::uint32_t>(out.texels.size());
+    g.width = t.width;
+    g.height = t.height;
+    out.textures.push_back(g);
+    for (std::size_t i = 0; i + 3 < t.rgba.size(); i += 4)
+      out.texels.push_back(static_cast<std::uint32_t>(t.rgba[i]) |
+                           static_cast<std::uint32_t>(t.rgba[i + 1]) << 8 |
+                           static_cast<std::uint32_t>(t.rgba[i + 2]) << 16 |
+                           static_cast<std::uint32_t>(t.rgba[i + 3]) << 24);
+  }
+}
+
+}  // namespace
+
+const char* RenderFeatures::name(int feature) {
+  static const char* const kNames[HRPP_FEATURE_COUNT] = {
+      "textures",    "emissive_triangles", "point_lights", "spot_lights",
+      "directional_lights", "environment", "metal",        "glass"};
+  return kNames[feature];
+}
+
+std::vector<std::string> RenderFeatures::names_on() const {
+  std::vector<std::string> n;
+  for (int f = 0; f < HRPP_FEATURE_COUNT; ++f)
+    if (on[f]) n.emplace_back(name(f));
+  return n;
+}
+
+RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes) {
+  RenderScene out;
+  bool& f_tex = out.features.on[HRPP_FEATURE_TEXTURES];
+  bool& f_metal = out.features.on[HRPP_FEATURE_METAL];
+  bool& f_glass = out.features.on[HRPP_FEATURE_GLASS];
+  for (const Material& m : scene.materials) {
+    gpu::GpuMaterial g{};
+    g.base_color = m.base_color;
+    const bool textured = m.base_color_texture >= 0 &&
+                          m.base_color_texture < static_cast<int>(scene.textures.size());
+    g.texture = textured ? m.base_color_texture : -1;
+    g.emission = m.emission;
+    g.metallic = m.metallic;
+    g.roughness = m.roughness;
+    g.transmission = m.transmission;
+    g.ior = m.ior;
+    out.materials.push_back(g);
+    f_tex = f_tex || textured;
+    f_glass = f_glass || m.transmission > 0.5f;
+    f_metal = f_metal || (m.transmission <= 0.5f && m.metallic > 0.0f);
+  }
+  if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
+  if (f_tex) add_textures(scene, texel_budget_bytes, out);
+  if (out.texels.empty()) out.texels.push_back(0);  // bindings need a non-empty buffer
+  if (out.textures.empty()) out.textures.push_back(gpu::GpuTexture{});
+
+  glm::vec3 lo(3e38f), hi(-3e38f);
+  std::vector<float> power;
+  out.triangles.resize(scene.triangles.size());
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    const Triangle& t = scene.triangles[i];
+    const TriangleShading& s = scene.shading[i];
+    gpu::ShadeTriangle& g = out.triangles[i];
+    g.v0 = t.v0;
+    g.v1 = t.v1;
+    g.v2 = t.v2;
+    g.material = s.material < scene.materials.size() ? s.material : 0;
+    g.has_normals = (s.n0 != glm::vec3(0.0f) || s.n1 != glm::vec3(0.0f) ||
+                     s.n2 != glm::vec3(0.0f)) ? 1u : 0u;
+    g.n0 = glm::vec4(s.n0, 0.0f);
+    g.n1 = glm::vec4(s.n1, 0.0f);
+    g.n2 = glm::vec4(s.n2, 0.0f);
+    g.uv01 = glm::vec4(s.uv0, s.uv1);
+    g.uv2 = glm::vec4(s.uv2, 0.0f, 0.0f);
+    lo = glm::min(lo, glm::min(t.v0, glm::min(t.v1, t.v2)));
+    hi = glm::max(hi, glm::max(t.v0, glm::max(t.v1, t.v2)));
+    const glm::vec3 e = out.materials[g.material].emission;
+    if (!emits(e) || is_degenerate(t)) continue;
+    // Two-sided emitter: flux 2π · L · area.
+    const float area = 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+    gpu::GpuLight l{};
+    l.type = HRPP_LIGHT_TRIANGLE;
+    l.position = t.v0;
+    l.dir = t.v1 - t.v0;
+    l.edge2 = t.v2 - t.v0;
+    l.color = e;
+    out.lights.push_back(l);
+    power.push_back(2.0f * kPi * luminance(e) * area);
+    ++out.emissive_triangles;
+  }
+  out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
+
+  const float radius = 0.5f * glm::length(hi - lo);
+  for (const Light& light : scene.lights) {
+    gpu::GpuLight l{};
+    l.color = light.color;
+    l.position = light.position;
+    l.dir = glm::length(light.direction) > 0.0f ? glm::normalize(light.direction)
+                                                : glm::vec3(0, 0, -1);
+    l.cos_inner = std::cos(light.inner_cone);
+    l.cos_outer = std::cos(light.outer_cone);
+    float p = 0.0f;
+    switch (light.type) {
+      case LightType::kPoint:
+        l.type = HRPP_LIGHT_POINT;
+        p = 4.0f * kPi * luminance(light.color);
+        out.features.on[HRPP_FEATURE_POINT_LIGHTS] = true;
+        break;
+      case LightType::kSpot:
+        l.type = HRPP_LIGHT_SPOT;
+        p = 2.0f * kPi * (1.0f - 0.5f * (l.cos_inner + l.cos_outer)) * luminance(light.color);
+        out.features.on[HRPP_FEATURE_SPOT_LIGHTS] = true;
+        break;
+      case LightType::kDirectional:
+        l.type = HRPP_LIGHT_DIRECTIONAL;
+        p = kPi * radius * radius * luminance(light.color);
+        out.features.on[HRPP_FEATURE_DIRECTIONAL_LIGHTS] = true;
+        break;
+      case LightType::kEnvironment:
+        out.environment += light.color;
+        continue;
+      case LightType::kAreaQuad:
+        continue;  // sampled through its emissive triangles
+    }
+    if (!(p > 0.0f)) continue;
+    out.lights.push_back(l);
+    power.push_back(p);
+    ++out.delta_lights;
+  }
+  out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
+
+  double total = 0.0;
+  for (float p : power) total += p;
+  if (!(total > 0.0)) {
+    out.lights.clear();
+  } else {
+    double run = 0.0;
+    for (std::size_t i = 0; i < out.lights.size(); ++i) {
+      run += power[i];
+      out.lights[i].cdf = static_cast<float>(run / total);
+    }
+    out.lights.back().cdf = 1.0f;
+  }
+  return out;
+}
+
+}  // namespace hrpp

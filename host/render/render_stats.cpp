@@ -1,0 +1,120 @@
+#include "render/render_stats.h"
+
+#include <cstdio>
+
+#include "hrpp_types.h"
+
+namespace hrpp {
+namespace {
+
+using nlohmann::json;
+
+// HRPP_PC_* in shaders/shared/hrpp_types.h order.
+constexpr const char* kPredictorCounterNames[] = {
+    "probes",          "predictor_hits",   "true_positives",    "false_positives",
+    "negatives",       "verify_interior",  "verify_leaves",     "verify_triangles",
+    "baseline_interior", "wrong_closest",  "insert_requests",   "inserts",
+    "insert_present",  "insert_drops",     "evictions"};
+static_assert(std::size(kPredictorCounterNames) == HRPP_PC_EVICTIONS + 1);
+
+json counters_json(const TraversalCounters& c) {
+  return json{{"rays", c.rays},
+              {"interior_nodes", c.interior_visited},
+              {"leaves", c.leaves_visited},
+              {"triangles", c.triangles_tested},
+              {"hits", c.hits}};
+}
+
+json class_json(const RayClassStats& s, bool hrpp_on) {
+  json j = counters_json(s.counters);
+  j["trace_dispatches"] = s.traces;
+  if (hrpp_on) {
+    json p;
+    for (int i = 0; i <= HRPP_PC_EVICTIONS; ++i) p[kPredictorCounterNames[i]] = s.predictor.c[i];
+    j["hrpp"] = p;
+  }
+  return j;
+}
+
+double per_ray(std::uint64_t v, std::uint64_t rays) {
+  return rays ? static_cast<double>(v) / static_cast<double>(rays) : 0.0;
+}
+
+}  // namespace
+
+nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& config,
+                                 const DeviceInfo& device, const RenderResult& result) {
+  const RenderStats& s = result.stats;
+  const bool hrpp_on = config.predictor.enabled;
+  TraversalCounters total = s.closest.counters;
+  total += s.shadow.counters;
+  double kernels_total = 0.0;
+  for (const auto& [k, ms] : s.kernels_ms) kernels_total += ms;
+  json j;
+  j["config"] = {{"scene", scene},
+                 {"width", config.width},
+                 {"height", config.height},
+                 {"spp", config.spp},
+                 {"max_depth", config.max_depth},
+                 {"rr_depth", config.rr_depth},
+                 {"seed", config.seed},
+                 {"camera", config.camera},
+                 {"wavefront_paths", config.wavefront_paths},
+                 {"rays_per_invocation", config.tracer.rays_per_invocation},
+                 {"hrpp", hrpp_on ? "on" : "off"},
+                 {"frame", "one sample pass per pixel; counters and times summed over all spp "
+                           "passes"}};
+  j["device"] = {{"name", device.name},
+                 {"type", device.type_name()},
+                 {"driver", device.driver},
+                 {"subgroup_size", device.subgroup_size},
+                 {"timestamps", device.timestamps}};
+  j["features"] = s.features;
+  j["kernels_ms"] = s.kernels_ms;
+  j["kernels_ms_total"] = kernels_total;
+  j["rays"] = {{"camera", s.camera_rays},
+               {"bounce", s.bounce_rays},
+               {"shadow", s.shadow.counters.rays}};
+  j["closest"] = class_json(s.closest, hrpp_on);
+  j["shadow"] = class_json(s.shadow, hrpp_on);
+  j["totals"] = counters_json(total);
+  j["wall_s"] = s.wall_s;
+  return j;
+}
+
+std::string render_stats_text(const RenderConfig& config, const RenderResult& result) {
+  const RenderStats& s = result.stats;
+  std::string out;
+  char line[256];
+  std::snprintf(line, sizeof line, "features    %s\n",
+                s.features.empty() ? "(none)" : json(s.features).dump().c_str());
+  out += line;
+  double total = 0.0;
+  for (const auto& [k, ms] : s.kernels_ms) {
+    std::snprintf(line, sizeof line, "kernel      %-18s %10.3f ms\n", k.c_str(), ms);
+    out += line;
+    total += ms;
+  }
+  std::snprintf(line, sizeof line, "kernel      %-18s %10.3f ms (wall %.3f s)\n", "total", total,
+                s.wall_s);
+  out += line;
+  for (const auto* cls : {&s.closest, &s.shadow}) {
+    const TraversalCounters& c = cls->counters;
+    std::snprintf(line, sizeof line,
+                  "%-11s %llu rays, %llu hits; per ray %.2f interior nodes, %.2f leaves, "
+                  "%.2f triangles\n",
+                  cls == &s.closest ? "closest" : "shadow", static_cast<unsigned long long>(c.rays),
+                  static_cast<unsigned long long>(c.hits), per_ray(c.interior_visited, c.rays),
+                  per_ray(c.leaves_visited, c.rays), per_ray(c.triangles_tested, c.rays));
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "rays        camera %llu, bounce %llu, shadow %llu (%ux%u, %u spp)\n",
+                static_cast<unsigned long long>(s.camera_rays),
+                static_cast<unsigned long long>(s.bounce_rays),
+                static_cast<unsigned long long>(s.shadow.counters.rays), config.width,
+                config.height, config.spp);
+  out += line;
+  return out;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,21 @@
+// The --stats JSON of a render: one nested object with the configuration, the device, the
+// compiled-in features, device time per kernel, counters per ray class (hit-all: camera +
+// bounce rays; hit-any: shadow rays) and totals, and the wall time.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/vulkan_context.h"
+#include "render/wavefront_renderer.h"
+
+namespace hrpp {
+
+nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& config,
+                                 const DeviceInfo& device, const RenderResult& result);
+
+// The same as lines of text for the terminal.
+std::string render_stats_text(const RenderConfig& config, const RenderResult& result);
+
+}  // namespace hrpp

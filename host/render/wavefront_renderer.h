@@ -1,0 +1,85 @@
+// The wavefront path tracer (Laine, Karras, Aila, "Megakernels Considered Harmful: Wavefront
+// Path Tracing on GPUs", HPG 2013): per sample pass and wavefront of pixels, kernels
+//   render_generate → trace_closest → render_shade → trace_any → render_accumulate
+// with the continuation rays looping back to trace_closest until --max-depth or Russian
+// roulette ends every path. The traces are GpuTracer's kernels on its own device-resident ray
+// and hit arrays (so HRPP, when configured, predicts them too: one traversal in the project).
+// Queue sizes are read back on the host between kernels (a few bytes per bounce).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+#include "gpu/gpu_tracer.h"
+#include "hrpp/predictor_config.h"
+#include "render/render_scene.h"
+#include "scene/scene.h"
+#include "trace/traversal_counters.h"
+
+namespace hrpp {
+
+class VulkanContext;
+
+struct RenderConfig {
+  std::uint32_t width = 256;
+  std::uint32_t height = 256;
+  std::uint32_t spp = 8;
+  std::uint32_t max_depth = 8;  // surface interactions per path (1: direct light only)
+  std::uint32_t rr_depth = 3;   // Russian roulette from this many interactions on
+  std::uint32_t seed = 0;
+  std::uint32_t camera = 0;     // index into Scene::cameras
+  std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)
+  GpuTracerConfig tracer;
+  PredictorConfig predictor;  // HRPP: off unless predictor.enabled
+};
+
+// Counters of one ray class: hit-all (camera + bounce rays, trace_closest) or hit-any (shadow
+// rays, trace_any).
+struct RayClassStats {
+  TraversalCounters counters;
+  gpu::PredictorCounters predictor{};  // HRPP on: summed over the class's traces
+  std::uint64_t traces = 0;            // trace dispatches
+};
+
+struct RenderStats {
+  std::map<std::string, double> kernels_ms;  // device time per kernel, summed over the frame
+  RayClassStats closest;                     // camera + bounce rays
+  RayClassStats shadow;
+  std::uint64_t camera_rays = 0;
+  std::uint64_t bounce_rays = 0;
+  double wall_s = 0.0;  // render() wall time, host included
+  std::vector<std::string> features;  // specialization constants compiled in
+};
+
+struct RenderResult {
+  std::uint32_t width = 0, height = 0;
+  std::vector<float> rgb;  // linear radiance, mean over the samples, rows top down
+  RenderStats stats;
+};
+
+class WavefrontRenderer {
+ public:
+  // Uploads the scene's shading data and creates the kernels specialised for its features.
+  // Throws hrpp::Error on a bad configuration (naming the field) or when an array does not fit.
+  WavefrontRenderer(VulkanContext& ctx, const Scene& scene, const GpuBvh& bvh,
+                    const RenderConfig& config);
+  ~WavefrontRenderer();
+  WavefrontRenderer(const WavefrontRenderer&) = delete;
+  WavefrontRenderer& operator=(const WavefrontRenderer&) = delete;
+
+  // Renders config.spp sample passes. `progress(samples_done)` is called after each pass.
+  RenderResult render(const std::function<void(std::uint32_t)>& progress = {});
+
+  const RenderScene& render_scene() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+}  // namespace hrpp

@@ -1,0 +1,159 @@
+// Interface of the wavefront path tracer's kernels (shaders/render_generate.comp,
+// render_shade.comp, render_accumulate.comp): binding slots, specialization constants, push
+// constants and every struct they share with host/render/. One definition; the host
+// static_asserts the sizes (host/render/render_scene.cpp).
+//
+// The ray and hit arrays are the trace kernels' own (GpuTracer::ray_buffer / hit_buffer): the
+// renderer writes rays there and reads hits back, the traversal stays in shaders/lib/
+// trace_kernel.glsl only.
+#ifndef HRPP_RENDER_INTERFACE_H
+#define HRPP_RENDER_INTERFACE_H
+
+#include "gpu_types.h"
+
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
+
+#define HRPP_RENDER_WORKGROUP_SIZE 64
+
+// Every render kernel has the same set layout (each uses what it needs).
+#define HRPP_RENDER_BINDING_PARAMS 0           // RenderParams (one)
+#define HRPP_RENDER_BINDING_PATHS 1            // PathState per ray of the current wavefront
+#define HRPP_RENDER_BINDING_NEXT_PATHS 2       // PathState of the continuation rays
+#define HRPP_RENDER_BINDING_RAYS 3             // the tracer's ray array (generate writes it)
+#define HRPP_RENDER_BINDING_HITS 4             // the tracer's hit array
+#define HRPP_RENDER_BINDING_NEXT_RAYS 5        // continuation rays (copied to RAYS)
+#define HRPP_RENDER_BINDING_SHADOW_RAYS 6      // shadow rays (copied to RAYS)
+#define HRPP_RENDER_BINDING_SHADOWS 7          // ShadowRecord per shadow ray
+#define HRPP_RENDER_BINDING_IMAGE 8            // vec4 radiance sum per pixel
+#define HRPP_RENDER_BINDING_QUEUES 9           // RenderQueues
+#define HRPP_RENDER_BINDING_SHADE_TRIANGLES 10  // uniform texel buffer: ShadeTriangle
+#define HRPP_RENDER_BINDING_MATERIALS 11       // GpuMaterial
+#define HRPP_RENDER_BINDING_LIGHTS 12          // GpuLight (emissive triangles, delta lights)
+#define HRPP_RENDER_BINDING_TEXTURES 13        // GpuTexture
+#define HRPP_RENDER_BINDING_TEXELS 14          // RGBA8 texels of every texture, one uint each
+#define HRPP_RENDER_BINDING_COUNT 15
+
+// Specialization constant ids (bool): what the scene needs. A kernel compiled with one off has
+// that code removed (llvmpipe folds the constant before code generation).
+#define HRPP_FEATURE_TEXTURES 0
+#define HRPP_FEATURE_EMISSIVE_TRIANGLES 1
+#define HRPP_FEATURE_POINT_LIGHTS 2
+#define HRPP_FEATURE_SPOT_LIGHTS 3
+#define HRPP_FEATURE_DIRECTIONAL_LIGHTS 4
+#define HRPP_FEATURE_ENVIRONMENT 5
+#define HRPP_FEATURE_METAL 6
+#define HRPP_FEATURE_GLASS 7
+#define HRPP_FEATURE_COUNT 8
+
+#define HRPP_LIGHT_TRIANGLE 0u
+#define HRPP_LIGHT_POINT 1u
+#define HRPP_LIGHT_SPOT 2u
+#define HRPP_LIGHT_DIRECTIONAL 3u
+
+// Per-frame constants.
+struct RenderParams {
+  uint width;
+  uint height;
+  uint seed;
+  uint max_depth;      // surface interactions per path (1: direct light only)
+  vec4 cam_position;   // w: tan(yfov / 2)
+  vec4 cam_forward;    // w: aspect (width / height)
+  vec4 cam_up;
+  vec4 cam_right;
+  vec4 environment;    // rgb: constant environment radiance
+  uint light_count;    // entries of the light array (selection by its cdf)
+  uint rr_depth;       // Russian roulette from this depth on
+  uint pad0;
+  uint pad1;
+};
+
+// One path of the wavefront (its ray is rays[i] of the same index).
+struct PathState {
+  vec3 throughput;
+  uint pixel;
+  uint sample_index;
+  uint depth;     // surface interactions so far (camera ray: 0)
+  uint specular;  // 1: the last bounce was a delta lobe (emission is then counted on hit)
+  uint pad;
+};
+
+// A shadow ray's payload: added to image[pixel] when the ray is unoccluded.
+struct ShadowRecord {
+  vec3 contribution;
+  uint pixel;
+};
+
+// Atomic counters of one kernel dispatch; the host zeroes them, reads them back and compares
+// the completion counts with the work submitted (lavapipe loop limiter, DESIGN.md).
+struct RenderQueues {
+  uint next_rays;    // continuation rays written by shade
+  uint shadow_rays;  // shadow rays written by shade
+  uint done;         // items the dispatch finished (generate: paths, shade: paths,
+                     // accumulate: shadow records)
+  uint pad;
+};
+
+struct RenderPushConstants {
+  uint first_pixel;  // generate: pixel of item 0 of this wavefront
+  uint count;        // items in this dispatch
+  uint sample_index; // generate: sample index
+  uint bounce;       // shade: depth of the paths it shades
+};
+
+// Shading data of one triangle (by triangle id), read as 8 16-byte texels:
+//   v0.xyz material | v1.xyz has_normals | v2.xyz 0 | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
+struct ShadeTriangle {
+  vec3 v0;
+  uint material;
+  vec3 v1;
+  uint has_normals;
+  vec3 v2;
+  uint pad0;
+  vec4 n0;
+  vec4 n1;
+  vec4 n2;
+  vec4 uv01;
+  vec4 uv2;
+};
+
+struct GpuMaterial {
+  vec3 base_color;
+  int texture;  // index into the GpuTexture array, -1: none
+  vec3 emission;
+  float metallic;
+  float roughness;
+  float transmission;
+  float ior;
+  uint pad;
+};
+
+// Light for next-event estimation, chosen with probability cdf - previous cdf (by power).
+//   triangle:    position = v0, dir = v1 - v0, edge2 = v2 - v0, color = radiance (two-sided)
+//   point:       position, color = intensity
+//   spot:        position, dir = the direction light travels, color = intensity, cones
+//   directional: dir = the direction light travels, color = irradiance
+struct GpuLight {
+  vec3 position;
+  uint type;  // HRPP_LIGHT_*
+  vec3 color;
+  float cdf;
+  vec3 dir;
+  float cos_inner;
+  vec3 edge2;
+  float cos_outer;
+};
+
+struct GpuTexture {
+  uint offset;  // first texel in the texel array
+  int width;
+  int height;
+  uint pad;
+};
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_RENDER_INTERFACE_H
