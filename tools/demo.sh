@@ -8,3 +8,8 @@ hrpp=build/release/host/hrpp
 echo
 echo "== $hrpp scene   (the default scene: builtin:cornell)"
 "$hrpp" scene
+echo
+echo "== $hrpp render   (builtin:cornell, 256x256, 8 spp: per-kernel device time and counters)"
+mkdir -p build/demo
+"$hrpp" render --out build/demo/cornell.png --stats build/demo/cornell.json
+echo "(image: build/demo/cornell.png, linear EXR with --out FILE.exr; stats: build/demo/cornell.json)"

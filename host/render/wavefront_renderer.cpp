@@ -250,8 +250,14 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
                         "render_accumulate"})
     stats.kernels_ms[k] = 0.0;
-  s_->image.fill(0);
   const std::uint32_t pixels = out.width * out.height;
+  if (s_->cfg.warm_up) {
+    RenderStats discard;
+    s_->tracer.warm_up();
+    s_->trace_wavefront(0, std::min(pixels, 64u), 0, discard);
+    s_->tracer.clear_predictor();  // HRPP: the warm-up paths leave nothing behind
+  }
+  s_->image.fill(0);
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, stats);

@@ -1,0 +1,266 @@
+// host/render/ + shaders/render_*.comp: the wavefront path tracer on the Vulkan device
+// (lavapipe here), under the validation layer. Same seed → the same image bit for bit; furnace
+// tests against radiance known in closed form; counters consistent with the image size and with
+// each other; image files and CLI errors.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/vulkan_context.h"
+#include "render/image_output.h"
+#include "render/render_stats.h"
+#include "render/wavefront_renderer.h"
+#include "scene/load_scene.h"
+
+namespace hrpp {
+namespace {
+
+// One validated context for the suite: pipelines JIT once, messages are counted.
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+RenderResult render(const Scene& scene, RenderConfig config) {
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  WavefrontRenderer renderer(context(), scene, bvh, config);
+  return renderer.render();
+}
+
+RenderConfig small(std::uint32_t spp, std::uint32_t seed) {
+  RenderConfig c;
+  c.width = 32;
+  c.height = 32;
+  c.spp = spp;
+  c.seed = seed;
+  return c;
+}
+
+double mean(const std::vector<float>& rgb) {
+  double s = 0.0;
+  for (float v : rgb) s += v;
+  return s / static_cast<double>(rgb.size());
+}
+
+// Standard error of the per-pixel means (channels averaged per pixel).
+double standard_error(const std::vector<float>& rgb) {
+  const std::size_t n = rgb.size() / 3;
+  std::vector<double> px(n);
+  for (std::size_t i = 0; i < n; ++i) px[i] = (rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0;
+  double m = 0.0, v = 0.0;
+  for (double p : px) m += p;
+  m /= static_cast<double>(n);
+  for (double p : px) v += (p - m) * (p - m);
+  return std::sqrt(v / static_cast<double>(n - 1) / static_cast<double>(n));
+}
+
+void add_quad(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, std::uint32_t mat) {
+  for (const auto& t : {Triangle{a, b, c}, Triangle{a, c, d}}) {
+    s.triangles.push_back(t);
+    TriangleShading sh;
+    sh.material = mat;
+    s.shading.push_back(sh);
+  }
+}
+
+// A closed unit cube of one diffuse emissive material, the camera at its centre.
+Scene emissive_box(float albedo, float emission) {
+  Scene s;
+  s.name = "test:emissive-box";
+  Material m;
+  m.base_color = glm::vec3(albedo);
+  m.emission = glm::vec3(emission);
+  s.materials.push_back(m);
+  using V = glm::vec3;
+  const V p[8] = {V(0, 0, 0), V(1, 0, 0), V(1, 1, 0), V(0, 1, 0),
+                  V(0, 0, 1), V(1, 0, 1), V(1, 1, 1), V(0, 1, 1)};
+  add_quad(s, p[0], p[1], p[2], p[3], 0);
+  add_quad(s, p[4], p[7], p[6], p[5], 0);
+  add_quad(s, p[0], p[3], p[7], p[4], 0);
+  add_quad(s, p[1], p[5], p[6], p[2], 0);
+  add_quad(s, p[0], p[4], p[5], p[1], 0);
+  add_quad(s, p[3], p[2], p[6], p[7], 0);
+  Camera cam;
+  cam.position = V(0.5f, 0.5f, 0.5f);
+  cam.forward = V(0, 0, 1);
+  cam.up = V(0, 1, 0);
+  cam.yfov = 1.5f;
+  s.cameras.push_back(cam);
+  return s;
+}
+
+TEST(Render, SameSeedSameImageBitForBit) {
+  const Scene scene = load_scene("builtin:cornell");
+  const RenderResult a = render(scene, small(2, 7));
+  const RenderResult b = render(scene, small(2, 7));
+  ASSERT_EQ(a.rgb.size(), 32u * 32u * 3u);
+  EXPECT_TRUE(a.rgb == b.rgb) << "same seed gave a different image";
+  const RenderResult c = render(scene, small(2, 8));
+  EXPECT_FALSE(a.rgb == c.rgb) << "a different seed gave the same image";
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+TEST(Render, CountersAreConsistent) {
+  const Scene scene = load_scene("builtin:cornell");
+  const RenderConfig config = small(3, 1);
+  const RenderResult r = render(scene, config);
+  const RenderStats& s = r.stats;
+  EXPECT_EQ(s.camera_rays, 32u * 32u * 3u);
+  EXPECT_EQ(s.closest.counters.rays, s.camera_rays + s.bounce_rays);
+  EXPECT_GT(s.bounce_rays, 0u);
+  EXPECT_GT(s.shadow.counters.rays, 0u);
+  for (const RayClassStats* c : {&s.closest, &s.shadow}) {
+    EXPECT_GE(c->counters.triangles_tested, c->counters.hits);
+    EXPECT_GE(c->counters.leaves_visited, c->counters.hits);
+    EXPECT_LE(c->counters.hits, c->counters.rays);
+    EXPECT_GT(c->counters.interior_visited, 0u);
+  }
+  // The camera looks into the box: most camera and bounce rays hit; the open front lets some
+  // escape.
+  EXPECT_GT(s.closest.counters.hits, s.camera_rays / 2);
+  EXPECT_LT(s.closest.counters.hits, s.closest.counters.rays);
+  EXPECT_EQ(s.features, std::vector<std::string>{"emissive_triangles"});
+  for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
+                        "render_accumulate"})
+    EXPECT_EQ(s.kernels_ms.count(k), 1u) << k;
+  const nlohmann::json j = render_stats_json(scene.name, config, context().info(), r);
+  EXPECT_EQ(j["closest"]["rays"].get<std::uint64_t>(), s.closest.counters.rays);
+  EXPECT_EQ(j["totals"]["rays"].get<std::uint64_t>(),
+            s.closest.counters.rays + s.shadow.counters.rays);
+  EXPECT_EQ(j["config"]["spp"].get<int>(), 3);
+  // The light is the brightest thing in the image and nothing is negative or NaN.
+  for (float v : r.rgb) ASSERT_TRUE(v >= 0.0f && std::isfinite(v));
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// Inside a closed box whose walls emit E and reflect albedo a (diffuse), radiance with at most
+// D surface interactions (the last one still samples a light, so light reaches the camera over
+// up to D + 1 segments) is E (1 + a + ... + a^D) everywhere: exercises emission on camera
+// hits, next-event estimation to emissive triangles, the diffuse lobe and Russian roulette.
+TEST(Render, FurnaceClosedEmissiveBox) {
+  const float a = 0.5f, e = 1.0f;
+  RenderConfig config = small(32, 3);
+  config.max_depth = 5;
+  const RenderResult r = render(emissive_box(a, e), config);
+  double expected = 0.0;
+  for (std::uint32_t k = 0; k <= config.max_depth; ++k) expected += e * std::pow(a, k);
+  const double m = mean(r.rgb), se = standard_error(r.rgb);
+  EXPECT_NEAR(m, expected, std::max(4.0 * se, 1e-3 * expected))
+      << "mean " << m << ", standard error " << se;
+  EXPECT_LT(se, 0.015 * expected);  // the test can see a 6% bias
+  std::printf("furnace box: mean %.4f expected %.4f standard error %.4f\n", m, expected, se);
+  EXPECT_EQ(r.stats.closest.counters.hits, r.stats.closest.counters.rays);  // closed: no misses
+}
+
+// A white (albedo 1) open Cornell box without emitters inside a constant environment L: every
+// path escapes eventually and carries exactly L (Russian roulette only adds noise).
+TEST(Render, FurnaceWhiteBoxInEnvironment) {
+  Scene scene = load_scene("builtin:cornell");
+  for (Material& m : scene.materials) {
+    m.base_color = glm::vec3(1.0f);
+    m.emission = glm::vec3(0.0f);
+  }
+  scene.lights.clear();
+  Light env;
+  env.type = LightType::kEnvironment;
+  env.color = glm::vec3(0.5f);
+  scene.lights.push_back(env);
+  RenderConfig config = small(16, 5);
+  config.max_depth = 200;
+  const RenderResult r = render(scene, config);
+  const double m = mean(r.rgb), se = standard_error(r.rgb);
+  EXPECT_NEAR(m, 0.5, std::max(4.0 * se, 1e-3)) << "mean " << m << ", standard error " << se;
+  EXPECT_LT(se, 0.02);
+  std::printf("furnace environment: mean %.4f expected 0.5 standard error %.4f\n", m, se);
+  EXPECT_EQ(r.stats.features, std::vector<std::string>{"environment"});
+  EXPECT_EQ(r.stats.shadow.counters.rays, 0u);  // no lights to sample
+}
+
+TEST(Render, BadConfigurationsAreErrors) {
+  const Scene scene = load_scene("builtin:cornell");
+  RenderConfig c = small(1, 0);
+  c.camera = 5;
+  EXPECT_THROW(render(scene, c), Error);
+  c = small(0, 0);
+  EXPECT_THROW(render(scene, c), Error);
+  c = small(1, 0);
+  c.max_depth = 0;
+  EXPECT_THROW(render(scene, c), Error);
+}
+
+TEST(ImageOutput, WritesPngAndExrAndNoPartialFileOnError) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("hrpp_render_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::vector<float> rgb = {0.0f, 0.5f, 1.0f, 2.0f, -1.0f, 0.25f};
+  write_image(dir / "a.png", 2, 1, rgb);
+  write_image(dir / "a.exr", 2, 1, rgb);
+  EXPECT_GT(std::filesystem::file_size(dir / "a.png"), 0u);
+  EXPECT_GT(std::filesystem::file_size(dir / "a.exr"), 0u);
+  EXPECT_THROW(write_image(dir / "a.jpg", 2, 1, rgb), Error);
+  EXPECT_THROW(write_image(dir / "missing" / "a.png", 2, 1, rgb), Error);
+  EXPECT_THROW(write_image(dir / "b.png", 3, 1, rgb), Error);
+  std::size_t files = 0;
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    (void)f;
+    ++files;
+  }
+  EXPECT_EQ(files, 2u);
+  EXPECT_FLOAT_EQ(linear_to_srgb(1.0f), 1.0f);
+  EXPECT_FLOAT_EQ(linear_to_srgb(-1.0f), 0.0f);
+  EXPECT_NEAR(linear_to_srgb(0.5f), 0.7354f, 1e-3);
+  std::filesystem::remove_all(dir);
+}
+
+// The CLI: one-line errors with exit status 1 (CLI11's own range checks exit non-zero too),
+// and a small render that writes the image and the stats.
+int run(const std::string& args, std::string* err = nullptr) {
+  const std::filesystem::path e =
+      std::filesystem::temp_directory_path() / ("hrpp_render_err_" + std::to_string(getpid()));
+  const int status = std::system((std::string(HRPP_BINARY) + " " + args + " >/dev/null 2>" +
+                                  e.string()).c_str());
+  if (err) {
+    std::ifstream in(e);
+    std::getline(in, *err);
+  }
+  std::filesystem::remove(e);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(RenderCli, ErrorsAndOutputs) {
+  std::string err;
+  EXPECT_EQ(run("render --size 32y32", &err), 1);
+  EXPECT_NE(err.find("--size"), std::string::npos) << err;
+  EXPECT_EQ(run("render --size 0x4", &err), 1);
+  EXPECT_EQ(run("render --size 8x8 --out x.jpg", &err), 1);
+  EXPECT_NE(err.find("x.jpg"), std::string::npos) << err;
+  EXPECT_EQ(run("render no-such-scene --size 8x8", &err), 1);
+  EXPECT_NE(run("render --spp 0"), 0);
+  EXPECT_NE(run("render --max-depth 0"), 0);
+
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("hrpp_render_cli_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(run("render --size 16x16 --spp 1 --validate --out " + (dir / "c.exr").string() +
+                " --stats " + (dir / "c.json").string(), &err), 0) << err;
+  std::ifstream in(dir / "c.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["rays"]["camera"].get<int>(), 16 * 16);
+  EXPECT_TRUE(j.contains("kernels_ms") && j.contains("device") && j.contains("features"));
+  EXPECT_GT(std::filesystem::file_size(dir / "c.exr"), 0u);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hrpp
