@@ -187,6 +187,25 @@ TEST(Render, FurnaceWhiteBoxInEnvironment) {
   EXPECT_EQ(r.stats.shadow.counters.rays, 0u);  // no lights to sample
 }
 
+// HRPP through the renderer: the predictor lives in the trace kernels, so render only passes its
+// configuration on. In exact mode every closest hit equals the full traversal's and any-hit
+// answers are exact, so the image is the one without HRPP, bit for bit; the per-class HRPP
+// counters come back.
+TEST(Render, HrppExactGivesTheSameImage) {
+  const Scene scene = load_scene("builtin:cornell");
+  RenderConfig config = small(2, 11);
+  const RenderResult off = render(scene, config);
+  config.predictor.enabled = true;
+  config.predictor.mode = PredictorMode::kExact;
+  const RenderResult on = render(scene, config);
+  EXPECT_TRUE(off.rgb == on.rgb) << "HRPP exact changed the image";
+  EXPECT_EQ(on.stats.closest.counters.rays, off.stats.closest.counters.rays);
+  EXPECT_EQ(on.stats.closest.predictor.c[HRPP_PC_PROBES], on.stats.closest.counters.rays);
+  EXPECT_EQ(on.stats.shadow.predictor.c[HRPP_PC_PROBES], on.stats.shadow.counters.rays);
+  EXPECT_GT(on.stats.closest.predictor.c[HRPP_PC_PREDICTOR_HITS], 0u);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 TEST(Render, BadConfigurationsAreErrors) {
   const Scene scene = load_scene("builtin:cornell");
   RenderConfig c = small(1, 0);
@@ -223,7 +242,7 @@ TEST(ImageOutput, WritesPngAndExrAndNoPartialFileOnError) {
   std::filesystem::remove_all(dir);
 }
 
-// The CLI: one-line errors with exit status 1 (CLI11's own range checks exit non-zero too),
+// The CLI: one-line errors with exit status 1 (CLI11's own parse errors exit non-zero too),
 // and a small render that writes the image and the stats.
 int run(const std::string& args, std::string* err = nullptr) {
   const std::filesystem::path e =
@@ -246,8 +265,11 @@ TEST(RenderCli, ErrorsAndOutputs) {
   EXPECT_EQ(run("render --size 8x8 --out x.jpg", &err), 1);
   EXPECT_NE(err.find("x.jpg"), std::string::npos) << err;
   EXPECT_EQ(run("render no-such-scene --size 8x8", &err), 1);
-  EXPECT_NE(run("render --spp 0"), 0);
-  EXPECT_NE(run("render --max-depth 0"), 0);
+  EXPECT_EQ(run("render --spp 0", &err), 1);
+  EXPECT_NE(err.find("--spp"), std::string::npos) << err;
+  EXPECT_EQ(run("render --max-depth 0", &err), 1);
+  EXPECT_NE(err.find("--max-depth"), std::string::npos) << err;
+  EXPECT_NE(run("render --spp -3"), 0);  // CLI11: not a number of samples
 
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("hrpp_render_cli_" + std::to_string(getpid()));

@@ -66,8 +66,19 @@ void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
   }
 }
 
+// Ranges checked here rather than by CLI11 so that every bad value is one line and exit 1.
+void check_range(const char* flag, std::uint32_t v, std::uint32_t lo, std::uint32_t hi) {
+  if (v < lo || v > hi)
+    throw Error(std::string(flag) + " " + std::to_string(v) + ": expected " + std::to_string(lo) +
+                ".." + std::to_string(hi));
+}
+
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
+  check_range("--spp", o.render.spp, 1, 1u << 20);
+  check_range("--max-depth", o.render.max_depth, 1, 1024);
+  check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
+  check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
@@ -113,13 +124,11 @@ void add_render_command(CLI::App& app) {
                   "manifest in scenes/")
       ->capture_default_str();
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 20));
+      ->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--max-depth", o->render.max_depth,
                   "Surface interactions per path (1: direct light only)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1024u));
+      ->capture_default_str();
   cmd->add_option("--seed", o->render.seed, "Random seed (same seed: same image, bit for bit)")
       ->capture_default_str();
   cmd->add_option("--camera", o->render.camera, "Camera index in the scene")
@@ -133,11 +142,9 @@ void add_render_command(CLI::App& app) {
                 "Vulkan validation layer on; any message fails the command");
   cmd->add_option("--rays-per-invocation", o->render.tracer.rays_per_invocation,
                   "Most rays one trace invocation traces (lavapipe loop limiter)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 24));
+      ->capture_default_str();
   cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 24));
+      ->capture_default_str();
   cmd->callback([o] { run_render(*o); });
 }
 
