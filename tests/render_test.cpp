@@ -139,6 +139,14 @@ TEST(Render, CountersAreConsistent) {
   EXPECT_EQ(j["totals"]["rays"].get<std::uint64_t>(),
             s.closest.counters.rays + s.shadow.counters.rays);
   EXPECT_EQ(j["config"]["spp"].get<int>(), 3);
+  ASSERT_EQ(s.frames.size(), 3u);
+  std::uint64_t closest = 0;
+  for (const FrameStats& f : s.frames) {
+    EXPECT_EQ(f.camera_rays, 32u * 32u);
+    closest += f.closest.counters.rays;
+  }
+  EXPECT_EQ(closest, s.closest.counters.rays);
+  EXPECT_EQ(j["frames"].size(), 3u);
   // The light is the brightest thing in the image and nothing is negative or NaN.
   for (float v : r.rgb) ASSERT_TRUE(v >= 0.0f && std::isfinite(v));
   EXPECT_EQ(context().validation_messages(), 0u);

@@ -36,6 +36,16 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
   return j;
 }
 
+json frame_json(const FrameStats& f, bool hrpp_on) {
+  return json{{"kernels_ms", f.kernels_ms},
+              {"rays", {{"camera", f.camera_rays},
+                        {"bounce", f.bounce_rays},
+                        {"shadow", f.shadow.counters.rays}}},
+              {"closest", class_json(f.closest, hrpp_on)},
+              {"shadow", class_json(f.shadow, hrpp_on)},
+              {"wall_s", f.wall_s}};
+}
+
 double per_ray(std::uint64_t v, std::uint64_t rays) {
   return rays ? static_cast<double>(v) / static_cast<double>(rays) : 0.0;
 }
@@ -62,8 +72,8 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"wavefront_paths", config.wavefront_paths},
                  {"rays_per_invocation", config.tracer.rays_per_invocation},
                  {"hrpp", hrpp_on ? "on" : "off"},
-                 {"frame", "one sample pass per pixel; counters and times summed over all spp "
-                           "passes"}};
+                 {"frame", "one sample pass over every pixel; the top level sums the frames, "
+                           "\"frames\" lists each"}};
   j["device"] = {{"name", device.name},
                  {"type", device.type_name()},
                  {"driver", device.driver},
@@ -79,6 +89,8 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
   j["shadow"] = class_json(s.shadow, hrpp_on);
   j["totals"] = counters_json(total);
   j["wall_s"] = s.wall_s;
+  j["frames"] = json::array();
+  for (const FrameStats& f : s.frames) j["frames"].push_back(frame_json(f, hrpp_on));
   return j;
 }
 

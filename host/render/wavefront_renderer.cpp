@@ -64,13 +64,24 @@ void add_barrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
-void add_class(RayClassStats& c, const GpuTraceResult& r) {
-  c.counters += r.counters;
-  for (int i = 0; i < HRPP_PC_COUNT; ++i) c.predictor.c[i] += r.predictor.c[i];
-  ++c.traces;
+}  // namespace
+
+RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
+  counters += o.counters;
+  for (int i = 0; i < HRPP_PC_COUNT; ++i) predictor.c[i] += o.predictor.c[i];
+  traces += o.traces;
+  return *this;
 }
 
-}  // namespace
+FrameStats& FrameStats::operator+=(const FrameStats& o) {
+  for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
+  closest += o.closest;
+  shadow += o.shadow;
+  camera_rays += o.camera_rays;
+  bounce_rays += o.bounce_rays;
+  wall_s += o.wall_s;
+  return *this;
+}
 
 struct WavefrontRenderer::State {
   VulkanContext& ctx;
@@ -157,7 +168,7 @@ struct WavefrontRenderer::State {
   // One dispatch of a render kernel over `count` items; returns its queue counters after
   // checking that every item finished (lavapipe loop limiter, DESIGN.md).
   gpu::RenderQueues run(ComputePipeline& kernel, const gpu::RenderPushConstants& pc,
-                        RenderStats& stats) {
+                        FrameStats& stats) {
     const std::uint32_t groups =
         (pc.count + HRPP_RENDER_WORKGROUP_SIZE - 1) / HRPP_RENDER_WORKGROUP_SIZE;
     ctx.submit_and_wait(
@@ -197,15 +208,18 @@ struct WavefrontRenderer::State {
         "render queue copy");
   }
 
-  void trace(std::uint32_t n, bool any_hit, RenderStats& stats) {
+  void trace(std::uint32_t n, bool any_hit, FrameStats& stats) {
     const GpuTraceResult r = tracer.trace_resident(n, any_hit);
     stats.kernels_ms[any_hit ? "trace_any" : "trace_closest"] += r.kernel_ms;
-    add_class(any_hit ? stats.shadow : stats.closest, r);
+    RayClassStats& c = any_hit ? stats.shadow : stats.closest;
+    c.counters += r.counters;
+    for (int i = 0; i < HRPP_PC_COUNT; ++i) c.predictor.c[i] += r.predictor.c[i];
+    ++c.traces;
   }
 
   // Paths of pixels [first, first + n) for one sample, to the end.
   void trace_wavefront(std::uint32_t first, std::uint32_t n, std::uint32_t sample,
-                       RenderStats& stats) {
+                       FrameStats& stats) {
     StorageBuffer& rays = tracer.ray_buffer(wave);
     run(generate, {first, n, sample, 0}, stats);
     stats.camera_rays += n;
@@ -247,20 +261,26 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   out.height = s_->cfg.height;
   RenderStats& stats = out.stats;
   stats.features = s_->rs.features.names_on();
-  for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
-                        "render_accumulate"})
-    stats.kernels_ms[k] = 0.0;
   const std::uint32_t pixels = out.width * out.height;
   if (s_->cfg.warm_up) {
-    RenderStats discard;
+    FrameStats discard;
     s_->tracer.warm_up();
     s_->trace_wavefront(0, std::min(pixels, 64u), 0, discard);
     s_->tracer.clear_predictor();  // HRPP: the warm-up paths leave nothing behind
   }
   s_->image.fill(0);
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
+    const auto frame_start = std::chrono::steady_clock::now();
+    FrameStats frame;
+    for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
+                          "render_accumulate"})
+      frame.kernels_ms[k] = 0.0;
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
-      s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, stats);
+      s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
+    frame.wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+    stats += frame;
+    stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);
   }
   std::vector<glm::vec4> sum(pixels);

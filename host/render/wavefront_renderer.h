@@ -49,16 +49,27 @@ struct RayClassStats {
   TraversalCounters counters;
   gpu::PredictorCounters predictor{};  // HRPP on: summed over the class's traces
   std::uint64_t traces = 0;            // trace dispatches
+
+  RayClassStats& operator+=(const RayClassStats& o);
 };
 
-struct RenderStats {
-  std::map<std::string, double> kernels_ms;  // device time per kernel, summed over the frame
-  RayClassStats closest;                     // camera + bounce rays
+// One frame = one sample pass over every pixel: device time per kernel (timestamps around every
+// dispatch, summed) and counters per ray class.
+struct FrameStats {
+  std::map<std::string, double> kernels_ms;
+  RayClassStats closest;  // camera + bounce rays
   RayClassStats shadow;
   std::uint64_t camera_rays = 0;
   std::uint64_t bounce_rays = 0;
-  double wall_s = 0.0;  // render() wall time, host included
+  double wall_s = 0.0;  // host wall time
+
+  FrameStats& operator+=(const FrameStats& o);
+};
+
+// The render: the sums over its frames, and each frame.
+struct RenderStats : FrameStats {
   std::vector<std::string> features;  // specialization constants compiled in
+  std::vector<FrameStats> frames;     // one per sample pass
 };
 
 struct RenderResult {
