@@ -13,3 +13,6 @@ echo "== $hrpp render   (builtin:cornell, 256x256, 8 spp: per-kernel device time
 mkdir -p build/demo
 "$hrpp" render --out build/demo/cornell.png --stats build/demo/cornell.json
 echo "(image: build/demo/cornell.png, linear EXR with --out FILE.exr; stats: build/demo/cornell.json)"
+echo
+echo "== $hrpp bench --hrpp on   (HRPP off vs on, side by side: gpu and gpu-hrpp rows)"
+"$hrpp" bench --rays 65536 --no-embree --repeat 1 --hrpp on --hrpp-mode exact --kinds primary,ao

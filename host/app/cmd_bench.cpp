@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/hrpp_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -50,6 +51,7 @@ struct BenchOptions {
   VulkanOptions vulkan;
   GpuTracerConfig tracer;
   BvhConfig bvh;
+  HrppOptions hrpp;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -129,6 +131,7 @@ struct TracerResult {
   Validation validation;
   std::optional<TraversalCounters> counters;  // GPU: work per batch
   std::string timing;                         // what the ms measure
+  bool speculative = false;  // HRPP speculative hit-all: mismatches are wrong predictions
 };
 
 double median(std::vector<double> v) {
@@ -250,6 +253,18 @@ void run_bench(const BenchOptions& o) {
     gpu_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer);
     gpu_tracer->warm_up();
   }
+  // HRPP on: a second GPU tracer ("gpu-hrpp") that probes the predictor; each timed run starts
+  // from empty tables, and one more run per batch counts the savings (outside the timings).
+  const PredictorConfig predictor = o.hrpp.config();
+  std::unique_ptr<GpuTracer> hrpp_tracer;
+  if (ctx && predictor.enabled) {
+    hrpp_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer, predictor);
+    hrpp_tracer->warm_up();
+    std::printf("hrpp        %s; ray classes: %s\n", describe(predictor).c_str(),
+                o.hrpp.rays.c_str());
+  }
+  report["hrpp"] = predictor_config_json(predictor);
+  report["hrpp"]["rays"] = o.hrpp.rays;
 
   // Batches: the primary grid is the smallest near-square one with >= N pixels, cut to N rays.
   RayBatchConfig bc;
@@ -347,6 +362,32 @@ void run_bench(const BenchOptions& o) {
       r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
       results.push_back(std::move(r));
     }
+    std::optional<PredictorSummary> hrpp_summary;
+    if (hrpp_tracer && o.hrpp.predicts(any_hit)) {
+      TraversalCounters counters;
+      TracerResult r = time_tracer(
+          "gpu-hrpp", rays, o.repeat,
+          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
+            hrpp_tracer->clear_predictor();
+            GpuTraceResult g = hrpp_tracer->trace(rs, any_hit);
+            out = std::move(g.hits);
+            counters = g.counters;
+            return g.kernel_ms;
+          },
+          hits);
+      r.timing = predictor.batch ? "none (batched HRPP dispatches are not timed)"
+                                 : "device timestamps around the trace dispatches";
+      r.counters = counters;
+      r.speculative = !any_hit && predictor.mode == PredictorMode::kSpeculative;
+      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
+      results.push_back(std::move(r));
+      hrpp_tracer->clear_predictor();
+      hrpp_tracer->set_count_baseline(true);
+      const GpuTraceResult counted = hrpp_tracer->trace(rays, any_hit);
+      hrpp_tracer->set_count_baseline(false);
+      hrpp_summary = summarize(counted.predictor, counted.counters,
+                               hrpp_tracer->predictor_occupancy(any_hit), true);
+    }
 
     nlohmann::json kj = {{"kind", kname},
                          {"rays", rays.size()},
@@ -354,20 +395,26 @@ void run_bench(const BenchOptions& o) {
                          {"tracers", nlohmann::json::array()}};
     const TracerResult* emb = nullptr;
     const TracerResult* gpu = nullptr;
+    const TracerResult* gpu_hrpp = nullptr;
     bool first = true;
     for (const TracerResult& r : results) {
       if (r.name == "embree") emb = &r;
       if (r.name == "gpu") gpu = &r;
+      if (r.name == "gpu-hrpp") gpu_hrpp = &r;
       std::printf("%-8s %9s %-7s %-8s %9.2f %10.1f %9zu %9zu %6zu %10zu%s\n", first ? kname : "",
                   first ? std::to_string(rays.size()).c_str() : "", first ? (any_hit ? "any" : "closest") : "",
                   r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
                   r.validation.ties, r.validation.mismatches,
-                  r.validation.mismatches ? "  <-- MISMATCHES vs CPU reference" : "");
+                  !r.validation.mismatches ? ""
+                  : r.speculative         ? "  (speculative HRPP: wrong predicted hits)"
+                                          : "  <-- MISMATCHES vs CPU reference");
       first = false;
       kj["tracers"].push_back(tracer_json(r));
-      total_mismatches += r.validation.mismatches;
+      if (!r.speculative) total_mismatches += r.validation.mismatches;
       for (const std::string& ex : r.validation.examples)
-        std::fprintf(stderr, "hrpp bench: MISMATCH %s %s: %s\n", kname, r.name.c_str(), ex.c_str());
+        std::fprintf(stderr, "hrpp bench: %s %s %s: %s\n",
+                     r.speculative ? "speculative HRPP, wrong prediction:" : "MISMATCH", kname,
+                     r.name.c_str(), ex.c_str());
     }
     if (gpu && gpu->counters && gpu->counters->rays > 0) {
       const double n = static_cast<double>(gpu->counters->rays);
@@ -375,6 +422,15 @@ void run_bench(const BenchOptions& o) {
                   "", "", "", static_cast<double>(gpu->counters->interior_visited) / n,
                   static_cast<double>(gpu->counters->leaves_visited) / n,
                   static_cast<double>(gpu->counters->triangles_tested) / n);
+    }
+    if (hrpp_summary) {
+      std::printf("%s", format_summary("  hrpp", *hrpp_summary, any_hit).c_str());
+      kj["hrpp"] = predictor_summary_json(*hrpp_summary);
+      if (gpu && gpu->mrays > 0.0 && gpu_hrpp) {
+        std::printf("  hrpp      gpu-hrpp/gpu %.3f (kernel time, same run)\n",
+                    gpu_hrpp->mrays / gpu->mrays);
+        kj["hrpp"]["speedup"] = gpu_hrpp->mrays / gpu->mrays;
+      }
     }
     if (gpu && emb && emb->mrays > 0.0) {
       std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
@@ -450,6 +506,7 @@ void add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
       ->capture_default_str();
+  add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_bench(*o); });
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/hrpp_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -33,6 +34,8 @@ struct TraceOptions {
   GpuTracerConfig tracer;
   int repeat = 1;
   BvhConfig bvh;
+  HrppOptions hrpp;
+  std::string stats;
 };
 
 std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
@@ -76,15 +79,31 @@ void run_trace(const TraceOptions& o) {
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  PredictorConfig predictor = o.hrpp.config();
+  predictor.enabled = o.hrpp.predicts(o.any_hit);
   VulkanContext ctx(o.vulkan);
-  GpuTracer tracer(ctx, bvh, o.tracer);
+  GpuTracer tracer(ctx, bvh, o.tracer, predictor);
   if (o.repeat > 1) tracer.warm_up();
 
+  // Every run starts from an empty table; HRPP's figures come from one more run that also
+  // counts what full traversals would visit (outside the timings).
   GpuTraceResult result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
+    tracer.clear_predictor();
     result = tracer.trace(rays, o.any_hit);
     ms.push_back(result.kernel_ms);
+  }
+  std::string hrpp_text = "off";
+  nlohmann::json hrpp_json = predictor_config_json(predictor);
+  if (predictor.enabled) {
+    tracer.clear_predictor();
+    tracer.set_count_baseline(true);
+    const GpuTraceResult counted = tracer.trace(rays, o.any_hit);
+    const PredictorSummary s = summarize(counted.predictor, counted.counters,
+                                         tracer.predictor_occupancy(o.any_hit), true);
+    hrpp_text = describe(predictor) + "\n" + format_summary("", s, o.any_hit);
+    hrpp_json["summary"] = predictor_summary_json(s);
   }
   if (ctx.validation_messages() != 0)
     throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
@@ -107,6 +126,22 @@ void run_trace(const TraceOptions& o) {
               n > 0 ? static_cast<double>(c.interior_visited) / n : 0.0,
               n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
               n > 0 ? static_cast<double>(c.triangles_tested) / n : 0.0);
+  std::printf("hrpp        %s", hrpp_text.c_str());
+  if (!predictor.enabled) std::printf("\n");
+  if (!o.stats.empty()) {
+    const nlohmann::json j = {{"scene", o.scene},
+                              {"rays", rays.size()},
+                              {"query", o.any_hit ? "any" : "closest"},
+                              {"kernel_ms_median", median},
+                              {"hits", c.hits},
+                              {"interior_visited", c.interior_visited},
+                              {"leaves_visited", c.leaves_visited},
+                              {"triangles_tested", c.triangles_tested},
+                              {"hrpp", hrpp_json}};
+    std::ofstream out(o.stats);
+    out << j.dump(2) << '\n';
+    if (!out) throw Error(o.stats + ": cannot write --stats");
+  }
 }
 
 }  // namespace
@@ -141,6 +176,8 @@ void add_trace_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
       ->capture_default_str();
+  cmd->add_option("--stats", o->stats, "Write the figures and the HRPP configuration as JSON");
+  add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_trace(*o); });
 }
 

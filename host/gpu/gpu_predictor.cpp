@@ -189,6 +189,11 @@ TableOccupancy GpuPredictor::occupancy(bool any_hit) const {
   return o;
 }
 
+void GpuPredictor::set_count_baseline(bool on) {
+  s_->config.count_baseline = on;
+  s_->all->params.count_baseline = s_->any->params.count_baseline = on ? 1u : 0u;
+}
+
 void GpuPredictor::clear() {
   s_->all->clear();
   s_->any->clear();

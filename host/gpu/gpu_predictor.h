@@ -12,6 +12,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/predictor_stats.h"
 #include "hrpp_interface.h"
 #include "trace_interface.h"
 
@@ -21,14 +22,6 @@ class VulkanContext;
 class ComputePipeline;
 class KernelTimer;
 class StorageBuffer;
-
-// What a table holds after a trace.
-struct TableOccupancy {
-  std::uint64_t entries = 0;       // tags in use
-  std::uint64_t nodes = 0;         // node slots in use
-  std::uint64_t capacity = 0;      // sets × ways
-  std::uint64_t bytes = 0;         // the table's GPU memory (TableConfig::bytes)
-};
 
 class GpuPredictor {
  public:
@@ -60,6 +53,8 @@ class GpuPredictor {
   TableOccupancy occupancy(bool any_hit) const;
   // Empties both tables.
   void clear();
+  // Turns the counting of full traversals (PredictorConfig::count_baseline) on or off.
+  void set_count_baseline(bool on);
 
  private:
   struct State;

@@ -251,6 +251,10 @@ TableOccupancy GpuTracer::predictor_occupancy(bool any_hit) const {
   return s_->predictor ? s_->predictor->occupancy(any_hit) : TableOccupancy{};
 }
 
+void GpuTracer::set_count_baseline(bool on) {
+  if (s_->predictor) s_->predictor->set_count_baseline(on);
+}
+
 void GpuTracer::clear_predictor() {
   if (s_->predictor) s_->predictor->clear();
   s_->clock = 0;

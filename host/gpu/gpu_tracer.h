@@ -71,6 +71,9 @@ class GpuTracer {
   // HRPP on: what the hit-all or hit-any table holds now; empty both tables.
   TableOccupancy predictor_occupancy(bool any_hit) const;
   void clear_predictor();
+  // HRPP on: count what full traversals would visit (savings %) in the next traces; doubles
+  // their work, so time with it off.
+  void set_count_baseline(bool on);
 
  private:
   struct State;

@@ -21,11 +21,11 @@ layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_PARAMS) readonly 
     HrppParamBuffer {
   PredictorParams hrpp;
 };
-layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) coherent buffer HrppTagBuffer {
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) restrict buffer HrppTagBuffer {
   uint64_t hrpp_tags[];
 };
 // The same tags as 32-bit words for plain loads (only the atomics need 64-bit access).
-layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) coherent buffer
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_TAGS) buffer
     HrppTagWordBuffer {
   uint hrpp_tag_words[];
 };
@@ -33,11 +33,11 @@ uint64_t hrpp_load_tag(uint i) {
   return uint64_t(hrpp_tag_words[2u * i]) | (uint64_t(hrpp_tag_words[2u * i + 1u]) << 32);
 }
 
-layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_STAMPS) coherent buffer
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_STAMPS) restrict buffer
     HrppStampBuffer {
   uint hrpp_stamps[];
 };
-layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_SLOTS) coherent buffer
+layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_SLOTS) restrict buffer
     HrppSlotBuffer {
   uint hrpp_slots[];
 };

@@ -1,0 +1,128 @@
+#include "app/hrpp_options.h"
+
+#include "common/error.h"
+
+namespace hrpp::app {
+
+PredictorConfig HrppOptions::config() const {
+  if (hrpp != "off" && hrpp != "on") throw Error("--hrpp: '" + hrpp + "' is not off or on");
+  if (rays != "all" && rays != "any" && rays != "both")
+    throw Error("--hrpp-rays: '" + rays + "' is not all, any or both");
+  PredictorConfig c;
+  c.enabled = hrpp == "on";
+  c.mode = parse_predictor_mode(mode);
+  c.hash = {parse_hash_kind(hash), hash_bits};
+  c.go_up = go_up;
+  c.table = table_preset(preset);
+  if (sets) c.table.sets = sets;
+  if (ways) c.table.ways = ways;
+  if (nodes) c.table.nodes = nodes;
+  if (!policy.empty()) c.table.policy = parse_table_policy(policy);
+  c.batch = batch;
+  c.serial = serial;
+  (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
+  return c;
+}
+
+bool HrppOptions::predicts(bool any_hit) const {
+  return hrpp == "on" && (rays == "both" || rays == (any_hit ? "any" : "all"));
+}
+
+void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
+  const std::string g = "HRPP (hash-based ray path prediction)";
+  cmd->add_option("--hrpp", o.hrpp, "Probe a predictor table before traversal: off | on")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--hrpp-rays", o.rays,
+                  "Ray classes that predict: all (hit-all), any (hit-any) or both")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--hrpp-mode", o.mode,
+                  "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
+                  "(its t bounds a full traversal: same answers as --hrpp off)")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--hash", o.hash, "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
+                                    "two-point")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--hash-bits", o.hash_bits, "Hash precision N (1..8)")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--go-up", o.go_up,
+                  "Go-up level: predict the ancestor L levels above the leaf that held the hit")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--table-preset", o.preset,
+                  "Table size per ray class: small (1024x8x8 lru, 352 KiB), unbounded "
+                  "(131072x16x16, none, 152 MiB: the paper's limit study), tiny (4x2x2 lru)")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--table-sets", o.sets, "Sets (a power of two; overrides the preset)")->group(g);
+  cmd->add_option("--table-ways", o.ways, "Ways per set (overrides the preset)")->group(g);
+  cmd->add_option("--table-nodes", o.nodes, "Nodes per entry (overrides the preset)")->group(g);
+  cmd->add_option("--table-policy", o.policy, "When full: none (drop) or lru (overrides the preset)")
+      ->group(g);
+  cmd->add_option("--hrpp-batch", o.batch,
+                  "Deterministic order: rays in batches of K probe the table the previous "
+                  "batches left; inserts applied after each batch in ray order (0: inserts "
+                  "during the trace)")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_flag("--hrpp-serial", o.serial,
+                "One ray per subgroup: the CPU reference's node order (with --hrpp-batch, "
+                "counters a CPU reference predictor reproduces exactly)")
+      ->group(g);
+}
+
+nlohmann::json predictor_config_json(const PredictorConfig& c) {
+  return {{"enabled", c.enabled},
+          {"hash", hash_kind_name(c.hash.kind)},
+          {"hash_bits", c.hash.bits},
+          {"mode", predictor_mode_name(c.mode)},
+          {"go_up", c.go_up},
+          {"table_sets", c.table.sets},
+          {"table_ways", c.table.ways},
+          {"table_nodes", c.table.nodes},
+          {"table_policy", table_policy_name(c.table.policy)},
+          {"table_bytes", c.table.bytes()},
+          {"batch", c.batch},
+          {"serial", c.serial}};
+}
+
+nlohmann::json predictor_summary_json(const PredictorSummary& s) {
+  const auto& c = s.counters.c;
+  nlohmann::json j = {{"probes", c[HRPP_PC_PROBES]},
+                      {"predictor_hits", c[HRPP_PC_PREDICTOR_HITS]},
+                      {"true_positives", c[HRPP_PC_TRUE_POSITIVES]},
+                      {"false_positives", c[HRPP_PC_FALSE_POSITIVES]},
+                      {"negatives", c[HRPP_PC_NEGATIVES]},
+                      {"verify_interior", c[HRPP_PC_VERIFY_INTERIOR]},
+                      {"verify_leaves", c[HRPP_PC_VERIFY_LEAVES]},
+                      {"verify_triangles", c[HRPP_PC_VERIFY_TRIANGLES]},
+                      {"insert_requests", c[HRPP_PC_INSERT_REQUESTS]},
+                      {"inserts", c[HRPP_PC_INSERTS]},
+                      {"insert_present", c[HRPP_PC_INSERT_PRESENT]},
+                      {"insert_drops", c[HRPP_PC_INSERT_DROPS]},
+                      {"evictions", c[HRPP_PC_EVICTIONS]},
+                      {"interior_visited", s.trace.interior_visited},
+                      {"leaves_visited", s.trace.leaves_visited},
+                      {"triangles_tested", s.trace.triangles_tested},
+                      {"table_entries", s.occupancy.entries},
+                      {"table_nodes", s.occupancy.nodes},
+                      {"table_capacity", s.occupancy.capacity},
+                      {"table_bytes", s.occupancy.bytes},
+                      {"hit_rate", s.hit_rate},
+                      {"true_positive_rate", s.tp_rate},
+                      {"false_positive_rate", s.fp_rate}};
+  if (s.baseline) {
+    j["baseline_interior"] = c[HRPP_PC_BASELINE_INTERIOR];
+    j["skipped_interior"] = s.skipped_interior;
+    j["savings"] = s.savings;
+    j["net_savings"] = s.net_savings;
+    j["wrong_closest"] = c[HRPP_PC_WRONG_CLOSEST];
+  }
+  return j;
+}
+
+}  // namespace hrpp::app

@@ -1,0 +1,42 @@
+// The HRPP option group, one definition for every command that traces (trace, bench, render):
+// --hrpp, --hrpp-rays, --hrpp-mode, --hash, --hash-bits, --go-up, --table-*, --hrpp-batch,
+// --hrpp-serial; and the JSON form of the configuration and of a run's predictor figures.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "hrpp/predictor_config.h"
+#include "hrpp/predictor_stats.h"
+
+namespace hrpp::app {
+
+struct HrppOptions {
+  std::string hrpp = "off";         // off | on
+  std::string rays = "both";        // which ray classes predict: all (hit-all) | any | both
+  std::string mode = "speculative";
+  std::string hash = "hrpp";
+  std::uint32_t hash_bits = 6;
+  std::uint32_t go_up = 0;
+  std::string preset = "small";
+  std::uint32_t sets = 0, ways = 0, nodes = 0;  // 0: the preset's
+  std::string policy;                           // "": the preset's
+  std::uint32_t batch = 0;
+  bool serial = false;
+
+  // The predictor configuration (enabled = --hrpp on). Throws hrpp::Error naming the flag.
+  PredictorConfig config() const;
+  // Whether rays of this class (hit-any or hit-all) use the predictor.
+  bool predicts(bool any_hit) const;
+};
+
+// Adds the options to `cmd` in an "HRPP" group.
+void add_hrpp_options(CLI::App* cmd, HrppOptions& o);
+
+nlohmann::json predictor_config_json(const PredictorConfig& config);
+nlohmann::json predictor_summary_json(const PredictorSummary& s);
+
+}  // namespace hrpp::app

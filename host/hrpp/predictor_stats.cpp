@@ -1,0 +1,93 @@
+#include "hrpp/predictor_stats.h"
+
+#include <cstdio>
+
+namespace hrpp {
+namespace {
+
+double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+
+std::string bytes_text(std::uint64_t b) {
+  char buf[32];
+  if (b >= (1u << 20))
+    std::snprintf(buf, sizeof buf, "%.2f MiB", static_cast<double>(b) / (1u << 20));
+  else
+    std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(b) / 1024.0);
+  return buf;
+}
+
+}  // namespace
+
+PredictorSummary summarize(const gpu::PredictorCounters& counters, const TraversalCounters& trace,
+                           const TableOccupancy& occupancy, bool baseline) {
+  PredictorSummary s;
+  s.counters = counters;
+  s.trace = trace;
+  s.occupancy = occupancy;
+  s.baseline = baseline;
+  const auto& c = counters.c;
+  const auto d = [](std::uint64_t v) { return static_cast<double>(v); };
+  s.hit_rate = ratio(d(c[HRPP_PC_PREDICTOR_HITS]), d(c[HRPP_PC_PROBES]));
+  s.tp_rate = ratio(d(c[HRPP_PC_TRUE_POSITIVES]), d(c[HRPP_PC_PREDICTOR_HITS]));
+  s.fp_rate = ratio(d(c[HRPP_PC_FALSE_POSITIVES]), d(c[HRPP_PC_PREDICTOR_HITS]));
+  if (baseline) {
+    const auto base = static_cast<std::int64_t>(c[HRPP_PC_BASELINE_INTERIOR]);
+    const auto verify = static_cast<std::int64_t>(c[HRPP_PC_VERIFY_INTERIOR]);
+    const auto from_root = static_cast<std::int64_t>(trace.interior_visited) - verify;
+    s.skipped_interior = base - from_root;
+    s.savings = ratio(static_cast<double>(s.skipped_interior), static_cast<double>(base));
+    s.net_savings =
+        ratio(static_cast<double>(s.skipped_interior - verify), static_cast<double>(base));
+  }
+  return s;
+}
+
+std::string describe(const PredictorConfig& config) {
+  const TableConfig& t = config.table;
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "hash %s N=%u, go-up %u, %s, table %ux%ux%u %s (%s per ray class), %s",
+                hash_kind_name(config.hash.kind), config.hash.bits, config.go_up,
+                predictor_mode_name(config.mode), t.sets, t.ways, t.nodes,
+                table_policy_name(t.policy), bytes_text(t.bytes()).c_str(),
+                config.batch == 0 ? "inserts during the trace"
+                                  : ("batches of " + std::to_string(config.batch) +
+                                     (config.serial ? ", one ray per subgroup" : ""))
+                                        .c_str());
+  return buf;
+}
+
+std::string format_summary(const std::string& label, const PredictorSummary& s, bool any_hit) {
+  const auto& c = s.counters.c;
+  const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+  char buf[1400];
+  int n = std::snprintf(
+      buf, sizeof buf,
+      "%-11s probes %llu, predictor hits %llu (%.1f%%): true positives %llu (%.1f%%), false "
+      "positives %llu; negatives %llu\n"
+      "%-11s inserts %llu of %llu requests (present %llu, dropped %llu), evictions %llu; table "
+      "%llu of %llu entries, %llu nodes, %s\n"
+      "%-11s verification: %llu interior nodes, %llu leaves, %llu triangles\n",
+      label.c_str(), u(c[HRPP_PC_PROBES]), u(c[HRPP_PC_PREDICTOR_HITS]), 100.0 * s.hit_rate,
+      u(c[HRPP_PC_TRUE_POSITIVES]), 100.0 * s.tp_rate, u(c[HRPP_PC_FALSE_POSITIVES]),
+      u(c[HRPP_PC_NEGATIVES]), "", u(c[HRPP_PC_INSERTS]), u(c[HRPP_PC_INSERT_REQUESTS]),
+      u(c[HRPP_PC_INSERT_PRESENT]), u(c[HRPP_PC_INSERT_DROPS]), u(c[HRPP_PC_EVICTIONS]),
+      u(s.occupancy.entries), u(s.occupancy.capacity), u(s.occupancy.nodes),
+      bytes_text(s.occupancy.bytes).c_str(), "", u(c[HRPP_PC_VERIFY_INTERIOR]),
+      u(c[HRPP_PC_VERIFY_LEAVES]), u(c[HRPP_PC_VERIFY_TRIANGLES]));
+  if (s.baseline && n > 0 && static_cast<std::size_t>(n) < sizeof buf) {
+    n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n),
+                       "%-11s interior nodes %llu with HRPP, %llu without: skipped %lld, savings "
+                       "%.1f%%, net of verification %.1f%%%s\n",
+                       "", u(s.trace.interior_visited - c[HRPP_PC_VERIFY_INTERIOR]),
+                       u(c[HRPP_PC_BASELINE_INTERIOR]),
+                       static_cast<long long>(s.skipped_interior), 100.0 * s.savings,
+                       100.0 * s.net_savings,
+                       any_hit ? ""
+                               : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST]))
+                                     .c_str());
+  }
+  return buf;
+}
+
+}  // namespace hrpp

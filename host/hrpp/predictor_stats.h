@@ -1,0 +1,47 @@
+// What a predicted trace did, in the paper's terms: rates, skipped interior nodes, savings %
+// (and net of the verification work), table occupancy and bytes. Computed from the counters of
+// one ray class (shaders/shared/hrpp_types.h, HRPP_PC_*) and the trace counters of the same run.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "hrpp/predictor_config.h"
+#include "trace/traversal_counters.h"
+
+namespace hrpp {
+
+// What a table holds after a trace (GpuPredictor::occupancy).
+struct TableOccupancy {
+  std::uint64_t entries = 0;   // tags in use
+  std::uint64_t nodes = 0;     // node slots in use
+  std::uint64_t capacity = 0;  // sets × ways
+  std::uint64_t bytes = 0;     // the table's GPU memory (TableConfig::bytes)
+};
+
+struct PredictorSummary {
+  gpu::PredictorCounters counters{};
+  TraversalCounters trace;    // the predicted run's work, verification included
+  TableOccupancy occupancy;
+  bool baseline = false;      // counters hold HRPP_PC_BASELINE_INTERIOR (count_baseline run)
+  double hit_rate = 0.0;      // predictor hits / probes
+  double tp_rate = 0.0;       // true positives / predictor hits
+  double fp_rate = 0.0;       // false positives / predictor hits
+  // Interior nodes a full traversal would have visited (baseline) minus those visited by the
+  // traversals from the root that did run; savings = skipped / baseline; net: minus the
+  // interior nodes spent verifying predictions too.
+  std::int64_t skipped_interior = 0;
+  double savings = 0.0;
+  double net_savings = 0.0;
+};
+
+PredictorSummary summarize(const gpu::PredictorCounters& counters, const TraversalCounters& trace,
+                           const TableOccupancy& occupancy, bool baseline);
+
+// One line of configuration: "hash hrpp N=6, go-up 0, speculative, table 1024x8x8 lru (352 KiB)".
+std::string describe(const PredictorConfig& config);
+
+// Lines for the terminal, each starting with `label` padded to 12 columns.
+std::string format_summary(const std::string& label, const PredictorSummary& s, bool any_hit);
+
+}  // namespace hrpp

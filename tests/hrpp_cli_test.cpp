@@ -1,0 +1,127 @@
+// The HRPP flags of `hrpp trace` and `hrpp bench` as a user meets them: exact and hit-any
+// prediction write the same hits file as --hrpp off; speculative mode reports its wrong closest
+// hits; --stats JSON holds the configuration and counters that add up; bad values end in one
+// line naming the flag and exit status 1.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "scene/load_scene.h"
+#include "trace/ray_batches.h"
+
+namespace hrpp {
+namespace {
+
+namespace fs = std::filesystem;
+
+using Result = test::CliResult;
+using test::read_file;
+
+class HrppCli : public test::CliTest {
+ protected:
+  void SetUp() override {
+    CliTest::SetUp();
+    // 64×64 primary rays of the teapot scene, each twice (the second finds the table warm).
+    const Scene scene = load_scene(std::string(HRPP_TEST_SCENES_DIR) + "/teapot.scene.json");
+    std::vector<gpu::Ray> rays = make_primary_rays(scene.cameras[0], 64, 64, false, 1);
+    const std::vector<gpu::Ray> again = rays;
+    rays.insert(rays.end(), again.begin(), again.end());
+    rays_ = dir_ / "rays.bin";
+    std::ofstream(rays_, std::ios::binary)
+        .write(reinterpret_cast<const char*>(rays.data()),
+               static_cast<std::streamsize>(rays.size() * sizeof(gpu::Ray)));
+  }
+  // Traces the rays file; returns the hits file's bytes.
+  std::string trace(const std::string& flags, const std::string& name) const {
+    const fs::path hits = dir_ / (name + ".bin");
+    const Result r = run("trace " + std::string(HRPP_TEST_SCENES_DIR) + "/teapot.scene.json --rays " +
+                         rays_.string() + " --hits " + hits.string() + " " + flags);
+    EXPECT_EQ(r.status, 0) << flags << "\n" << r.err;
+    return read_file(hits);
+  }
+
+  fs::path rays_;
+};
+
+TEST_F(HrppCli, ExactAndAnyHitWriteTheHitsOfHrppOff) {
+  const std::string off = trace("--hrpp off", "off");
+  ASSERT_EQ(off.size(), 2u * 64 * 64 * 16);
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact", "exact"), off);
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --table-preset tiny", "exact_tiny"), off);
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --hash grid-spherical --hash-bits 5 --go-up 2",
+                  "exact_grid"),
+            off);
+  const std::string any_off = trace("--any-hit", "any_off");
+  EXPECT_EQ(trace("--any-hit --hrpp on --hash two-point --hash-bits 4", "any_on"), any_off);
+  // --hrpp-rays any leaves closest-hit queries alone (no predictor line).
+  const fs::path hits = dir_ / "rays_any.bin";
+  const Result r = run("trace " + std::string(HRPP_TEST_SCENES_DIR) + "/teapot.scene.json --rays " +
+                       rays_.string() + " --hits " + hits.string() + " --hrpp on --hrpp-rays any");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("hrpp        off"), std::string::npos) << r.out;
+}
+
+TEST_F(HrppCli, StatsJsonCountersAddUp) {
+  const fs::path stats = dir_ / "stats.json";
+  trace("--hrpp on --stats " + stats.string(), "spec");
+  const nlohmann::json j = nlohmann::json::parse(read_file(stats));
+  const nlohmann::json& h = j.at("hrpp");
+  EXPECT_EQ(h.at("enabled"), true);
+  EXPECT_EQ(h.at("hash"), "hrpp");
+  EXPECT_EQ(h.at("mode"), "speculative");
+  EXPECT_EQ(h.at("table_bytes"), 1024u * 8 * (8 + 4 + 4 * 8));
+  const nlohmann::json& s = h.at("summary");
+  EXPECT_EQ(s.at("probes"), 2u * 64 * 64);
+  EXPECT_EQ(s.at("predictor_hits").get<std::uint64_t>() + s.at("negatives").get<std::uint64_t>(),
+            s.at("probes").get<std::uint64_t>());
+  EXPECT_EQ(s.at("true_positives").get<std::uint64_t>() +
+                s.at("false_positives").get<std::uint64_t>(),
+            s.at("predictor_hits").get<std::uint64_t>());
+  EXPECT_GT(s.at("true_positives").get<std::uint64_t>(), 0u);
+  EXPECT_GT(s.at("savings").get<double>(), 0.0);  // the second pass skips traversal
+  EXPECT_LE(s.at("wrong_closest").get<std::uint64_t>(), s.at("true_positives").get<std::uint64_t>());
+}
+
+TEST_F(HrppCli, BadValuesNameTheFlag) {
+  const std::string base = "trace --rays " + rays_.string() + " --hits " + (dir_ / "h.bin").string();
+  for (const auto& [flags, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"--hrpp maybe", "--hrpp"},
+           {"--hrpp on --hrpp-mode fast", "--hrpp-mode"},
+           {"--hrpp on --hash md5", "--hash"},
+           {"--hrpp on --hash-bits 9", "--hash-bits"},
+           {"--hrpp on --table-sets 3", "--table-sets"},
+           {"--hrpp on --table-policy fifo", "--table-policy"},
+           {"--hrpp on --table-preset huge", "--table-preset"},
+           {"--hrpp on --hrpp-rays some", "--hrpp-rays"},
+           {"--hrpp on --hrpp-batch 100000", "--hrpp-batch"}}) {
+    const Result r = run(base + " " + flags);
+    EXPECT_EQ(r.status, 1) << flags;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << flags << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << flags << ": " << r.err;
+  }
+}
+
+TEST_F(HrppCli, BenchPrintsPredictorFigures) {
+  const fs::path json = dir_ / "bench.json";
+  const Result r = run("bench teapot --rays 4096 --no-embree --repeat 1 --hrpp on --hrpp-mode exact "
+                       "--strict --json " + json.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("gpu-hrpp"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("savings"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(json));
+  EXPECT_EQ(j.at("hrpp").at("mode"), "exact");
+  EXPECT_EQ(j.at("total_mismatches"), 0);
+  for (const auto& k : j.at("kinds")) EXPECT_TRUE(k.contains("hrpp")) << k.dump();
+}
+
+}  // namespace
+}  // namespace hrpp
