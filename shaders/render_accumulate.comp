@@ -11,7 +11,7 @@ void main() {
   const uint i = gl_GlobalInvocationID.x;
   uint finished = 0u;
   if (i < pc.count) {
-    if (hits[i].prim < 0) {
+    if (load_hit(i).prim < 0) {
       const ShadowRecord s = shadows[i];
       image[s.pixel].xyz += s.contribution;
     }

@@ -77,9 +77,9 @@ uint pick_light(float u, out float prob) {
   uint lo = 0u, hi = params.light_count - 1u;
   for (int step = 0; step < 32 && lo < hi; ++step) {
     const uint mid = (lo + hi) / 2u;
-    if (u < lights[mid].cdf) hi = mid; else lo = mid + 1u;
+    if (u < light_cdf(mid)) hi = mid; else lo = mid + 1u;
   }
-  prob = lights[lo].cdf - (lo > 0u ? lights[lo - 1u].cdf : 0.0);
+  prob = light_cdf(lo) - (lo > 0u ? light_cdf(lo - 1u) : 0.0);
   return lo;
 }
 
@@ -99,15 +99,15 @@ void main() {
   uint finished = 0u;
   if (i < pc.count) {
     finished = 1u;
-    const Ray ray = rays[i];
-    const Hit hit = hits[i];
-    PathState path = paths[i];
+    const Ray ray = load_ray(i);
+    const Hit hit = load_hit(i);
+    const PathState path = load_path(i);
     vec3 radiance = vec3(0.0);
     if (hit.prim < 0) {
       if (kEnvironment) radiance += path.throughput * params.environment.rgb;
     } else {
       const SurfaceHit s = surface_at(hit, ray.dir);
-      const GpuMaterial m = materials[s.material];
+      const GpuMaterial m = load_material(s.material);
       const vec3 wo = -ray.dir;
       if ((path.depth == 0u || path.specular != 0u) && (kEmissiveTriangles))
         radiance += path.throughput * m.emission;
@@ -125,7 +125,7 @@ void main() {
       const float u_light = rng_next(rng), u_l1 = rng_next(rng), u_l2 = rng_next(rng);
       if (!delta && params.light_count > 0u) {
         float prob;
-        const GpuLight l = lights[pick_light(u_light, prob)];
+        const GpuLight l = load_light(pick_light(u_light, prob));
         vec3 wi = vec3(0.0);
         float dist = 3.0e38;
         vec3 li = vec3(0.0);  // incident radiance × 1/pdf of the sample

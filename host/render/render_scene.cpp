@@ -14,8 +14,11 @@ static_assert(sizeof(gpu::ShadowRecord) == 16);
 static_assert(sizeof(gpu::RenderQueues) == 16);
 static_assert(sizeof(gpu::RenderPushConstants) == 16);
 static_assert(sizeof(gpu::ShadeTriangle) == 8 * 16);  // 8 texels (render_shade.comp)
+// Read as 2, 1, 3 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).
+static_assert(sizeof(gpu::Ray) == 32 && sizeof(gpu::Hit) == 16);
 static_assert(sizeof(gpu::GpuMaterial) == 48);
 static_assert(sizeof(gpu::GpuLight) == 64);
+static_assert(offsetof(gpu::GpuLight, cdf) == 28);  // light_cdf(): texel 1, .w
 static_assert(sizeof(gpu::GpuTexture) == 16);
 
 namespace {

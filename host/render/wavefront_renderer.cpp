@@ -21,7 +21,10 @@ namespace {
 constexpr auto kBindingTypes = [] {
   std::array<VkDescriptorType, HRPP_RENDER_BINDING_COUNT> t{};
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  t[HRPP_RENDER_BINDING_SHADE_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  for (int b : {HRPP_RENDER_BINDING_SHADE_TRIANGLES, HRPP_RENDER_BINDING_HITS,
+                HRPP_RENDER_BINDING_MATERIALS, HRPP_RENDER_BINDING_LIGHTS,
+                HRPP_RENDER_BINDING_RAY_TEXELS, HRPP_RENDER_BINDING_PATH_TEXELS})
+    t[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
 
@@ -91,7 +94,8 @@ struct WavefrontRenderer::State {
   std::uint32_t wave;  // paths per wavefront
   StorageBuffer params, paths, next_paths, next_rays, shadow_rays, shadows, image, queues;
   StorageBuffer shade_triangles, materials, lights, textures, texels;
-  TexelView shade_view;
+  TexelView shade_view, material_view, light_view;
+  TexelView ray_view, hit_view, path_view;  // over the tracer's arrays and `paths`
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
   ComputePipeline generate, shade, accumulate;
   KernelTimer timer;
@@ -116,6 +120,11 @@ struct WavefrontRenderer::State {
         textures(upload_array(c, rs.textures, "texture table")),
         texels(upload_array(c, rs.texels, "texels")),
         shade_view(c, shade_triangles),
+        material_view(c, materials),
+        light_view(c, lights),
+        ray_view(c, tracer.ray_buffer(wave)),
+        hit_view(c, tracer.hit_buffer()),
+        path_view(c, paths),
         spec(specialization(rs.features)),
         generate(c, "render_generate", embedded_spirv("render_generate"), kBindingTypes,
                  sizeof(gpu::RenderPushConstants), spec),
@@ -130,15 +139,17 @@ struct WavefrontRenderer::State {
       p->bind(HRPP_RENDER_BINDING_PATHS, paths);
       p->bind(HRPP_RENDER_BINDING_NEXT_PATHS, next_paths);
       p->bind(HRPP_RENDER_BINDING_RAYS, rays);
-      p->bind(HRPP_RENDER_BINDING_HITS, tracer.hit_buffer());
+      p->bind(HRPP_RENDER_BINDING_HITS, hit_view);
+      p->bind(HRPP_RENDER_BINDING_RAY_TEXELS, ray_view);
+      p->bind(HRPP_RENDER_BINDING_PATH_TEXELS, path_view);
       p->bind(HRPP_RENDER_BINDING_NEXT_RAYS, next_rays);
       p->bind(HRPP_RENDER_BINDING_SHADOW_RAYS, shadow_rays);
       p->bind(HRPP_RENDER_BINDING_SHADOWS, shadows);
       p->bind(HRPP_RENDER_BINDING_IMAGE, image);
       p->bind(HRPP_RENDER_BINDING_QUEUES, queues);
       p->bind(HRPP_RENDER_BINDING_SHADE_TRIANGLES, shade_view);
-      p->bind(HRPP_RENDER_BINDING_MATERIALS, materials);
-      p->bind(HRPP_RENDER_BINDING_LIGHTS, lights);
+      p->bind(HRPP_RENDER_BINDING_MATERIALS, material_view);
+      p->bind(HRPP_RENDER_BINDING_LIGHTS, light_view);
       p->bind(HRPP_RENDER_BINDING_TEXTURES, textures);
       p->bind(HRPP_RENDER_BINDING_TEXELS, texels);
     }

@@ -28,9 +28,7 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_NEXT_PATHS) restrict buffe
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_RAYS) restrict buffer RayBuffer {
   Ray rays[];
 };
-layout(std430, set = 0, binding = HRPP_RENDER_BINDING_HITS) readonly restrict buffer HitBuffer {
-  Hit hits[];
-};
+layout(set = 0, binding = HRPP_RENDER_BINDING_HITS) uniform usamplerBuffer hit_texels;
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_NEXT_RAYS) restrict buffer NextRayBuffer {
   Ray next_rays[];
 };
@@ -47,12 +45,10 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_QUEUES) restrict buffer Qu
   RenderQueues queues;
 };
 layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_TRIANGLES) uniform usamplerBuffer shade_triangles;
-layout(std430, set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) readonly restrict buffer MaterialBuffer {
-  GpuMaterial materials[];
-};
-layout(std430, set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) readonly restrict buffer LightBuffer {
-  GpuLight lights[];
-};
+layout(set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) uniform usamplerBuffer material_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) uniform usamplerBuffer light_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_RAY_TEXELS) uniform usamplerBuffer ray_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_PATH_TEXELS) uniform usamplerBuffer path_texels;
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_TEXTURES) readonly restrict buffer TextureBuffer {
   GpuTexture textures[];
 };
@@ -60,6 +56,47 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_TEXELS) readonly restrict 
   uint texels[];
 };
 layout(push_constant) uniform PushConstants { RenderPushConstants pc; };
+
+// Records of the read-only arrays, one 16-byte texel per row of the struct.
+uvec4 texel_at(usamplerBuffer b, uint i) { return texelFetch(b, int(i)); }
+
+Hit load_hit(uint i) {
+  const uvec4 t = texel_at(hit_texels, i);
+  return Hit(int(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
+}
+
+Ray load_ray(uint i) {
+  const vec4 a = uintBitsToFloat(texel_at(ray_texels, 2u * i));
+  const vec4 b = uintBitsToFloat(texel_at(ray_texels, 2u * i + 1u));
+  return Ray(a.xyz, a.w, b.xyz, b.w);
+}
+
+PathState load_path(uint i) {
+  const uvec4 a = texel_at(path_texels, 2u * i);
+  const uvec4 b = texel_at(path_texels, 2u * i + 1u);
+  return PathState(uintBitsToFloat(a.xyz), a.w, b.x, b.y, b.z, b.w);
+}
+
+GpuMaterial load_material(uint i) {
+  const uvec4 a = texel_at(material_texels, 3u * i);
+  const uvec4 b = texel_at(material_texels, 3u * i + 1u);
+  const uvec4 c = texel_at(material_texels, 3u * i + 2u);
+  return GpuMaterial(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz),
+                     uintBitsToFloat(b.w), uintBitsToFloat(c.x), uintBitsToFloat(c.y),
+                     uintBitsToFloat(c.z), c.w);
+}
+
+GpuLight load_light(uint i) {
+  const uvec4 a = texel_at(light_texels, 4u * i);
+  const uvec4 b = texel_at(light_texels, 4u * i + 1u);
+  const uvec4 c = texel_at(light_texels, 4u * i + 2u);
+  const uvec4 d = texel_at(light_texels, 4u * i + 3u);
+  return GpuLight(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), uintBitsToFloat(b.w),
+                  uintBitsToFloat(c.xyz), uintBitsToFloat(c.w), uintBitsToFloat(d.xyz),
+                  uintBitsToFloat(d.w));
+}
+
+float light_cdf(uint i) { return uintBitsToFloat(texel_at(light_texels, 4u * i + 1u).w); }
 
 // One atomic per subgroup: the items this invocation finished (0 or 1) summed.
 void report_done(uint finished) {

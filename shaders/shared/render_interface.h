@@ -22,18 +22,23 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_PATHS 1            // PathState per ray of the current wavefront
 #define HRPP_RENDER_BINDING_NEXT_PATHS 2       // PathState of the continuation rays
 #define HRPP_RENDER_BINDING_RAYS 3             // the tracer's ray array (generate writes it)
-#define HRPP_RENDER_BINDING_HITS 4             // the tracer's hit array
+#define HRPP_RENDER_BINDING_HITS 4             // the tracer's hit array (uniform texel buffer)
 #define HRPP_RENDER_BINDING_NEXT_RAYS 5        // continuation rays (copied to RAYS)
 #define HRPP_RENDER_BINDING_SHADOW_RAYS 6      // shadow rays (copied to RAYS)
 #define HRPP_RENDER_BINDING_SHADOWS 7          // ShadowRecord per shadow ray
 #define HRPP_RENDER_BINDING_IMAGE 8            // vec4 radiance sum per pixel
 #define HRPP_RENDER_BINDING_QUEUES 9           // RenderQueues
 #define HRPP_RENDER_BINDING_SHADE_TRIANGLES 10  // uniform texel buffer: ShadeTriangle
-#define HRPP_RENDER_BINDING_MATERIALS 11       // GpuMaterial
-#define HRPP_RENDER_BINDING_LIGHTS 12          // GpuLight (emissive triangles, delta lights)
+#define HRPP_RENDER_BINDING_MATERIALS 11       // uniform texel buffer: GpuMaterial
+#define HRPP_RENDER_BINDING_LIGHTS 12          // uniform texel buffer: GpuLight
 #define HRPP_RENDER_BINDING_TEXTURES 13        // GpuTexture
 #define HRPP_RENDER_BINDING_TEXELS 14          // RGBA8 texels of every texture, one uint each
-#define HRPP_RENDER_BINDING_COUNT 15
+#define HRPP_RENDER_BINDING_RAY_TEXELS 15      // uniform texel buffer over RAYS (shade reads)
+#define HRPP_RENDER_BINDING_PATH_TEXELS 16     // uniform texel buffer over PATHS (shade reads)
+#define HRPP_RENDER_BINDING_COUNT 17
+// Read-only arrays are uniform texel buffers (R32G32B32A32_UINT): on lavapipe a texel fetch
+// gathers the lanes' 16-byte records at once where a storage-buffer load with per-lane
+// addresses is a loop over the lanes (host/gpu/texel_view.h).
 
 // Specialization constant ids (bool): what the scene needs. A kernel compiled with one off has
 // that code removed (llvmpipe folds the constant before code generation).
