@@ -80,6 +80,12 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"subgroup_size", device.subgroup_size},
                  {"timestamps", device.timestamps}};
   j["features"] = s.features;
+  j["scene"] = {{"triangles", s.triangles},
+                {"emissive_triangles", s.emissive_triangles},
+                {"delta_lights", s.delta_lights},
+                {"textures", s.textures},
+                {"texel_bytes", s.texel_bytes},
+                {"texture_halvings", s.texture_halvings}};
   j["kernels_ms"] = s.kernels_ms;
   j["kernels_ms_total"] = kernels_total;
   j["rays"] = {{"camera", s.camera_rays},

@@ -272,6 +272,12 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   out.height = s_->cfg.height;
   RenderStats& stats = out.stats;
   stats.features = s_->rs.features.names_on();
+  stats.triangles = s_->rs.triangles.size();
+  stats.emissive_triangles = s_->rs.emissive_triangles;
+  stats.delta_lights = s_->rs.delta_lights;
+  stats.textures = s_->rs.features.on[HRPP_FEATURE_TEXTURES] ? s_->rs.textures.size() : 0;
+  stats.texel_bytes = stats.textures ? s_->rs.texels.size() * sizeof(std::uint32_t) : 0;
+  stats.texture_halvings = s_->rs.texture_halvings;
   const std::uint32_t pixels = out.width * out.height;
   if (s_->cfg.warm_up) {
     FrameStats discard;

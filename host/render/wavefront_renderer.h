@@ -69,6 +69,13 @@ struct FrameStats {
 // The render: the sums over its frames, and each frame.
 struct RenderStats : FrameStats {
   std::vector<std::string> features;  // specialization constants compiled in
+  // What next-event estimation and texturing work with (render_scene.h).
+  std::size_t triangles = 0;
+  std::size_t emissive_triangles = 0;
+  std::size_t delta_lights = 0;
+  std::size_t textures = 0;
+  std::size_t texel_bytes = 0;
+  int texture_halvings = 0;
   std::vector<FrameStats> frames;     // one per sample pass
 };
 
