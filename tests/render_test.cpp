@@ -106,6 +106,10 @@ TEST(Render, SameSeedSameImageBitForBit) {
   const RenderResult b = render(scene, small(2, 7));
   ASSERT_EQ(a.rgb.size(), 32u * 32u * 3u);
   EXPECT_TRUE(a.rgb == b.rgb) << "same seed gave a different image";
+  // Wavefronts of 100 paths: other queue contents and orders, the same image.
+  RenderConfig split = small(2, 7);
+  split.wavefront_paths = 100;
+  EXPECT_TRUE(a.rgb == render(scene, split).rgb) << "the wavefront size changed the image";
   const RenderResult c = render(scene, small(2, 8));
   EXPECT_FALSE(a.rgb == c.rgb) << "a different seed gave the same image";
   EXPECT_EQ(context().validation_messages(), 0u);

@@ -105,7 +105,9 @@ struct WavefrontRenderer::State {
         cfg((check_config(config, scene), config)),
         rs(make_render_scene(scene)),
         tracer(c, bvh, config.tracer, config.predictor),
-        wave(std::min(config.wavefront_paths, config.width * config.height)),
+        // One dispatch per kernel and wavefront: at most max_workgroup_count_x workgroups.
+        wave(std::min({config.wavefront_paths, config.width * config.height,
+                       c.info().max_workgroup_count_x * std::uint32_t{HRPP_RENDER_WORKGROUP_SIZE}})),
         params(c, sizeof(gpu::RenderParams), "render parameters"),
         paths(c, std::size_t{wave} * sizeof(gpu::PathState), "path states"),
         next_paths(c, std::size_t{wave} * sizeof(gpu::PathState), "continuation path states"),
