@@ -363,7 +363,7 @@ void run_bench(const BenchOptions& o) {
       results.push_back(std::move(r));
     }
     std::optional<PredictorSummary> hrpp_summary;
-    if (hrpp_tracer && o.hrpp.predicts(any_hit)) {
+    if (hrpp_tracer && predictor.predicts(any_hit)) {
       TraversalCounters counters;
       TracerResult r = time_tracer(
           "gpu-hrpp", rays, o.repeat,

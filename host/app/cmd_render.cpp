@@ -11,6 +11,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/hrpp_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -31,6 +32,7 @@ struct RenderOptions {
   RenderConfig render;
   VulkanOptions vulkan;
   BvhConfig bvh;
+  HrppOptions hrpp;
 };
 
 // "WxH" → width, height; one-line error naming the flag otherwise.
@@ -80,6 +82,7 @@ void run_render(RenderOptions& o) {
   check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
+  o.render.predictor = o.hrpp.config();
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
   VulkanContext ctx(o.vulkan);
@@ -102,13 +105,31 @@ void run_render(RenderOptions& o) {
     throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
                 " Vulkan validation messages (printed above)");
   write_image(o.out, result.width, result.height, result.rgb);
-  if (!o.stats.empty())
-    write_json(o.stats, render_stats_json(scene.name, o.render, ctx.info(), result));
+  // HRPP: the configuration and, per predicting ray class, the paper's figures.
+  std::string hrpp_text;
+  nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
+  for (const bool any_hit : {false, true}) {
+    if (!o.render.predictor.predicts(any_hit)) continue;
+    const RayClassStats& c = any_hit ? result.stats.shadow : result.stats.closest;
+    const PredictorSummary s = summarize(c.predictor, c.counters,
+                                         renderer.predictor_occupancy(any_hit),
+                                         o.render.predictor.count_baseline);
+    hrpp_text += format_summary(any_hit ? "hrpp any" : "hrpp all", s, any_hit);
+    hrpp_json[any_hit ? "hit_any" : "hit_all"] = predictor_summary_json(s);
+  }
+  if (!o.stats.empty()) {
+    nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
+    j["hrpp_predictor"] = hrpp_json;
+    write_json(o.stats, j);
+  }
 
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
   std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
               ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
   std::printf("%s", render_stats_text(o.render, result).c_str());
+  std::printf("hrpp        %s\n%s",
+              o.render.predictor.enabled ? describe(o.render.predictor).c_str() : "off",
+              hrpp_text.c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
 }
@@ -145,6 +166,7 @@ void add_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
       ->capture_default_str();
+  add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_render(*o); });
 }
 

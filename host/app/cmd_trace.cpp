@@ -79,8 +79,7 @@ void run_trace(const TraceOptions& o) {
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
-  PredictorConfig predictor = o.hrpp.config();
-  predictor.enabled = o.hrpp.predicts(o.any_hit);
+  const PredictorConfig predictor = o.hrpp.config();
   VulkanContext ctx(o.vulkan);
   GpuTracer tracer(ctx, bvh, o.tracer, predictor);
   if (o.repeat > 1) tracer.warm_up();
@@ -96,7 +95,7 @@ void run_trace(const TraceOptions& o) {
   }
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (predictor.enabled) {
+  if (predictor.predicts(o.any_hit)) {
     tracer.clear_predictor();
     tracer.set_count_baseline(true);
     const GpuTraceResult counted = tracer.trace(rays, o.any_hit);
@@ -127,7 +126,7 @@ void run_trace(const TraceOptions& o) {
               n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
               n > 0 ? static_cast<double>(c.triangles_tested) / n : 0.0);
   std::printf("hrpp        %s", hrpp_text.c_str());
-  if (!predictor.enabled) std::printf("\n");
+  if (!predictor.predicts(o.any_hit)) std::printf("\n");
   if (!o.stats.empty()) {
     const nlohmann::json j = {{"scene", o.scene},
                               {"rays", rays.size()},

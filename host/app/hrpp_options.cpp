@@ -20,12 +20,11 @@ PredictorConfig HrppOptions::config() const {
   if (!policy.empty()) c.table.policy = parse_table_policy(policy);
   c.batch = batch;
   c.serial = serial;
+  c.count_baseline = count_baseline;
+  c.predict_all = rays != "any";
+  c.predict_any = rays != "all";
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
-}
-
-bool HrppOptions::predicts(bool any_hit) const {
-  return hrpp == "on" && (rays == "both" || rays == (any_hit ? "any" : "all"));
 }
 
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
@@ -73,6 +72,10 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
                 "One ray per subgroup: the CPU reference's node order (with --hrpp-batch, "
                 "counters a CPU reference predictor reproduces exactly)")
       ->group(g);
+  cmd->add_flag("--hrpp-count", o.count_baseline,
+                "render: also count what full traversals would visit (savings %); adds a "
+                "counting traversal to the timed work (trace and bench count in a separate run)")
+      ->group(g);
 }
 
 nlohmann::json predictor_config_json(const PredictorConfig& c) {
@@ -86,6 +89,9 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
           {"table_nodes", c.table.nodes},
           {"table_policy", table_policy_name(c.table.policy)},
           {"table_bytes", c.table.bytes()},
+          {"predict_hit_all", c.predict_all},
+          {"predict_hit_any", c.predict_any},
+          {"count_baseline", c.count_baseline},
           {"batch", c.batch},
           {"serial", c.serial}};
 }

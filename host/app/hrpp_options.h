@@ -26,11 +26,10 @@ struct HrppOptions {
   std::string policy;                           // "": the preset's
   std::uint32_t batch = 0;
   bool serial = false;
+  bool count_baseline = false;
 
   // The predictor configuration (enabled = --hrpp on). Throws hrpp::Error naming the flag.
   PredictorConfig config() const;
-  // Whether rays of this class (hit-any or hit-all) use the predictor.
-  bool predicts(bool any_hit) const;
 };
 
 // Adds the options to `cmd` in an "HRPP" group.

@@ -153,8 +153,9 @@ struct GpuTracer::State {
 
   // One dispatch over rays[0..n) of the current buffers; adds into `out`.
   void dispatch(std::size_t n, bool any_hit, GpuTraceResult& out, std::size_t first) {
+    const bool predicts = predictor && predictor->config().predicts(any_hit);
     ComputePipeline& p =
-        predictor ? *(any_hit ? any_hrpp : closest_hrpp) : (any_hit ? any : closest);
+        predicts ? *(any_hit ? any_hrpp : closest_hrpp) : (any_hit ? any : closest);
     gpu::TraceCounters zero{};
     counters.upload(&zero, sizeof zero);
     gpu::TracePushConstants pc{};
@@ -167,7 +168,7 @@ struct GpuTracer::State {
     ctx->submit_and_wait(
         [&](VkCommandBuffer cmd) {
           timer.reset(cmd);
-          if (predictor)
+          if (predicts)
             predictor->record(cmd, p, pc, config.rays_per_invocation, counters, any_hit, clock,
                               predictor->config().batch == 0 ? &timer : nullptr);
           else

@@ -62,6 +62,12 @@ struct PredictorConfig {
   // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):
   // doubles the traversal work, so timings are taken with it off.
   bool count_baseline = false;
+  // Ray classes that predict (--hrpp-rays): hit-all (closest) and hit-any; the other class
+  // traces as with HRPP off.
+  bool predict_all = true;
+  bool predict_any = true;
+
+  bool predicts(bool any_hit) const { return enabled && (any_hit ? predict_any : predict_all); }
 };
 
 PredictorMode parse_predictor_mode(std::string_view name);

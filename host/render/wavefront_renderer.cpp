@@ -312,4 +312,8 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   return out;
 }
 
+TableOccupancy WavefrontRenderer::predictor_occupancy(bool any_hit) const {
+  return s_->tracer.predictor_occupancy(any_hit);
+}
+
 }  // namespace hrpp

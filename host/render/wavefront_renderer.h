@@ -99,6 +99,8 @@ class WavefrontRenderer {
   RenderResult render(const std::function<void(std::uint32_t)>& progress = {});
 
   const RenderScene& render_scene() const;
+  // HRPP on: what the hit-all or hit-any predictor table holds (it persists across samples).
+  TableOccupancy predictor_occupancy(bool any_hit) const;
 
  private:
   struct State;

@@ -1,0 +1,94 @@
+// HRPP in `hrpp render` (host/render/ + the trace_*_hrpp kernels), on lavapipe: with exact
+// hit-all and hit-any prediction the image equals HRPP off bit for bit (same seed), with a roomy
+// table and with tables that evict or drop; speculative prediction under a loose hash changes
+// pixels and counts its wrong closest hits; per-class counters add up over a whole render.
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "gpu/vulkan_context.h"
+#include "hrpp_counter_checks.h"
+#include "render/wavefront_renderer.h"
+#include "scene/load_scene.h"
+
+namespace hrpp {
+namespace {
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+const Scene& cornell() {
+  static const Scene* s = new Scene(load_scene("builtin:cornell"));
+  return *s;
+}
+
+RenderResult render(const PredictorConfig& predictor) {
+  static const GpuBvh bvh = make_gpu_layout(build_bvh(cornell(), BvhConfig{}), cornell());
+  RenderConfig c;
+  c.width = c.height = 48;
+  c.spp = 4;
+  c.seed = 7;
+  c.predictor = predictor;
+  WavefrontRenderer renderer(context(), cornell(), bvh, c);
+  return renderer.render();
+}
+
+PredictorConfig on(PredictorMode mode, const TableConfig& table, std::uint32_t bits) {
+  PredictorConfig p;
+  p.enabled = true;
+  p.mode = mode;
+  p.table = table;
+  p.hash.bits = bits;
+  p.count_baseline = true;
+  return p;
+}
+
+void expect_counters_add_up(const RayClassStats& s, const std::string& what) {
+  test::expect_predictor_counters_add_up(s.predictor, what);
+  EXPECT_LE(s.predictor.c[HRPP_PC_PROBES], s.counters.rays) << what;
+}
+
+TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
+  const RenderResult off = render({});
+  for (const TableConfig& t :
+       {table_preset("small"), table_preset("tiny"), TableConfig{4, 2, 2, TablePolicy::kNone}}) {
+    const std::string what = std::to_string(t.sets) + "x" + std::to_string(t.ways) + "x" +
+                             std::to_string(t.nodes) + " " + table_policy_name(t.policy);
+    const RenderResult exact = render(on(PredictorMode::kExact, t, 4));
+    ASSERT_EQ(exact.rgb.size(), off.rgb.size());
+    EXPECT_TRUE(exact.rgb == off.rgb) << what;
+    EXPECT_EQ(exact.stats.closest.counters.hits, off.stats.closest.counters.hits) << what;
+    EXPECT_EQ(exact.stats.shadow.counters.hits, off.stats.shadow.counters.hits) << what;
+    expect_counters_add_up(exact.stats.closest, what + " hit-all");
+    expect_counters_add_up(exact.stats.shadow, what + " hit-any");
+    EXPECT_GT(exact.stats.closest.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    EXPECT_GT(exact.stats.shadow.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    EXPECT_EQ(exact.stats.closest.predictor.c[HRPP_PC_WRONG_CLOSEST], 0u) << what;
+    if (t.sets == 4) {
+      const int full = t.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
+      EXPECT_GT(exact.stats.closest.predictor.c[full], 0u) << what;
+    }
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+TEST(HrppRender, SpeculativeWrongClosestHitsAreCounted) {
+  const RenderResult off = render({});
+  const RenderResult spec = render(on(PredictorMode::kSpeculative, table_preset("small"), 2));
+  const auto& c = spec.stats.closest.predictor.c;
+  EXPECT_GT(c[HRPP_PC_WRONG_CLOSEST], 0u);
+  EXPECT_LE(c[HRPP_PC_WRONG_CLOSEST], c[HRPP_PC_TRUE_POSITIVES]);
+  EXPECT_FALSE(spec.rgb == off.rgb);  // wrong closest hits change paths
+  expect_counters_add_up(spec.stats.closest, "speculative hit-all");
+  std::printf("speculative N=2: %llu wrong closest hits of %llu true positives\n",
+              static_cast<unsigned long long>(c[HRPP_PC_WRONG_CLOSEST]),
+              static_cast<unsigned long long>(c[HRPP_PC_TRUE_POSITIVES]));
+}
+
+}  // namespace
+}  // namespace hrpp
