@@ -6,7 +6,8 @@
 //   - predictor hit: the ray is tested against the entry's nodes in list order (leaf: its
 //     triangles; interior: its subtree), hit-all keeping the closest hit (tmax shrinking across
 //     nodes), hit-any stopping at the first hit. A hit is a true positive: hit-any and
-//     speculative hit-all take it; exact hit-all traces from the root with tmax = its t. No hit:
+//     speculative hit-all take it; exact hit-all traces from the root with tmax = its t and
+//     keeps the closer of that answer and the predicted hit (ties: lower id). No hit:
 //     false positive, full traversal. No entry: negative, full traversal;
 //   - after every full traversal that hit, the prediction node (host/hrpp/prediction_node.h)
 //     of the hit is inserted under the ray's key (appended when not present);
