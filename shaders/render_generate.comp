@@ -27,5 +27,5 @@ void main() {
     paths[i] = PathState(vec3(1.0), pixel, pc.sample_index, 0u, 0u, 0u);
     finished = 1u;
   }
-  report_done(finished);
+  report_done(HRPP_RENDER_DONE_GENERATE, finished);
 }

@@ -3,7 +3,9 @@
 // next-event estimation), sample one light for a shadow ray (render_accumulate adds its payload
 // when trace_any finds it unoccluded), and sample the material for the continuation ray, with
 // Russian roulette. Lobes: shaders/lib/bsdf.glsl. Outputs are compacted with atomicAdd; every
-// path owns its random stream, so the order in the queues does not change the image.
+// path owns its random stream, so the order in the queues does not change the image. The
+// shadow queue's size also becomes the indirect dispatch arguments of trace_any and
+// render_accumulate here (queue_dispatch_args), so no kernel runs between them.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -94,9 +96,23 @@ vec3 eval_lobe_cos(uint lobe, SurfaceHit s, vec3 wo, vec3 wi, vec3 albedo, float
   return albedo * (max(dot(s.ns, wi), 0.0) / kPi);
 }
 
+uint groups(uint items, uint per_group) { return (items + per_group - 1u) / per_group; }
+
+// The workgroups trace_any and render_accumulate need for the shadow rays queued so far: every
+// slot below the largest one taken is filled, so the max over subgroups of (slot + 1) is the
+// queue's size. One atomicMax per subgroup and argument. The host starts them at (0, 1, 1).
+void queue_dispatch_args(uint slot_end) {
+  const uint top = subgroupMax(slot_end);
+  if (subgroupElect() && top != 0u) {
+    atomicMax(queues.trace_any_groups[0], groups(top, params.trace_any_group_rays));
+    atomicMax(queues.accumulate_groups[0], groups(top, HRPP_RENDER_WORKGROUP_SIZE));
+  }
+}
+
 void main() {
   const uint i = gl_GlobalInvocationID.x;
   uint finished = 0u;
+  uint shadow_end = 0u;  // slot + 1 of this path's shadow ray, 0: none
   if (i < pc.count) {
     finished = 1u;
     const Ray ray = load_ray(i);
@@ -157,6 +173,7 @@ void main() {
             path.throughput * eval_lobe_cos(lobe, s, wo, wi, albedo, alpha) * li / prob;
         if (max(contribution.r, max(contribution.g, contribution.b)) > 0.0 && dist > 0.0) {
           const uint slot = atomicAdd(queues.shadow_rays, 1u);
+          shadow_end = slot + 1u;
           // Stop short of the light's own surface (triangles) by a relative margin.
           const float tmax = dist < 3.0e38 ? dist * 0.999 : 3.0e38;
           shadow_rays[slot] = Ray(offset_ray_origin(s.p, s.ng), 0.0, wi, tmax);
@@ -212,5 +229,6 @@ void main() {
     }
     if (radiance != vec3(0.0)) image[path.pixel].xyz += radiance;
   }
-  report_done(finished);
+  queue_dispatch_args(shadow_end);
+  report_done(HRPP_RENDER_DONE_SHADE, finished);
 }

@@ -1,7 +1,8 @@
 // HRPP in `hrpp render` (host/render/ + the trace_*_hrpp kernels), on lavapipe: with exact
 // hit-all and hit-any prediction the image equals HRPP off bit for bit (same seed), with a roomy
 // table and with tables that evict or drop; speculative prediction under a loose hash changes
-// pixels and counts its wrong closest hits; per-class counters add up over a whole render.
+// pixels and counts its wrong closest hits; per-class counters add up over a whole render; the
+// batched (deterministic-order) mode, whose shadow traces are not dispatched indirectly, too.
 #include <cstdio>
 #include <string>
 
@@ -74,6 +75,22 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
       EXPECT_GT(exact.stats.closest.predictor.c[full], 0u) << what;
     }
   }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// The deterministic batched mode needs each trace's ray count on the host, so the renderer
+// records a bounce's shadow half in a second submit instead of dispatching it indirectly.
+TEST(HrppRender, BatchedModeRendersTheImageOfHrppOff) {
+  const RenderResult off = render({});
+  PredictorConfig p = on(PredictorMode::kExact, table_preset("small"), 4);
+  p.batch = 256;
+  const RenderResult batched = render(p);
+  EXPECT_TRUE(batched.rgb == off.rgb);
+  EXPECT_EQ(batched.stats.shadow.counters.rays, off.stats.shadow.counters.rays);
+  EXPECT_EQ(batched.stats.shadow.traces, off.stats.shadow.traces);
+  EXPECT_GT(batched.stats.shadow.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u);
+  expect_counters_add_up(batched.stats.closest, "batched hit-all");
+  expect_counters_add_up(batched.stats.shadow, "batched hit-any");
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

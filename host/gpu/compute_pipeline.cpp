@@ -224,8 +224,9 @@ std::map<std::string, double> KernelTimer::read_ms() const {
   return ms;
 }
 
-void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
-                     std::uint32_t groups, KernelTimer* timer) {
+namespace {
+
+void bind_and_push(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline());
   const VkDescriptorSet set = pipeline.descriptor_set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0,
@@ -233,15 +234,48 @@ void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const
   if (pipeline.push_constant_bytes())
     vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                        pipeline.push_constant_bytes(), push);
-  if (timer) timer->begin(cmd, pipeline.name());
-  vkCmdDispatch(cmd, groups, 1, 1);
-  if (timer) timer->end(cmd);
+}
+
+void compute_to_compute_barrier(VkCommandBuffer cmd) {
   VkMemoryBarrier b{};
   b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
   b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
+                     std::uint32_t groups, KernelTimer* timer) {
+  bind_and_push(cmd, pipeline, push);
+  if (timer) timer->begin(cmd, pipeline.name());
+  vkCmdDispatch(cmd, groups, 1, 1);
+  if (timer) timer->end(cmd);
+  compute_to_compute_barrier(cmd);
+}
+
+void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
+                              const void* push, const StorageBuffer& args, VkDeviceSize offset,
+                              KernelTimer* timer) {
+  bind_and_push(cmd, pipeline, push);
+  if (timer) timer->begin(cmd, pipeline.name());
+  vkCmdDispatchIndirect(cmd, args.handle(), offset);
+  if (timer) timer->end(cmd);
+  compute_to_compute_barrier(cmd);
+}
+
+void indirect_args_barrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
 }  // namespace hrpp

@@ -84,5 +84,13 @@ class KernelTimer {
 // given, then a compute→compute barrier so the next dispatch sees this one's writes.
 void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
                      std::uint32_t groups, KernelTimer* timer);
+// The same with the workgroup counts read on the device from a VkDispatchIndirectCommand at
+// `offset` in `args` (written by an earlier dispatch: make it visible to
+// VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT first, e.g. with indirect_args_barrier).
+void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
+                              const void* push, const StorageBuffer& args, VkDeviceSize offset,
+                              KernelTimer* timer);
+// Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
+void indirect_args_barrier(VkCommandBuffer cmd);
 
 }  // namespace hrpp

@@ -126,41 +126,40 @@ void GpuPredictor::begin_trace(bool any_hit) {
   s_->table(any_hit).counters.upload(&zero, sizeof zero);
 }
 
-void GpuPredictor::record(VkCommandBuffer cmd, ComputePipeline& trace,
-                          const gpu::TracePushConstants& pc, std::uint32_t rays_per_invocation,
-                          StorageBuffer& counters, bool any_hit, std::uint32_t clock,
-                          KernelTimer* timer) {
+void GpuPredictor::set_clock(bool any_hit, std::uint32_t clock) {
   Table& t = s_->table(any_hit);
   t.params.clock = clock;
   t.param_buf.upload(&t.params, sizeof t.params);
-  // Rays one workgroup takes: every lane, or one per subgroup in serial mode.
+}
+
+std::uint32_t GpuPredictor::rays_per_workgroup(std::uint32_t rays_per_invocation) const {
   const std::uint32_t sub = std::max(s_->ctx->info().subgroup_size, 1u);
-  const std::uint64_t lanes = s_->config.serial
-                                  ? std::max<std::uint64_t>(HRPP_TRACE_WORKGROUP_SIZE / sub, 1)
-                                  : HRPP_TRACE_WORKGROUP_SIZE;
-  const std::uint64_t per_group = lanes * rays_per_invocation;
-  const auto groups_for = [&](std::uint64_t n) {
-    return static_cast<std::uint32_t>((n + per_group - 1) / per_group);
-  };
-  if (s_->config.batch == 0) {
-    record_dispatch(cmd, trace, &pc, groups_for(pc.ray_count), timer);
-    return;
-  }
-  for (std::uint32_t first = 0; first < pc.ray_count; first += s_->config.batch) {
-    const std::uint32_t count = std::min(s_->config.batch, pc.ray_count - first);
-    // The batch's rays: the cursor starts at `first`, the kernel stops at first + count.
+  const std::uint32_t lanes =
+      s_->config.serial ? std::max(HRPP_TRACE_WORKGROUP_SIZE / sub, 1u) : HRPP_TRACE_WORKGROUP_SIZE;
+  return lanes * rays_per_invocation;
+}
+
+void GpuPredictor::record_batches(VkCommandBuffer cmd, ComputePipeline& trace,
+                                  const gpu::TracePushConstants& pc, StorageBuffer& counters,
+                                  bool any_hit, std::uint32_t count, std::uint32_t clock) {
+  Table& t = s_->table(any_hit);
+  const std::uint32_t per_group = rays_per_workgroup(pc.rays_per_invocation);
+  for (std::uint32_t first = 0; first < count; first += s_->config.batch) {
+    const std::uint32_t n = std::min(s_->config.batch, count - first);
+    // The batch's rays: the cursor starts at `first`, the kernel stops at first + n.
     barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
             VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    const std::uint32_t end = first + n;
     vkCmdUpdateBuffer(cmd, counters.handle(), offsetof(gpu::TraceCounters, next_ray),
                       sizeof(std::uint32_t), &first);
+    vkCmdUpdateBuffer(cmd, counters.handle(), offsetof(gpu::TraceCounters, ray_count),
+                      sizeof(std::uint32_t), &end);
     barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    gpu::TracePushConstants batch_pc = pc;
-    batch_pc.ray_count = first + count;
-    record_dispatch(cmd, trace, &batch_pc, groups_for(count), nullptr);
-    const gpu::InsertPushConstants ipc{first, count, clock + first, 0};
+    record_dispatch(cmd, trace, &pc, (n + per_group - 1) / per_group, nullptr);
+    const gpu::InsertPushConstants ipc{first, n, clock + first, 0};
     record_dispatch(cmd, t.insert, &ipc, 1, nullptr);
   }
 }

@@ -20,7 +20,6 @@ namespace hrpp {
 
 class VulkanContext;
 class ComputePipeline;
-class KernelTimer;
 class StorageBuffer;
 
 class GpuPredictor {
@@ -42,11 +41,19 @@ class GpuPredictor {
 
   // Before a trace call: zeroes the class's counters.
   void begin_trace(bool any_hit);
-  // Records the predicted trace of rays[0..n) (counters: the trace counters buffer, whose
-  // next_ray cursor it sets per batch). `clock`: use stamp of ray 0.
-  void record(VkCommandBuffer cmd, ComputePipeline& trace, const gpu::TracePushConstants& pc,
-              std::uint32_t rays_per_invocation, StorageBuffer& counters, bool any_hit,
-              std::uint32_t clock, KernelTimer* timer);
+  // Before recording a predicted trace of the class (host write, outside a command buffer):
+  // its use stamps start at `clock`.
+  void set_clock(bool any_hit, std::uint32_t clock);
+  // Rays one workgroup of a trace_*_hrpp kernel takes: every lane, or one per subgroup in
+  // serial mode, times rays_per_invocation.
+  std::uint32_t rays_per_workgroup(std::uint32_t rays_per_invocation) const;
+  // Deterministic order (config().batch = K > 0): records the predicted trace of rays[0..count)
+  // as, per batch of K rays, a trace dispatch (the counters buffer's next_ray and ray_count
+  // set to the batch) and an hrpp_insert dispatch that applies its inserts in ray order.
+  // Needs the count on the host. `clock`: use stamp of ray 0.
+  void record_batches(VkCommandBuffer cmd, ComputePipeline& trace,
+                      const gpu::TracePushConstants& pc, StorageBuffer& counters, bool any_hit,
+                      std::uint32_t count, std::uint32_t clock);
   // After the submit: the class's counters since begin_trace.
   gpu::PredictorCounters counters(bool any_hit) const;
   // Reads the class's table back and counts what it holds.

@@ -58,18 +58,24 @@ std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
 
 }  // namespace
 
+// The resident arrays and counters of one ray class (hit-all or hit-any).
+struct ClassArrays {
+  StorageBuffer rays, hits;  // grown on demand
+  TexelView ray_view;        // how the kernels read the rays
+  StorageBuffer counters;    // TraceCounters of the class's last trace
+  std::uint32_t clock = 0;   // HRPP use stamps: rays of the class traced so far
+};
+
 struct GpuTracer::State {
   VulkanContext* ctx = nullptr;
   GpuTracerConfig config;
-  StorageBuffer nodes, leaves, triangles, counters;
+  StorageBuffer nodes, leaves, triangles;
   TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
-  StorageBuffer rays, hits;  // grown on demand
-  TexelView ray_view;        // how the kernels read the rays
+  ClassArrays classes[2];                         // [any_hit]
   ComputePipeline closest, any;
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on
   std::unique_ptr<ComputePipeline> closest_hrpp, any_hrpp;  // HRPP on
-  std::uint32_t clock = 0;                  // HRPP use stamps: rays traced so far
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
@@ -79,7 +85,6 @@ struct GpuTracer::State {
         nodes(c, bvh.nodes.size() * sizeof(gpu::BvhNode), "BVH node array"),
         leaves(c, bvh.leaves.size() * sizeof(gpu::BvhLeaf), "BVH leaf array"),
         triangles(c, bvh.triangles.size() * sizeof(gpu::TriangleRecord), "BVH triangle array"),
-        counters(c, sizeof(gpu::TraceCounters), "trace counters"),
         node_view(c, nodes),
         leaf_view(c, leaves),
         triangle_view(c, triangles),
@@ -102,11 +107,16 @@ struct GpuTracer::State {
     nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
-    for (ComputePipeline* p : pipelines()) {
-      p->bind(HRPP_TRACE_BINDING_NODES, node_view);
-      p->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
-      p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
-      p->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
+    for (bool any_hit : {false, true}) {
+      classes[any_hit].counters =
+          StorageBuffer(c, sizeof(gpu::TraceCounters),
+                        any_hit ? "hit-any trace counters" : "hit-all trace counters");
+      for (ComputePipeline* p : pipelines(any_hit)) {
+        p->bind(HRPP_TRACE_BINDING_NODES, node_view);
+        p->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
+        p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
+        p->bind(HRPP_TRACE_BINDING_COUNTERS, classes[any_hit].counters);
+      }
     }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
@@ -115,9 +125,23 @@ struct GpuTracer::State {
     probe.tmax = 1e30f;
   }
 
-  std::vector<ComputePipeline*> pipelines() {
-    if (predictor) return {&closest, &any, closest_hrpp.get(), any_hrpp.get()};
-    return {&closest, &any};
+  // The kernels of one ray class: plain, and with HRPP the predicting one.
+  std::vector<ComputePipeline*> pipelines(bool any_hit) {
+    std::vector<ComputePipeline*> p{any_hit ? &any : &closest};
+    if (predictor) p.push_back(any_hit ? any_hrpp.get() : closest_hrpp.get());
+    return p;
+  }
+
+  bool predicts(bool any_hit) const { return predictor && predictor->config().predicts(any_hit); }
+
+  ComputePipeline& kernel(bool any_hit) {
+    if (predicts(any_hit)) return *(any_hit ? any_hrpp : closest_hrpp);
+    return any_hit ? any : closest;
+  }
+
+  std::uint32_t rays_per_workgroup(bool any_hit) const {
+    if (predicts(any_hit)) return predictor->rays_per_workgroup(config.rays_per_invocation);
+    return HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
   }
 
   // Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
@@ -133,67 +157,122 @@ struct GpuTracer::State {
     return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
   }
 
-  void ensure_capacity(std::size_t n) {
-    if (rays.size() >= n * sizeof(gpu::Ray)) return;
-    ray_view = TexelView();
-    rays = StorageBuffer();  // free first: one at a time in the heap
-    hits = StorageBuffer();
-    rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), "ray array");
-    hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), "hit array");
-    ray_view = TexelView(*ctx, rays);
-    for (ComputePipeline* p : pipelines()) {
-      p->bind(HRPP_TRACE_BINDING_RAYS, ray_view);
-      p->bind(HRPP_TRACE_BINDING_HITS, hits);
+  void ensure_capacity(bool any_hit, std::size_t n) {
+    ClassArrays& a = classes[any_hit];
+    if (a.rays.size() >= n * sizeof(gpu::Ray)) return;
+    a.ray_view = TexelView();
+    a.rays = StorageBuffer();  // free first: one at a time in the heap
+    a.hits = StorageBuffer();
+    const char* which = any_hit ? "hit-any" : "hit-all";
+    a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), std::string(which) + " ray array");
+    a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), std::string(which) + " hit array");
+    a.ray_view = TexelView(*ctx, a.rays);
+    for (ComputePipeline* p : pipelines(any_hit)) {
+      p->bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
+      p->bind(HRPP_TRACE_BINDING_HITS, a.hits);
     }
-    if (predictor) {
-      predictor->bind(*closest_hrpp, false, n);
-      predictor->bind(*any_hrpp, true, n);
-    }
+    if (predictor) predictor->bind(any_hit ? *any_hrpp : *closest_hrpp, any_hit, n);
   }
 
-  // One dispatch over rays[0..n) of the current buffers; adds into `out`.
-  void dispatch(std::size_t n, bool any_hit, GpuTraceResult& out, std::size_t first) {
-    const bool predicts = predictor && predictor->config().predicts(any_hit);
-    ComputePipeline& p =
-        predicts ? *(any_hit ? any_hrpp : closest_hrpp) : (any_hit ? any : closest);
-    gpu::TraceCounters zero{};
-    counters.upload(&zero, sizeof zero);
+  gpu::TracePushConstants push_constants() const {
     gpu::TracePushConstants pc{};
-    pc.ray_count = static_cast<std::uint32_t>(n);
     pc.rays_per_invocation = config.rays_per_invocation;
     pc.canary_iterations = kCanaryIterations;
-    const std::uint64_t per_group =
-        static_cast<std::uint64_t>(HRPP_TRACE_WORKGROUP_SIZE) * config.rays_per_invocation;
-    const auto groups = static_cast<std::uint32_t>((n + per_group - 1) / per_group);
-    ctx->submit_and_wait(
-        [&](VkCommandBuffer cmd) {
-          timer.reset(cmd);
-          if (predicts)
-            predictor->record(cmd, p, pc, config.rays_per_invocation, counters, any_hit, clock,
-                              predictor->config().batch == 0 ? &timer : nullptr);
-          else
-            record_dispatch(cmd, p, &pc, groups, &timer);
-        },
-        p.name());
-    for (const auto& [kernel, ms] : timer.read_ms()) out.kernel_ms += ms;
+    return pc;
+  }
 
+  // Zeroes the class's counters and sets their ray count: on the host's word (`count`), or
+  // copied from `queue` at `count_offset`. Transfers to disjoint bytes, then one barrier.
+  void reset_counters(VkCommandBuffer cmd, bool any_hit, const std::uint32_t* count,
+                      const StorageBuffer* queue, VkDeviceSize count_offset) {
+    const VkBuffer c = classes[any_hit].counters.handle();
+    gpu::TraceCounters start{};
+    if (count) {
+      start.ray_count = *count;
+      vkCmdUpdateBuffer(cmd, c, 0, sizeof start, &start);
+    } else {
+      constexpr VkDeviceSize at = offsetof(gpu::TraceCounters, ray_count);
+      constexpr VkDeviceSize word = sizeof(std::uint32_t);
+      vkCmdUpdateBuffer(cmd, c, 0, at, &start);
+      vkCmdUpdateBuffer(cmd, c, at + word, sizeof start - at - word,
+                        reinterpret_cast<const char*>(&start) + at + word);
+      const VkBufferCopy region{count_offset, at, word};
+      vkCmdCopyBuffer(cmd, queue->handle(), c, 1, &region);
+    }
+    transfer_barrier(cmd);
+  }
+
+  static void transfer_barrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier b{};
+    b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                         1, &b, 0, nullptr, 0, nullptr);
+  }
+
+  void record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count, KernelTimer* t) {
+    check_resident(any_hit, count);
+    reset_counters(cmd, any_hit, &count, nullptr, 0);
+    ComputePipeline& p = kernel(any_hit);
+    const gpu::TracePushConstants pc = push_constants();
+    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
+    if (predicts(any_hit) && predictor->config().batch > 0) {
+      predictor->record_batches(cmd, p, pc, classes[any_hit].counters, any_hit, count,
+                                classes[any_hit].clock);
+      return;  // many small dispatches: not timed
+    }
+    const std::uint32_t per_group = rays_per_workgroup(any_hit);
+    record_dispatch(cmd, p, &pc, (count + per_group - 1) / per_group, t);
+  }
+
+  void record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+                       VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* t) {
+    if (!records_indirect(any_hit))
+      throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
+    if (classes[any_hit].rays.size() == 0)
+      throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
+    reset_counters(cmd, any_hit, nullptr, &queue, count_offset);
+    ComputePipeline& p = kernel(any_hit);
+    const gpu::TracePushConstants pc = push_constants();
+    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
+    record_dispatch_indirect(cmd, p, &pc, queue, args_offset, t);
+  }
+
+  bool records_indirect(bool any_hit) const {
+    return !(predicts(any_hit) && predictor->config().batch > 0);
+  }
+
+  void check_resident(bool any_hit, std::size_t count) const {
+    if (count * sizeof(gpu::Ray) > classes[any_hit].rays.size() || count > chunk_rays())
+      throw Error("trace: " + std::to_string(count) +
+                  " rays exceed the device-resident ray array or one dispatch");
+  }
+
+  // After the submit: the class's counters, checked (every ray finished).
+  GpuTraceResult finish(bool any_hit) {
+    GpuTraceResult out;
     gpu::TraceCounters c{};
-    counters.download(&c, sizeof c);
+    classes[any_hit].counters.download(&c, sizeof c);
     const std::uint64_t done = wide(c, HRPP_COUNTER_RAYS);
-    if (done != n || c.aborted != 0)
-      throw Error(p.name() + ": only " + std::to_string(done) + " of " + std::to_string(n) +
-                  " rays finished (" + std::to_string(c.aborted) +
+    const std::string name = kernel(any_hit).name();
+    if (done != c.ray_count || c.aborted != 0)
+      throw Error(name + ": only " + std::to_string(done) + " of " +
+                  std::to_string(c.ray_count) + " rays finished (" + std::to_string(c.aborted) +
                   " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
                   "subgroup) ended the kernel's loops at " +
                   std::to_string(config.rays_per_invocation) +
                   " rays per invocation; lower rays_per_invocation");
-    if (!out.hits.empty()) hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
-    out.counters.rays += done;
-    out.counters.interior_visited += wide(c, HRPP_COUNTER_INTERIOR);
-    out.counters.leaves_visited += wide(c, HRPP_COUNTER_LEAVES);
-    out.counters.triangles_tested += wide(c, HRPP_COUNTER_TRIANGLES);
-    out.counters.hits += wide(c, HRPP_COUNTER_HITS);
-    clock += static_cast<std::uint32_t>(n);
+    out.counters.rays = done;
+    out.counters.interior_visited = wide(c, HRPP_COUNTER_INTERIOR);
+    out.counters.leaves_visited = wide(c, HRPP_COUNTER_LEAVES);
+    out.counters.triangles_tested = wide(c, HRPP_COUNTER_TRIANGLES);
+    out.counters.hits = wide(c, HRPP_COUNTER_HITS);
+    classes[any_hit].clock += c.ray_count;
+    if (predictor) out.predictor = predictor->counters(any_hit);
+    return out;
   }
 };
 
@@ -210,34 +289,65 @@ const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
   GpuTraceResult out;
   out.hits.resize(rays.size());
-  if (s_->predictor) s_->predictor->begin_trace(any_hit);
+  begin(any_hit);
   const std::size_t chunk = s_->chunk_rays();
   for (std::size_t first = 0; first < rays.size(); first += chunk) {
     const std::size_t n = std::min(chunk, rays.size() - first);
-    s_->ensure_capacity(n);
-    s_->rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
-    s_->dispatch(n, any_hit, out, first);
+    s_->ensure_capacity(any_hit, n);
+    s_->classes[any_hit].rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
+    const GpuTraceResult r = trace_resident(n, any_hit);
+    s_->classes[any_hit].hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
+    out.counters += r.counters;
+    out.kernel_ms += r.kernel_ms;
+    out.predictor = r.predictor;  // since begin(): the whole call
   }
-  if (s_->predictor) out.predictor = s_->predictor->counters(any_hit);
   return out;
 }
 
-StorageBuffer& GpuTracer::ray_buffer(std::size_t rays) {
-  s_->ensure_capacity(std::max<std::size_t>(rays, 1));
-  return s_->rays;
+StorageBuffer& GpuTracer::ray_buffer(bool any_hit, std::size_t rays) {
+  s_->ensure_capacity(any_hit, std::max<std::size_t>(rays, 1));
+  return s_->classes[any_hit].rays;
 }
 
-StorageBuffer& GpuTracer::hit_buffer() { return s_->hits; }
+StorageBuffer& GpuTracer::hit_buffer(bool any_hit) { return s_->classes[any_hit].hits; }
+
+void GpuTracer::begin(bool any_hit) {
+  if (s_->predictor) s_->predictor->begin_trace(any_hit);
+}
+
+void GpuTracer::record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count,
+                       KernelTimer* timer) {
+  s_->record(cmd, any_hit, count, timer);
+}
+
+void GpuTracer::record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+                                VkDeviceSize count_offset, VkDeviceSize args_offset,
+                                KernelTimer* timer) {
+  s_->record_indirect(cmd, any_hit, queue, count_offset, args_offset, timer);
+}
+
+GpuTraceResult GpuTracer::finish(bool any_hit) { return s_->finish(any_hit); }
+
+bool GpuTracer::records_indirect(bool any_hit) const { return s_->records_indirect(any_hit); }
+
+std::uint32_t GpuTracer::rays_per_workgroup(bool any_hit) const {
+  return s_->rays_per_workgroup(any_hit);
+}
+
+std::size_t GpuTracer::max_dispatch_rays() const { return s_->chunk_rays(); }
 
 GpuTraceResult GpuTracer::trace_resident(std::size_t count, bool any_hit) {
-  GpuTraceResult out;
-  if (count == 0) return out;
-  if (count * sizeof(gpu::Ray) > s_->rays.size() || count > s_->chunk_rays())
-    throw Error("trace_resident: " + std::to_string(count) +
-                " rays exceed the device-resident ray array or one dispatch");
-  if (s_->predictor) s_->predictor->begin_trace(any_hit);
-  s_->dispatch(count, any_hit, out, 0);
-  if (s_->predictor) out.predictor = s_->predictor->counters(any_hit);
+  if (count == 0) return {};
+  s_->check_resident(any_hit, count);
+  const std::string what = s_->kernel(any_hit).name();
+  s_->ctx->submit_and_wait(
+      [&](VkCommandBuffer cmd) {
+        s_->timer.reset(cmd);
+        s_->record(cmd, any_hit, static_cast<std::uint32_t>(count), &s_->timer);
+      },
+      what);
+  GpuTraceResult out = s_->finish(any_hit);
+  for (const auto& [kernel, ms] : s_->timer.read_ms()) out.kernel_ms += ms;
   return out;
 }
 
@@ -258,7 +368,7 @@ void GpuTracer::set_count_baseline(bool on) {
 
 void GpuTracer::clear_predictor() {
   if (s_->predictor) s_->predictor->clear();
-  s_->clock = 0;
+  for (ClassArrays& a : s_->classes) a.clock = 0;
 }
 
 }  // namespace hrpp

@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include <vulkan/vulkan.h>
+
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu_types.h"
@@ -18,6 +20,7 @@ namespace hrpp {
 
 class VulkanContext;
 class StorageBuffer;
+class KernelTimer;
 
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
@@ -52,14 +55,37 @@ class GpuTracer {
   // every ray (loop limiter) or the device is lost.
   GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
 
-  // Device-resident rays (the wavefront renderer, host/render/): the tracer's own ray and hit
-  // arrays, grown to hold at least `rays` rays, so other kernels write rays into them and read
-  // hits back without a host round trip. The references stay valid until a call asks for more.
-  StorageBuffer& ray_buffer(std::size_t rays);
-  StorageBuffer& hit_buffer();
-  // Traces ray_buffer()[0..count) in one dispatch (count <= what ray_buffer was sized for and
-  // one dispatch reaches) into hit_buffer(): the checks, counters, kernel time and HRPP path of
-  // trace(), with result.hits left empty.
+  // Device-resident rays (the wavefront renderer, host/render/): each ray class (hit-all,
+  // hit-any) has its own ray and hit arrays, grown to hold at least `rays` rays, so other
+  // kernels write rays into them and read hits back without a host round trip. The references
+  // stay valid until a call asks for more.
+  StorageBuffer& ray_buffer(bool any_hit, std::size_t rays);
+  StorageBuffer& hit_buffer(bool any_hit);
+
+  // Traces recorded into the caller's command buffer, over ray_buffer(any_hit)[0..count):
+  //   begin(any_hit)             before recording: zeroes the class's HRPP counters (host write);
+  //   record(...)                the trace of `count` rays (known on the host), or
+  //   record_indirect(...)       the trace of as many rays as the uint at `count_offset` of
+  //                              `queue` says when the command buffer runs, with the
+  //                              VkDispatchIndirectCommand at `args_offset` (workgroups of
+  //                              rays_per_workgroup() rays); not in HRPP's batched mode;
+  //   finish(any_hit)            after the submit: checks that every ray finished (throws
+  //                              hrpp::Error naming the loop limiter otherwise), returns the
+  //                              counters (hits left empty) and HRPP counters since begin.
+  // One trace per class per command buffer. Dispatches are timed with `timer` when given.
+  void begin(bool any_hit);
+  void record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count, KernelTimer* timer);
+  void record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+                       VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* timer);
+  GpuTraceResult finish(bool any_hit);
+  // False when the class's trace needs its ray count on the host (HRPP's batched mode).
+  bool records_indirect(bool any_hit) const;
+  // Rays one workgroup of the class's trace kernel takes (for indirect dispatch arguments).
+  std::uint32_t rays_per_workgroup(bool any_hit) const;
+  // Most rays one dispatch reaches (storage-buffer range, texel-buffer size, workgroup count).
+  std::size_t max_dispatch_rays() const;
+
+  // begin + record + submit + finish of ray_buffer(any_hit)[0..count).
   GpuTraceResult trace_resident(std::size_t count, bool any_hit);
 
   // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on

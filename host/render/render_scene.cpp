@@ -11,7 +11,7 @@ namespace hrpp {
 static_assert(sizeof(gpu::RenderParams) == 112);
 static_assert(sizeof(gpu::PathState) == 32);
 static_assert(sizeof(gpu::ShadowRecord) == 16);
-static_assert(sizeof(gpu::RenderQueues) == 16);
+static_assert(sizeof(gpu::RenderQueues) == 64);
 static_assert(sizeof(gpu::RenderPushConstants) == 16);
 static_assert(sizeof(gpu::ShadeTriangle) == 8 * 16);  // 8 texels (render_shade.comp)
 // Read as 2, 1, 3 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <initializer_list>
 #include <string>
 
@@ -23,7 +24,8 @@ constexpr auto kBindingTypes = [] {
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   for (int b : {HRPP_RENDER_BINDING_SHADE_TRIANGLES, HRPP_RENDER_BINDING_HITS,
                 HRPP_RENDER_BINDING_MATERIALS, HRPP_RENDER_BINDING_LIGHTS,
-                HRPP_RENDER_BINDING_RAY_TEXELS, HRPP_RENDER_BINDING_PATH_TEXELS})
+                HRPP_RENDER_BINDING_RAY_TEXELS, HRPP_RENDER_BINDING_PATH_TEXELS,
+                HRPP_RENDER_BINDING_SHADOW_HITS})
     t[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
@@ -67,6 +69,20 @@ void add_barrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
+// The queues at the start of a bounce: empty, indirect dispatches of (0, 1, 1) workgroups.
+constexpr gpu::RenderQueues kRenderQueuesStart = [] {
+  gpu::RenderQueues q{};
+  q.trace_any_groups[1] = q.trace_any_groups[2] = 1;
+  q.accumulate_groups[1] = q.accumulate_groups[2] = 1;
+  return q;
+}();
+
+// The tracer's hit array of a ray class, sized for `rays` resident rays.
+const StorageBuffer& resident_hits(GpuTracer& tracer, bool any_hit, std::size_t rays) {
+  tracer.ray_buffer(any_hit, rays);
+  return tracer.hit_buffer(any_hit);
+}
+
 }  // namespace
 
 RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
@@ -92,10 +108,10 @@ struct WavefrontRenderer::State {
   RenderScene rs;
   GpuTracer tracer;
   std::uint32_t wave;  // paths per wavefront
-  StorageBuffer params, paths, next_paths, next_rays, shadow_rays, shadows, image, queues;
+  StorageBuffer params, paths, next_paths, next_rays, shadows, image, queues;
   StorageBuffer shade_triangles, materials, lights, textures, texels;
   TexelView shade_view, material_view, light_view;
-  TexelView ray_view, hit_view, path_view;  // over the tracer's arrays and `paths`
+  TexelView ray_view, hit_view, shadow_hit_view, path_view;  // over the tracer's arrays, `paths`
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
   ComputePipeline generate, shade, accumulate;
   KernelTimer timer;
@@ -106,13 +122,14 @@ struct WavefrontRenderer::State {
         rs(make_render_scene(scene)),
         tracer(c, bvh, config.tracer, config.predictor),
         // One dispatch per kernel and wavefront: at most max_workgroup_count_x workgroups.
-        wave(std::min({config.wavefront_paths, config.width * config.height,
-                       c.info().max_workgroup_count_x * std::uint32_t{HRPP_RENDER_WORKGROUP_SIZE}})),
+        wave(static_cast<std::uint32_t>(std::min<std::size_t>(
+            {config.wavefront_paths, std::size_t{config.width} * config.height,
+             std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
+             tracer.max_dispatch_rays()}))),
         params(c, sizeof(gpu::RenderParams), "render parameters"),
         paths(c, std::size_t{wave} * sizeof(gpu::PathState), "path states"),
         next_paths(c, std::size_t{wave} * sizeof(gpu::PathState), "continuation path states"),
         next_rays(c, std::size_t{wave} * sizeof(gpu::Ray), "continuation rays"),
-        shadow_rays(c, std::size_t{wave} * sizeof(gpu::Ray), "shadow rays"),
         shadows(c, std::size_t{wave} * sizeof(gpu::ShadowRecord), "shadow records"),
         image(c, std::size_t{config.width} * config.height * sizeof(glm::vec4), "image"),
         queues(c, sizeof(gpu::RenderQueues), "render queues"),
@@ -124,8 +141,9 @@ struct WavefrontRenderer::State {
         shade_view(c, shade_triangles),
         material_view(c, materials),
         light_view(c, lights),
-        ray_view(c, tracer.ray_buffer(wave)),
-        hit_view(c, tracer.hit_buffer()),
+        ray_view(c, tracer.ray_buffer(false, wave)),
+        hit_view(c, resident_hits(tracer, false, wave)),
+        shadow_hit_view(c, resident_hits(tracer, true, wave)),
         path_view(c, paths),
         spec(specialization(rs.features)),
         generate(c, "render_generate", embedded_spirv("render_generate"), kBindingTypes,
@@ -134,18 +152,18 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 4) {
-    StorageBuffer& rays = tracer.ray_buffer(wave);
+        timer(c, 16) {
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {
       p->bind(HRPP_RENDER_BINDING_PARAMS, params);
       p->bind(HRPP_RENDER_BINDING_PATHS, paths);
       p->bind(HRPP_RENDER_BINDING_NEXT_PATHS, next_paths);
-      p->bind(HRPP_RENDER_BINDING_RAYS, rays);
+      p->bind(HRPP_RENDER_BINDING_RAYS, tracer.ray_buffer(false, wave));
       p->bind(HRPP_RENDER_BINDING_HITS, hit_view);
       p->bind(HRPP_RENDER_BINDING_RAY_TEXELS, ray_view);
       p->bind(HRPP_RENDER_BINDING_PATH_TEXELS, path_view);
       p->bind(HRPP_RENDER_BINDING_NEXT_RAYS, next_rays);
-      p->bind(HRPP_RENDER_BINDING_SHADOW_RAYS, shadow_rays);
+      p->bind(HRPP_RENDER_BINDING_SHADOW_RAYS, tracer.ray_buffer(true, wave));
+      p->bind(HRPP_RENDER_BINDING_SHADOW_HITS, shadow_hit_view);
       p->bind(HRPP_RENDER_BINDING_SHADOWS, shadows);
       p->bind(HRPP_RENDER_BINDING_IMAGE, image);
       p->bind(HRPP_RENDER_BINDING_QUEUES, queues);
@@ -175,85 +193,125 @@ struct WavefrontRenderer::State {
     p.environment = glm::vec4(rs.environment, 0.0f);
     p.light_count = static_cast<std::uint32_t>(rs.lights.size());
     p.rr_depth = cfg.rr_depth;
+    p.trace_any_group_rays = tracer.rays_per_workgroup(true);
     params.upload(&p, sizeof p);
   }
 
-  // One dispatch of a render kernel over `count` items; returns its queue counters after
-  // checking that every item finished (lavapipe loop limiter, DESIGN.md).
-  gpu::RenderQueues run(ComputePipeline& kernel, const gpu::RenderPushConstants& pc,
-                        FrameStats& stats) {
-    const std::uint32_t groups =
-        (pc.count + HRPP_RENDER_WORKGROUP_SIZE - 1) / HRPP_RENDER_WORKGROUP_SIZE;
+  static std::uint32_t groups(std::uint32_t items) {
+    return (items + HRPP_RENDER_WORKGROUP_SIZE - 1) / HRPP_RENDER_WORKGROUP_SIZE;
+  }
+
+  // Submits what `record` records (kernels timed with `timer`), adds the kernel times to
+  // `stats` and returns the queues.
+  gpu::RenderQueues submit(const std::function<void(VkCommandBuffer)>& record, const char* what,
+                           FrameStats& stats) {
     ctx.submit_and_wait(
         [&](VkCommandBuffer cmd) {
-          vkCmdFillBuffer(cmd, queues.handle(), 0, VK_WHOLE_SIZE, 0);
-          add_barrier(cmd);
           timer.reset(cmd);
-          record_dispatch(cmd, kernel, &pc, groups, &timer);
-          add_barrier(cmd);
+          record(cmd);
         },
-        kernel.name());
-    for (const auto& [name, ms] : timer.read_ms()) stats.kernels_ms[name] += ms;
+        what);
+    for (const auto& [name, ms] : timer.read_ms()) stats.kernels_ms[kernel_key(name)] += ms;
     gpu::RenderQueues q{};
     queues.download(&q, sizeof q);
-    if (q.done != pc.count)
-      throw Error(kernel.name() + ": only " + std::to_string(q.done) + " of " +
-                  std::to_string(pc.count) +
-                  " items finished: the driver's loop limiter or a lost dispatch");
     return q;
   }
 
-  struct Copy {
-    const StorageBuffer* from;
-    const StorageBuffer* to;
-    std::size_t bytes;
-  };
-  // Moves queue contents into the arrays the next kernel reads, on the device.
-  void copy(std::initializer_list<Copy> copies) {
-    ctx.submit_and_wait(
-        [&](VkCommandBuffer cmd) {
-          for (const Copy& c : copies) {
-            const VkBufferCopy region{0, 0, c.bytes};
-            vkCmdCopyBuffer(cmd, c.from->handle(), c.to->handle(), 1, &region);
-          }
-          add_barrier(cmd);
-        },
-        "render queue copy");
+  // The stats name a trace kernel by its ray class, with HRPP or without.
+  static std::string kernel_key(const std::string& name) {
+    const std::string suffix = "_hrpp";
+    if (name.size() > suffix.size() && name.ends_with(suffix))
+      return name.substr(0, name.size() - suffix.size());
+    return name;
   }
 
-  void trace(std::uint32_t n, bool any_hit, FrameStats& stats) {
-    const GpuTraceResult r = tracer.trace_resident(n, any_hit);
-    stats.kernels_ms[any_hit ? "trace_any" : "trace_closest"] += r.kernel_ms;
+  static void check_done(const char* kernel, std::uint32_t done, std::uint32_t submitted) {
+    if (done != submitted)
+      throw Error(std::string(kernel) + ": only " + std::to_string(done) + " of " +
+                  std::to_string(submitted) +
+                  " items finished: the driver's loop limiter or a lost dispatch");
+  }
+
+  void add_trace(const GpuTraceResult& r, bool any_hit, FrameStats& stats) {
     RayClassStats& c = any_hit ? stats.shadow : stats.closest;
     c.counters += r.counters;
     for (int i = 0; i < HRPP_PC_COUNT; ++i) c.predictor.c[i] += r.predictor.c[i];
     ++c.traces;
   }
 
-  // Paths of pixels [first, first + n) for one sample, to the end.
+  // The shadow half of a bounce: trace_any, then render_accumulate, on the shadow queue's count
+  // read on the device (indirect dispatch) or, in HRPP's batched mode, on `host_count`.
+  void record_shadows(VkCommandBuffer cmd, const std::uint32_t* host_count, std::uint32_t depth) {
+    const gpu::RenderPushConstants pc{0, 0, 0, depth};
+    if (host_count) {
+      tracer.record(cmd, true, *host_count, &timer);
+      record_dispatch(cmd, accumulate, &pc, groups(*host_count), &timer);
+      return;
+    }
+    indirect_args_barrier(cmd);  // render_shade's queue count and dispatch arguments
+    tracer.record_indirect(cmd, true, queues, offsetof(gpu::RenderQueues, shadow_rays),
+                           offsetof(gpu::RenderQueues, trace_any_groups), &timer);
+    record_dispatch_indirect(cmd, accumulate, &pc, queues,
+                             offsetof(gpu::RenderQueues, accumulate_groups), &timer);
+  }
+
+  // Paths of pixels [first, first + n) for one sample, to the end. One command buffer per
+  // bounce: (generate | move the continuation rays into place) → trace_closest → render_shade
+  // → trace_any → render_accumulate, the last two dispatched indirectly from the shadow queue; the host reads the queues once per bounce to check completion and
+  // size the next one.
   void trace_wavefront(std::uint32_t first, std::uint32_t n, std::uint32_t sample,
                        FrameStats& stats) {
-    StorageBuffer& rays = tracer.ray_buffer(wave);
-    run(generate, {first, n, sample, 0}, stats);
-    stats.camera_rays += n;
+    const bool indirect = tracer.records_indirect(true);
     for (std::uint32_t depth = 0; n > 0; ++depth) {
       if (depth >= cfg.max_depth)
         throw Error("render_shade: paths continued past the max depth (kernel bug)");
-      trace(n, false, stats);
-      if (depth > 0) stats.bounce_rays += n;
-      const gpu::RenderQueues q = run(shade, {0, n, 0, depth}, stats);
+      tracer.begin(false);
+      tracer.begin(true);
+      const gpu::RenderQueues q = submit(
+          [&](VkCommandBuffer cmd) {
+            vkCmdUpdateBuffer(cmd, queues.handle(), 0, sizeof kRenderQueuesStart,
+                              &kRenderQueuesStart);
+            if (depth > 0) {
+              const VkBufferCopy rays{0, 0, std::size_t{n} * sizeof(gpu::Ray)};
+              vkCmdCopyBuffer(cmd, next_rays.handle(), tracer.ray_buffer(false, wave).handle(), 1,
+                              &rays);
+              const VkBufferCopy states{0, 0, std::size_t{n} * sizeof(gpu::PathState)};
+              vkCmdCopyBuffer(cmd, next_paths.handle(), paths.handle(), 1, &states);
+            }
+            add_barrier(cmd);
+            if (depth == 0) {
+              const gpu::RenderPushConstants pc{first, n, sample, 0};
+              record_dispatch(cmd, generate, &pc, groups(n), &timer);
+            }
+            tracer.record(cmd, false, n, &timer);
+            const gpu::RenderPushConstants pc{0, n, 0, depth};
+            record_dispatch(cmd, shade, &pc, groups(n), &timer);
+            if (indirect) record_shadows(cmd, nullptr, depth);
+          },
+          "render bounce", stats);
+      if (depth == 0) {
+        check_done("render_generate", q.done[HRPP_RENDER_DONE_GENERATE], n);
+        stats.camera_rays += n;
+      } else {
+        stats.bounce_rays += n;
+      }
+      check_done("render_shade", q.done[HRPP_RENDER_DONE_SHADE], n);
       if (q.next_rays > n || q.shadow_rays > n)
         throw Error("render_shade: queue overflow (" + std::to_string(q.next_rays) + ", " +
                     std::to_string(q.shadow_rays) + " of " + std::to_string(n) + ")");
-      if (q.shadow_rays > 0) {
-        copy({{&shadow_rays, &rays, std::size_t{q.shadow_rays} * sizeof(gpu::Ray)}});
-        trace(q.shadow_rays, true, stats);
-        run(accumulate, {0, q.shadow_rays, 0, depth}, stats);
+      add_trace(tracer.finish(false), false, stats);
+      std::uint32_t accumulated = q.done[HRPP_RENDER_DONE_ACCUMULATE];
+      if (!indirect && q.shadow_rays > 0) {  // HRPP batched mode: a second submit
+        tracer.begin(true);
+        accumulated = submit([&](VkCommandBuffer cmd) { record_shadows(cmd, &q.shadow_rays, depth); },
+                             "render shadows", stats)
+                          .done[HRPP_RENDER_DONE_ACCUMULATE];
       }
-      if (q.next_rays > 0) {
-        copy({{&next_rays, &rays, std::size_t{q.next_rays} * sizeof(gpu::Ray)},
-              {&next_paths, &paths, std::size_t{q.next_rays} * sizeof(gpu::PathState)}});
+      if (indirect || q.shadow_rays > 0) {
+        const GpuTraceResult shadow = tracer.finish(true);  // checks the trace finished
+        if (q.shadow_rays > 0) add_trace(shadow, true, stats);
       }
+      check_done("render_accumulate", accumulated, q.shadow_rays);
       n = q.next_rays;
     }
   }

@@ -4,7 +4,9 @@
 // with the continuation rays looping back to trace_closest until --max-depth or Russian
 // roulette ends every path. The traces are GpuTracer's kernels on its own device-resident ray
 // and hit arrays (so HRPP, when configured, predicts them too: one traversal in the project).
-// Queue sizes are read back on the host between kernels (a few bytes per bounce).
+// render_shade fills the continuation and shadow queues with atomic counters; the shadow trace
+// and render_accumulate are dispatched indirectly from the shadow queue, so a bounce is one
+// command buffer; the host reads the queues (a few bytes) once per bounce.
 #pragma once
 
 #include <cstdint>

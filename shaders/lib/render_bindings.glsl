@@ -49,6 +49,7 @@ layout(set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) uniform usamplerBuffer 
 layout(set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) uniform usamplerBuffer light_texels;
 layout(set = 0, binding = HRPP_RENDER_BINDING_RAY_TEXELS) uniform usamplerBuffer ray_texels;
 layout(set = 0, binding = HRPP_RENDER_BINDING_PATH_TEXELS) uniform usamplerBuffer path_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADOW_HITS) uniform usamplerBuffer shadow_hit_texels;
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_TEXTURES) readonly restrict buffer TextureBuffer {
   GpuTexture textures[];
 };
@@ -60,10 +61,11 @@ layout(push_constant) uniform PushConstants { RenderPushConstants pc; };
 // Records of the read-only arrays, one 16-byte texel per row of the struct.
 uvec4 texel_at(usamplerBuffer b, uint i) { return texelFetch(b, int(i)); }
 
-Hit load_hit(uint i) {
-  const uvec4 t = texel_at(hit_texels, i);
+Hit hit_of(uvec4 t) {
   return Hit(int(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
 }
+Hit load_hit(uint i) { return hit_of(texel_at(hit_texels, i)); }
+Hit load_shadow_hit(uint i) { return hit_of(texel_at(shadow_hit_texels, i)); }
 
 Ray load_ray(uint i) {
   const vec4 a = uintBitsToFloat(texel_at(ray_texels, 2u * i));
@@ -98,10 +100,11 @@ GpuLight load_light(uint i) {
 
 float light_cdf(uint i) { return uintBitsToFloat(texel_at(light_texels, 4u * i + 1u).w); }
 
-// One atomic per subgroup: the items this invocation finished (0 or 1) summed.
-void report_done(uint finished) {
+// One atomic per subgroup: the items this invocation finished (0 or 1) summed into
+// queues.done[kernel] (HRPP_RENDER_DONE_*).
+void report_done(uint kernel, uint finished) {
   const uint sum = subgroupAdd(finished);
-  if (subgroupElect() && sum != 0u) atomicAdd(queues.done, sum);
+  if (subgroupElect() && sum != 0u) atomicAdd(queues.done[kernel], sum);
 }
 
 #endif  // HRPP_RENDER_BINDINGS_GLSL

@@ -158,9 +158,9 @@ void main() {
     uint base = 0u;
     if (subgroupElect()) base = atomicAdd(counters.next_ray, subgroupBallotBitCount(lanes));
     base = subgroupBroadcastFirst(base);
-    if (base >= pc.ray_count) break;  // uniform across the subgroup
+    if (base >= counters.ray_count) break;  // uniform across the subgroup
     const uint index = base + subgroupBallotExclusiveBitCount(lanes);
-    if (index >= pc.ray_count) continue;
+    if (index >= counters.ray_count) continue;
 
     const RaySetup r = setup_ray(load_ray(index));
     Hit best = Hit(-1, 0.0, 0.0, 0.0);

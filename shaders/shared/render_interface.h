@@ -22,9 +22,9 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_PATHS 1            // PathState per ray of the current wavefront
 #define HRPP_RENDER_BINDING_NEXT_PATHS 2       // PathState of the continuation rays
 #define HRPP_RENDER_BINDING_RAYS 3             // the tracer's ray array (generate writes it)
-#define HRPP_RENDER_BINDING_HITS 4             // the tracer's hit array (uniform texel buffer)
+#define HRPP_RENDER_BINDING_HITS 4             // the tracer's hit-all hits (uniform texel buffer)
 #define HRPP_RENDER_BINDING_NEXT_RAYS 5        // continuation rays (copied to RAYS)
-#define HRPP_RENDER_BINDING_SHADOW_RAYS 6      // shadow rays (copied to RAYS)
+#define HRPP_RENDER_BINDING_SHADOW_RAYS 6      // the tracer's hit-any ray array (shade writes it)
 #define HRPP_RENDER_BINDING_SHADOWS 7          // ShadowRecord per shadow ray
 #define HRPP_RENDER_BINDING_IMAGE 8            // vec4 radiance sum per pixel
 #define HRPP_RENDER_BINDING_QUEUES 9           // RenderQueues
@@ -35,7 +35,8 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_TEXELS 14          // RGBA8 texels of every texture, one uint each
 #define HRPP_RENDER_BINDING_RAY_TEXELS 15      // uniform texel buffer over RAYS (shade reads)
 #define HRPP_RENDER_BINDING_PATH_TEXELS 16     // uniform texel buffer over PATHS (shade reads)
-#define HRPP_RENDER_BINDING_COUNT 17
+#define HRPP_RENDER_BINDING_SHADOW_HITS 17     // the tracer's hit-any hits (uniform texel buffer)
+#define HRPP_RENDER_BINDING_COUNT 18
 // Read-only arrays are uniform texel buffers (R32G32B32A32_UINT): on lavapipe a texel fetch
 // gathers the lanes' 16-byte records at once where a storage-buffer load with per-lane
 // addresses is a loop over the lanes (host/gpu/texel_view.h).
@@ -70,7 +71,7 @@ struct RenderParams {
   vec4 environment;    // rgb: constant environment radiance
   uint light_count;    // entries of the light array (selection by its cdf)
   uint rr_depth;       // Russian roulette from this depth on
-  uint pad0;
+  uint trace_any_group_rays;  // rays per workgroup of the shadow trace (its indirect dispatch)
   uint pad1;
 };
 
@@ -90,19 +91,29 @@ struct ShadowRecord {
   uint pixel;
 };
 
-// Atomic counters of one kernel dispatch; the host zeroes them, reads them back and compares
-// the completion counts with the work submitted (lavapipe loop limiter, DESIGN.md).
+// The queues of one bounce of a wavefront, in one buffer: atomic counters the kernels fill,
+// the indirect dispatch arguments render_shade makes of the shadow queue, and completion
+// counts. The host resets it (kRenderQueuesStart) at the start of the bounce's command buffer,
+// reads it back after the submit and compares the completion counts with the work submitted
+// (lavapipe loop limiter, DESIGN.md).
+#define HRPP_RENDER_DONE_GENERATE 0
+#define HRPP_RENDER_DONE_SHADE 1
+#define HRPP_RENDER_DONE_ACCUMULATE 2
 struct RenderQueues {
   uint next_rays;    // continuation rays written by shade
-  uint shadow_rays;  // shadow rays written by shade
-  uint done;         // items the dispatch finished (generate: paths, shade: paths,
-                     // accumulate: shadow records)
-  uint pad;
+  uint shadow_rays;  // shadow rays written by shade (the count trace_any and accumulate run on)
+  uint pad0;
+  uint pad1;
+  uint done[4];      // items each kernel finished, by HRPP_RENDER_DONE_*
+  uint trace_any_groups[3];   // VkDispatchIndirectCommand of the shadow trace
+  uint pad2;
+  uint accumulate_groups[3];  // VkDispatchIndirectCommand of render_accumulate
+  uint pad3;
 };
 
 struct RenderPushConstants {
   uint first_pixel;  // generate: pixel of item 0 of this wavefront
-  uint count;        // items in this dispatch
+  uint count;        // generate, shade: items in this dispatch (accumulate: queues.shadow_rays)
   uint sample_index; // generate: sample index
   uint bounce;       // shade: depth of the paths it shades
 };

@@ -46,9 +46,10 @@ namespace hrpp::gpu {
 #define HRPP_COUNTER_COUNT 5
 
 struct TraceCounters {
-  uint next_ray;  // persistent fetch cursor (atomicAdd by one lane per subgroup)
-  uint aborted;   // rays whose traversal was cut short by a loop limiter (lavapipe): never valid
-  uint pad0;
+  uint next_ray;   // persistent fetch cursor (atomicAdd by one lane per subgroup)
+  uint aborted;    // rays whose traversal was cut short by a loop limiter (lavapipe): never valid
+  uint ray_count;  // rays in this dispatch: written by the host, or copied on the device from a
+                   // queue counter for an indirect dispatch (GpuTracer::record_indirect)
   uint pad1;
   uint wide[2 * HRPP_COUNTER_COUNT];  // (lo, hi) pairs, see HRPP_COUNTER_*
   uint pad2;
@@ -56,10 +57,10 @@ struct TraceCounters {
 };
 
 struct TracePushConstants {
-  uint ray_count;            // rays in this dispatch
   uint rays_per_invocation;  // cap on the rays one invocation traces (loop limiter, DESIGN.md)
   uint canary_iterations;    // always 2; a loop bound the compiler cannot know (limiter probe)
-  uint pad;
+  uint pad0;
+  uint pad1;
 };
 
 #ifdef __cplusplus
