@@ -9,7 +9,7 @@ packages=(
   glslang-tools glslang-dev spirv-tools
   libglm-dev libtinygltf-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libembree-dev
-  python3 python3-matplotlib parallel
+  python3 python3-matplotlib python3-openimageio parallel
 )
 
 missing=()

@@ -1,0 +1,116 @@
+#!/usr/bin/python3
+"""Error against run time from the sweep CSV (tools/sweep.sh): per scene of the errtime grid,
+relMSE against the high-spp reference versus wall time and versus trace-kernel time for HRPP
+off, speculative and exact (spp ladders; runs without --hrpp-count), and the error each HRPP
+configuration adds against the HRPP-off image of the same seed and spp."""
+import argparse
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.dont_write_bytecode = True
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep_common import read_csv, rows  # noqa: E402
+
+VARIANTS = (("off", "HRPP off", "k", "o-"), ("exact-small", "exact, small table", "tab:green", "s--"),
+            ("spec-small", "speculative, small table", "tab:red", "^-"),
+            ("spec-unbounded", "speculative, unbounded", "tab:purple", "v-"))
+
+
+def save(fig, out, name, written):
+    p = os.path.join(out, name)
+    fig.tight_layout()
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    written.append(p)
+
+
+def errtime(data, out, w):
+    rs = rows(data, "errtime")
+    for sc in sorted({r["scene"] for r in rs}):
+        srs = [r for r in rs if r["scene"] == sc]
+        fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+        for ax, key, xl in ((axes[0], "wall_s", "render wall time (s)"),
+                            (axes[1], "trace_ms", "trace kernels, device time (ms)")):
+            for v, name, col, st in VARIANTS:
+                p = sorted((r for r in srs if r.get("variant") == v and r.get("relmse_ref")),
+                           key=lambda r: r["spp"])
+                if not p:
+                    continue
+                ax.plot([r[key] for r in p], [r["relmse_ref"] for r in p], st, color=col,
+                        label=name, ms=5)
+                for r in p:
+                    ax.annotate(str(r["spp"]), (r[key], r["relmse_ref"]), fontsize=7,
+                                xytext=(3, 3), textcoords="offset points", color=col)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel(xl)
+            ax.set_ylabel("relMSE vs high-spp reference (eps 0.01)")
+            ax.grid(alpha=0.3, which="both")
+            ax.legend(fontsize=8)
+        ref = [r for r in srs if r.get("variant") == "reference"]
+        t = f"{sc}, {srs[0]['size']}x{srs[0]['size']}, labels: spp"
+        if ref:
+            t += f"; reference: HRPP off, {ref[0]['spp']} spp, seed 1"
+        fig.suptitle("Error against time - " + t + " (lavapipe, shared 2-core CPU: noisy times)",
+                     fontsize=10)
+        save(fig, out, f"error_time_{sc}.png", w)
+
+
+def error_off(data, out, w):
+    rs = [r for r in data if r.get("ok") == 1 and r.get("hrpp") == "on"
+          and r.get("relmse_off") is not None]
+    if not rs:
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    ax = axes[0]
+    for mode, col in (("speculative", "tab:red"), ("exact", "tab:green")):
+        p = [r for r in rs if r.get("mode") == mode]
+        if p:
+            ax.scatter([100 * (r.get("all_wrong_closest") or 0) / max(1, r.get("all_probes") or 1)
+                        if r.get("all_wrong_closest") is not None else 0 for r in p],
+                       [r["relmse_off"] for r in p], color=col, s=14, label=mode, alpha=0.7)
+    ax.set_yscale("symlog", linthresh=1e-6)
+    ax.set_xlabel("wrong closest hits (% of hit-all rays)")
+    ax.set_ylabel("relMSE vs HRPP off, same seed and spp")
+    ax.set_title("every HRPP run in the CSV: error added by the predictor")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    b = [r for r in rs if r.get("grid") == "bounded" and r.get("hash") == "hrpp"
+         and r.get("policy") == "lru" or (r.get("grid") == "bounded" and r.get("kib") == "unbounded"
+                                          and r.get("hash") == "hrpp")]
+    for ways in sorted({r["ways"] for r in b}):
+        p = sorted((r for r in b if r["ways"] == ways), key=lambda r: r["all_table_bytes"])
+        ax.plot([r["all_table_bytes"] / 1024 for r in p], [r["relmse_off"] for r in p], "o-",
+                label=f"{ways} way{'s' if ways > 1 else ''}" + (" (unbounded, none)" if ways == 16 else ", lru"), ms=4)
+    if b:
+        ax.set_xscale("log")
+        ax.set_yscale("symlog", linthresh=1e-6)
+        ax.set_xlabel("hit-all table bytes (KiB)")
+        ax.set_ylabel("relMSE vs HRPP off")
+        ax.set_title(f"speculative error against table size ({b[0]['scene']}, bounded grid)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    save(fig, out, "error_vs_off.png", w)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--csv", required=True)
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    data = read_csv(a.csv)
+    w = []
+    errtime(data, a.out, w)
+    error_off(data, a.out, w)
+    for p in w:
+        print(f"plot_error_time: {p}")
+
+
+if __name__ == "__main__":
+    main()

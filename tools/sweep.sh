@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# The limit study in one command: writes the job list (tools/sweep_jobs.py), runs it with GNU
+# parallel (locally, one render at a time by default; across machines with --sshloginfile),
+# collects every --stats JSON and the image errors into one CSV (tools/sweep_collect.py), draws
+# the figures (tools/plot_*.py) and rewrites the generated tables in RESULTS.md
+# (tools/sweep_report.py). See RESULTS.md.
+set -euo pipefail
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+PY=/usr/bin/python3   # Debian's python3 (python3-matplotlib, python3-openimageio, numpy)
+MODE=quick
+GRIDS=""
+JOBS=1
+SSHLOGINFILE=""
+RESUME=0
+RUN=1
+REPORT=1
+OUT=""
+CSV=""
+FIGS=""
+RESULTS="$REPO/RESULTS.md"
+HRPP="${HRPP_BIN:-}"
+
+usage() {
+    cat <<EOF
+Usage: tools/sweep.sh [--quick | --full | --test] [options]
+
+Runs hrpp render over the limit study's grids, collects one CSV, draws the figures and updates
+the generated tables in RESULTS.md.
+
+  --quick            small images and spp: minutes on 2 cores (default)
+  --full             the paper's 1024x1024 8 spp for Table 1 and the dragon grids, 512x512 for
+                     the bounded-table and error-vs-time grids: about 1.5 hours on 2 cores
+  --test             two configurations on the Cornell box at 32x32 (the pipeline test)
+  --smoke            every grid at toy sizes (checks the pipeline in a few minutes)
+  --grids LIST       comma-separated subset: table1,precision,goup,spp,bounded,errtime
+  --hrpp PATH        the hrpp binary (default: \$HRPP_BIN, else build/release/host/hrpp,
+                     build/sweep/host/hrpp or build/ci/host/hrpp, the first that exists)
+  --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log
+                     (default: build/limit-study/MODE)
+  --csv FILE         the CSV (default: tools/results/MODE.csv)
+  --figures DIR      figure directory (default: tools/figures for --full, tools/figures/MODE
+                     otherwise)
+  --results FILE     the Markdown file whose generated blocks are rewritten (default:
+                     RESULTS.md; --test: none)
+  --no-report        do not touch RESULTS.md
+  --jobs N           renders at once per machine (GNU parallel -j; default 1: the renderer
+                     already uses every core)
+  --sshloginfile F   run the jobs on the machines listed in F (GNU parallel --sshloginfile);
+                     they need this repository, the binary and the run directory at the same
+                     absolute paths (a shared file system)
+  --resume           skip the jobs the joblog records as done (GNU parallel --resume)
+  --collect-only     do not render: collect, plot and report what the run directory holds
+  --help             this text
+EOF
+}
+
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --quick) MODE=quick; shift ;;
+        --full) MODE=full; shift ;;
+        --test) MODE=test; shift ;;
+        --smoke) MODE=smoke; shift ;;
+        --grids) GRIDS="${2:?--grids needs a list}"; shift 2 ;;
+        --hrpp) HRPP="${2:?--hrpp needs a path}"; shift 2 ;;
+        --out) OUT="${2:?--out needs a directory}"; shift 2 ;;
+        --csv) CSV="${2:?--csv needs a file}"; shift 2 ;;
+        --figures) FIGS="${2:?--figures needs a directory}"; shift 2 ;;
+        --results) RESULTS="${2:?--results needs a file}"; shift 2 ;;
+        --no-report) REPORT=0; shift ;;
+        --jobs|-j) JOBS="${2:?--jobs needs a number}"; shift 2 ;;
+        --sshloginfile) SSHLOGINFILE="${2:?--sshloginfile needs a file}"; shift 2 ;;
+        --resume) RESUME=1; shift ;;
+        --collect-only) RUN=0; shift ;;
+        --help|-h) usage; exit 0 ;;
+        *) echo "sweep: unknown option '$1' (see --help)" >&2; exit 1 ;;
+    esac
+done
+
+if [[ -z "$HRPP" ]]; then
+    for c in build/release/host/hrpp build/sweep/host/hrpp build/ci/host/hrpp; do
+        if [[ -x "$REPO/$c" ]]; then HRPP="$REPO/$c"; break; fi
+    done
+fi
+[[ -n "$HRPP" && -x "$HRPP" ]] || { echo "sweep: no hrpp binary (--hrpp PATH or build first)" >&2; exit 1; }
+HRPP="$(cd "$(dirname "$HRPP")" && pwd)/$(basename "$HRPP")"
+[[ -n "$OUT" ]] || OUT="$REPO/build/limit-study/$MODE"
+[[ -n "$CSV" ]] || CSV="$REPO/tools/results/$MODE.csv"
+if [[ -z "$FIGS" ]]; then
+    if [[ "$MODE" == full ]]; then FIGS="$REPO/tools/figures"; else FIGS="$REPO/tools/figures/$MODE"; fi
+fi
+[[ "$MODE" == test ]] && REPORT=0
+mkdir -p "$OUT/runs"
+OUT="$(cd "$OUT" && pwd)"
+
+for m in matplotlib OpenImageIO numpy; do
+    "$PY" -c "import $m" 2>/dev/null || { echo "sweep: $PY lacks $m (run tools/setup.sh)" >&2; exit 1; }
+done
+command -v parallel >/dev/null || { echo "sweep: GNU parallel missing (run tools/setup.sh)" >&2; exit 1; }
+if [[ "$MODE" == full && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
+    "$REPO/tools/fetch-scenes.sh"
+fi
+if [[ "$MODE" == quick && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
+    "$REPO/tools/fetch-scenes.sh"
+fi
+
+start=$(date +%s)
+"$PY" "$REPO/tools/sweep_jobs.py" --mode "$MODE" --grids "$GRIDS" --hrpp "$HRPP" \
+    --repo "$REPO" --runs "$OUT/runs" --out "$OUT"
+
+status=0
+if [[ "$RUN" == 1 ]]; then
+    par=(parallel --will-cite -j "$JOBS" --joblog "$OUT/joblog")
+    [[ "$RESUME" == 1 ]] && par+=(--resume)
+    [[ -n "$SSHLOGINFILE" ]] && par+=(--sshloginfile "$SSHLOGINFILE" --workdir "$REPO")
+    echo "sweep: $(wc -l < "$OUT/jobs.txt") jobs, ${par[*]} < $OUT/jobs.txt"
+    "${par[@]}" < "$OUT/jobs.txt" || status=$?
+    [[ "$status" == 0 ]] || echo "sweep: $status jobs failed (see $OUT/joblog and runs/*.log)" >&2
+fi
+"$PY" "$REPO/tools/sweep_collect.py" --jobs "$OUT/jobs.jsonl" --runs "$OUT/runs" --csv "$CSV" \
+    || status=1
+"$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
+"$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
+if [[ "$REPORT" == 1 ]]; then
+    "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" --results "$RESULTS" \
+        --mode "$MODE" --command "tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}" \
+        --elapsed $(( $(date +%s) - start ))
+fi
+echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $CSV, $FIGS$([[ $REPORT == 1 ]] && echo ", $RESULTS")"
+exit "$status"

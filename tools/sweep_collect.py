@@ -1,0 +1,166 @@
+#!/usr/bin/python3
+"""Collects the limit study's runs into one CSV: every --stats JSON (configuration, per-class
+predictor counters, table figures, wall and per-kernel times) joined with the job's grid
+parameters (jobs.jsonl), plus image errors computed here from the EXR images:
+  *_off  against the HRPP-off image of the same scene, size, spp and seed (exact mode: 0)
+  *_ref  against the high-spp HRPP-off reference of the same scene and size (errtime grid)
+RMSE over all pixels and channels; relMSE = mean((x - y)^2 / (y^2 + eps)), eps = 0.01, y the
+image compared with. Needs python3-openimageio and numpy (Debian)."""
+import argparse
+import csv
+import json
+import os
+import sys
+
+import numpy as np
+
+EPS = 0.01
+META = ["id", "grid", "scene", "size", "spp", "seed", "variant", "bits", "goup", "hash", "kib",
+        "policy", "ways", "ok"]
+CONFIG = ["hrpp", "mode", "count_baseline", "hash_bits", "go_up", "hash_fn", "table_sets",
+          "table_ways", "table_nodes", "table_policy", "triangles"]
+CLASS_KEYS = ["probes", "predictor_hits", "hit_rate", "true_positives", "false_positives",
+              "negatives", "true_positive_rate", "savings", "net_savings", "skipped_interior",
+              "baseline_interior", "interior_visited", "leaves_visited", "verify_leaves",
+              "verify_interior", "verify_triangles", "inserts", "insert_requests", "insert_drops",
+              "evictions", "wrong_closest", "table_entries", "table_capacity", "table_nodes",
+              "table_bytes"]
+DERIVED = ["rays", "nodes_per_entry", "used_bytes", "compact_bytes", "occupancy",
+           "interior_per_ray"]
+TIMES = ["wall_s", "kernels_ms_total", "trace_ms"]
+ERRORS = ["rmse_off", "relmse_off", "pixels_differ_off", "rmse_ref", "relmse_ref"]
+TAIL = ["flags", "cmd"]
+
+
+def read_exr(path):
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RuntimeError(f"cannot read {path}: {oiio.geterror()}")
+    px = inp.read_image(oiio.FLOAT)
+    inp.close()
+    return np.asarray(px, dtype=np.float64)[..., :3]
+
+
+def errors(x, y):
+    d = x - y
+    rmse = float(np.sqrt(np.mean(d * d)))
+    relmse = float(np.mean(d * d / (y * y + EPS)))
+    differ = float(np.mean(np.any(d != 0, axis=-1)))
+    return rmse, relmse, differ
+
+
+def flatten(meta, stats):
+    r = {k: meta.get(k, "") for k in META}
+    r["flags"], r["cmd"] = meta.get("flags", ""), meta.get("cmd", "")
+    r["ok"] = 1
+    h = stats.get("hrpp_predictor", {})
+    on = bool(h.get("enabled"))
+    r["hrpp"] = "on" if on else "off"
+    r["triangles"] = stats.get("scene", {}).get("triangles", "")
+    if on:
+        r.update(mode=h.get("mode"), count_baseline=int(bool(h.get("count_baseline"))),
+                 hash_bits=h.get("hash_bits"), go_up=h.get("go_up"), hash_fn=h.get("hash"),
+                 table_sets=h.get("table_sets"), table_ways=h.get("table_ways"),
+                 table_nodes=h.get("table_nodes"), table_policy=h.get("table_policy"))
+    else:
+        r.update(mode="off", count_baseline=0)
+    r["wall_s"] = stats.get("wall_s")
+    r["kernels_ms_total"] = stats.get("kernels_ms_total")
+    km = stats.get("kernels_ms", {})
+    for k, v in km.items():
+        r["ms_" + k] = v
+    r["trace_ms"] = sum(v for k, v in km.items() if k.startswith("trace") or k.startswith("hrpp"))
+    for cls, src, pc in (("all", "closest", "hit_all"), ("any", "shadow", "hit_any")):
+        c = stats.get(src, {})
+        r[f"{cls}_rays"] = c.get("rays")
+        r[f"{cls}_interior_per_ray"] = c.get("interior_nodes", 0) / max(1, c.get("rays", 0))
+        p = h.get(pc) if on else None
+        if p is None:
+            r[f"{cls}_interior_visited"] = c.get("interior_nodes")
+            continue
+        for k in CLASS_KEYS:
+            r[f"{cls}_{k}"] = p.get(k)
+        e, n = p.get("table_entries", 0), p.get("table_nodes", 0)
+        slots = h.get("table_nodes", 0)
+        r[f"{cls}_nodes_per_entry"] = n / e if e else 0.0
+        r[f"{cls}_used_bytes"] = e * (12 + 4 * slots)   # entries in use, this table's layout
+        r[f"{cls}_compact_bytes"] = 8 * e + 4 * n        # a key and a 4-byte node id per node
+        r[f"{cls}_occupancy"] = e / p["table_capacity"] if p.get("table_capacity") else 0.0
+        if not r[f"{cls}_true_positive_rate"] and p.get("predictor_hits"):
+            r[f"{cls}_true_positive_rate"] = p["true_positives"] / p["predictor_hits"]
+    return r
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--jobs", required=True, help="jobs.jsonl from sweep_jobs.py")
+    ap.add_argument("--runs", required=True, help="directory of ID.json / ID.exr")
+    ap.add_argument("--csv", required=True, help="CSV to write")
+    ap.add_argument("--no-images", action="store_true", help="skip the image errors")
+    a = ap.parse_args()
+    metas = [json.loads(l) for l in open(a.jobs) if l.strip()]
+    rows = []
+    for m in metas:
+        js = os.path.join(a.runs, m["id"] + ".json")
+        try:
+            with open(js) as f:
+                rows.append(flatten(m, json.load(f)))
+        except (OSError, ValueError) as e:
+            r = {k: m.get(k, "") for k in META}
+            r.update(ok=0, flags=m.get("flags", ""), cmd=m.get("cmd", ""))
+            rows.append(r)
+            print(f"sweep_collect: {m['id']}: no stats ({e})", file=sys.stderr)
+
+    if not a.no_images:
+        cache = {}
+
+        def img(rid):
+            if rid not in cache:
+                p = os.path.join(a.runs, rid + ".exr")
+                cache[rid] = read_exr(p) if os.path.exists(p) else None
+            return cache[rid]
+
+        key = lambda r: (r["scene"], r["size"], r["spp"], r["seed"])
+        offs, refs = {}, {}
+        for r in rows:
+            if r["ok"] and r.get("hrpp") == "off":
+                if r.get("variant") == "reference":
+                    refs.setdefault((r["scene"], r["size"]), r["id"])
+                else:
+                    offs.setdefault(key(r), r["id"])
+        for r in rows:
+            if not r["ok"]:
+                continue
+            x = img(r["id"])
+            if x is None:
+                continue
+            o = offs.get(key(r))
+            if o is not None and img(o) is not None:
+                r["rmse_off"], r["relmse_off"], r["pixels_differ_off"] = errors(x, img(o))
+            ref = refs.get((r["scene"], r["size"]))
+            if ref is not None and ref != r["id"] and img(ref) is not None:
+                r["rmse_ref"], r["relmse_ref"], _ = errors(x, img(ref))
+            if len(cache) > 64:   # keep memory bounded (1024^2 images are 24 MiB each)
+                for k in list(cache)[:32]:
+                    if k not in offs.values() and k not in refs.values():
+                        del cache[k]
+
+    kernels = sorted({k for r in rows for k in r if k.startswith("ms_")})
+    cols = META + CONFIG + TIMES + kernels
+    for cls in ("all", "any"):
+        cols += [f"{cls}_{k}" for k in CLASS_KEYS + DERIVED]
+    cols += ERRORS + TAIL
+    os.makedirs(os.path.dirname(os.path.abspath(a.csv)), exist_ok=True)
+    with open(a.csv, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("" if r.get(k) is None else r.get(k, "")) for k in cols})
+    ok = sum(1 for r in rows if r["ok"])
+    print(f"sweep_collect: {ok} of {len(rows)} runs -> {a.csv}")
+    return 0 if ok == len(rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
