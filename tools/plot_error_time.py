@@ -68,15 +68,17 @@ def error_off(data, out, w):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     ax = axes[0]
     for mode, col in (("speculative", "tab:red"), ("exact", "tab:green")):
-        p = [r for r in rs if r.get("mode") == mode]
+        # wrong closest hits are only counted with --hrpp-count (exact mode has none)
+        p = [r for r in rs if r.get("mode") == mode and (mode == "exact" or
+                                                         r.get("count_baseline") == 1)]
         if p:
             ax.scatter([100 * (r.get("all_wrong_closest") or 0) / max(1, r.get("all_probes") or 1)
-                        if r.get("all_wrong_closest") is not None else 0 for r in p],
+                        for r in p],
                        [r["relmse_off"] for r in p], color=col, s=14, label=mode, alpha=0.7)
     ax.set_yscale("symlog", linthresh=1e-6)
     ax.set_xlabel("wrong closest hits (% of hit-all rays)")
     ax.set_ylabel("relMSE vs HRPP off, same seed and spp")
-    ax.set_title("every HRPP run in the CSV: error added by the predictor")
+    ax.set_title("runs with --hrpp-count (and exact runs): error added by the predictor")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     ax = axes[1]
@@ -90,12 +92,52 @@ def error_off(data, out, w):
     if b:
         ax.set_xscale("log")
         ax.set_yscale("symlog", linthresh=1e-6)
+        ax.set_ylim(bottom=0)
         ax.set_xlabel("hit-all table bytes (KiB)")
         ax.set_ylabel("relMSE vs HRPP off")
         ax.set_title(f"speculative error against table size ({b[0]['scene']}, bounded grid)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     save(fig, out, "error_vs_off.png", w)
+
+
+def kernels(data, out, w):
+    """Per-kernel device time of HRPP off / speculative / exact at the Table 1 setup."""
+    rs = rows(data, "table1")
+    scenes = []
+    for r in rs:
+        if r["scene"] not in scenes:
+            scenes.append(r["scene"])
+    var = ("off", "spec", "exact")
+    ks = sorted({k for r in rs for k in r if k.startswith("ms_") and r.get(k) is not None})
+    if not rs or not ks:
+        return
+    fig, ax = plt.subplots(figsize=(14, 5))
+    x, labels = 0, []
+    xs = []
+    for sc in scenes:
+        for v in var:
+            r = next((r for r in rs if r["scene"] == sc and r.get("variant") == v), None)
+            if r is None:
+                continue
+            bottom = 0.0
+            for i, k in enumerate(ks):
+                val = (r.get(k) or 0) / 1000
+                ax.bar(x, val, 0.8, bottom=bottom, color=f"C{i}",
+                       label=k[3:] if not xs else None)
+                bottom += val
+            xs.append(x)
+            labels.append(f"{v} {sc}")
+            x += 1
+        x += 0.6
+    ax.set_xticks(xs)
+    ax.set_xticklabels(labels, fontsize=7, rotation=35, ha="right")
+    ax.set_ylabel("device time per kernel, summed over the frame (s)")
+    r0 = rs[0]
+    ax.set_title(f"Kernel times, HRPP off / speculative / exact (unbounded), {r0['size']}x"
+                 f"{r0['size']}, {r0['spp']} spp, no --hrpp-count; one run each, shared CPU")
+    ax.legend(fontsize=8)
+    save(fig, out, "kernels_table1.png", w)
 
 
 def main():
@@ -108,6 +150,7 @@ def main():
     w = []
     errtime(data, a.out, w)
     error_off(data, a.out, w)
+    kernels(data, a.out, w)
     for p in w:
         print(f"plot_error_time: {p}")
 

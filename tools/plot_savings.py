@@ -36,7 +36,7 @@ def table1(data, out, w):
     if not rs:
         return
     scenes = [r["scene"] for r in rs]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 4.5))
     x = range(len(scenes))
     for ax, (c, name), pi in zip(axes, CLS, (4, 2)):
         ours = [100 * (r.get(f"{c}_savings") or 0) for r in rs]
@@ -45,7 +45,7 @@ def table1(data, out, w):
         ax.bar([i + 0.2 for i in x], paper, 0.4, label="paper (its scene)")
         ax.set_xticks(list(x))
         ax.set_xticklabels([s + ("\n(" + PAPER_TABLE1[s][0] + ")" if s in PAPER_TABLE1 else "")
-                            for s in scenes], fontsize=8)
+                            for s in scenes], fontsize=7)
         ax.set_ylabel("interior nodes skipped (%)")
         ax.set_title(f"{name} savings, N=6, go-up 0, unbounded ({res_of(rs)})")
         ax.legend(fontsize=8)
@@ -85,9 +85,14 @@ def goup(data, out, w):
     g = [r["goup"] for r in rs]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for c, name in CLS:
-        axes[0].plot(g, [r.get(f"{c}_table_entries") or 0 for r in rs], "o-", label=name)
+        axes[0].plot(g, [r.get(f"{c}_table_entries") or 0 for r in rs], "o-",
+                     label=f"{name}: entries (keys)")
+        axes[0].plot(g, [r.get(f"{c}_table_nodes") or 0 for r in rs], "s--",
+                     label=f"{name}: node ids held")
         axes[1].plot(g, [100 * (r.get(f"{c}_savings") or 0) for r in rs], "o-", label=name)
-    axes[0].set_ylabel("table entries")
+        axes[1].plot(g, [100 * (r.get(f"{c}_net_savings") or 0) for r in rs], "s--",
+                     label=f"{name}, net of verification")
+    axes[0].set_ylabel("table entries / node ids")
     axes[1].set_ylabel("interior nodes skipped (%)")
     for ax in axes:
         ax.set_xlabel("go-up level")

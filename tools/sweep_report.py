@@ -44,22 +44,6 @@ def fig(figdir, results, name, alt):
     return f"![{alt}]({os.path.relpath(p, os.path.dirname(os.path.abspath(results)))})\n"
 
 
-def interp_loglog(xs, ys, x):
-    """y at x on the log-log polyline through (xs, ys) (sorted by xs); extrapolates the ends."""
-    pts = sorted((a, b) for a, b in zip(xs, ys) if a and b and a > 0 and b > 0)
-    if len(pts) < 2:
-        return None
-    lx = [math.log(a) for a, _ in pts]
-    ly = [math.log(b) for _, b in pts]
-    t = math.log(x)
-    i = 0
-    while i < len(lx) - 2 and t > lx[i + 1]:
-        i += 1
-    if lx[i + 1] == lx[i]:
-        return math.exp(ly[i])
-    return math.exp(ly[i] + (ly[i + 1] - ly[i]) * (t - lx[i]) / (lx[i + 1] - lx[i]))
-
-
 def section_table1(data, out, figdir, results):
     cnt = rows(data, "table1", variant="count")
     if not cnt:
@@ -116,6 +100,7 @@ def section_table1(data, out, figdir, results):
                           "relMSE spec vs off", "pixels differ (spec)", "relMSE exact vs off"],
                          body))
     out.append("\n" + fig(figdir, results, "table1_savings.png", "Table 1 savings"))
+    out.append(fig(figdir, results, "kernels_table1.png", "kernel times at the Table 1 setup"))
 
 
 def section_precision(data, out, figdir, results):
@@ -148,9 +133,11 @@ def section_goup(data, out, figdir, results):
     out.append(f"### Go-up level (paper Fig. 4; dragon, {rs[0]['size']}x{rs[0]['size']}, "
                f"{rs[0]['spp']} spp, N = 6, unbounded)\n")
     body = [[r["goup"], r.get("all_table_entries"), r.get("any_table_entries"),
-             pc(r.get("all_savings")), pc(r.get("any_savings")), mb(r.get("all_compact_bytes")),
+             r.get("all_table_nodes"), r.get("any_table_nodes"), pc(r.get("all_savings")),
+             pc(r.get("all_net_savings")), pc(r.get("any_savings")), mb(r.get("all_compact_bytes")),
              f1(r.get("all_nodes_per_entry"), 2), r.get("all_verify_interior")] for r in rs]
-    out.append(table(["go-up", "entries all", "entries any", "hit-all %", "hit-any %",
+    out.append(table(["go-up", "entries all", "entries any", "node ids all", "node ids any",
+                      "hit-all %", "hit-all net %", "hit-any %",
                       "MB all", "nodes/entry all", "verify interior nodes all"], body))
     out.append("\n" + fig(figdir, results, "goup.png", "go-up level"))
 
@@ -196,7 +183,7 @@ def section_bounded(data, out, figdir, results):
         if bnd:
             spk = max(bnd, key=lambda r: (r.get("all_savings") or 0) / r["all_table_bytes"])
             lines = [f"\nBest savings per KiB (hit-all): {f1(spk['all_table_bytes'] / 1024)} KiB, "
-                     f"{spk['ways']} ways, {spk['policy']}: {pc(spk.get('all_savings'))}% "
+                     f"{spk['ways']} way{'s' if spk['ways'] > 1 else ''}, {spk['policy']}: {pc(spk.get('all_savings'))}% "
                      f"({100 * (spk.get('all_savings') or 0) / (spk['all_table_bytes'] / 1024):.3f}"
                      " %-points per KiB)."]
             if unb and unb[0].get("all_savings"):
@@ -208,7 +195,7 @@ def section_bounded(data, out, figdir, results):
                                                      -(r.get("all_savings") or 0)))
                         lines.append(f"Smallest table reaching {int(frac * 100)}% of the "
                                      f"unbounded table's hit-all savings ({pc(u)}%): "
-                                     f"{f1(g['all_table_bytes'] / 1024)} KiB, {g['ways']} ways, "
+                                     f"{f1(g['all_table_bytes'] / 1024)} KiB, {g['ways']} way{'s' if g['ways'] > 1 else ''}, "
                                      f"{g['policy']} ({pc(g.get('all_savings'))}%).")
             out.append(" ".join(lines) + "\n")
         out.append(fig(figdir, results, f"bounded_{sc}.png", f"bounded tables, {sc}"))
@@ -246,28 +233,34 @@ def section_errtime(data, out, figdir, results):
                      pc(r.get("pixels_differ_off"))])
     out.append(table(["scene", "variant", "spp", "wall s", "trace ms", "all kernels ms",
                       "relMSE ref", "relMSE off", "pixels differ"], body))
-    out.append("\nEqual time: for each HRPP run, the spp HRPP off reaches in the same wall time "
-               "(log-log interpolation of the off ladder) and the error it has there:\n")
+    out.append("\nEqual time. HRPP off's cost per sample pass is fitted on its spp ladder "
+               "(least squares through the origin, time = c·spp) and its error as relMSE = "
+               "k/spp (Monte Carlo variance; least squares in log space); for each HRPP run, "
+               "the spp HRPP off reaches in the same time and the error it has there. Ratio > 1: "
+               "HRPP is worse at equal time. Device time (all kernels, summed timestamps) is "
+               "less disturbed by host hiccups than wall time; both are given.\n")
     body = []
     for sc in sorted({r["scene"] for r in rs}):
-        off = sorted((r for r in rs if r["scene"] == sc and r["variant"] == "off"),
-                     key=lambda r: r["spp"])
+        off = [r for r in rs if r["scene"] == sc and r["variant"] == "off"
+               and r.get("wall_s") and r.get("relmse_ref")]
         if len(off) < 2:
             continue
+        n = [o["spp"] for o in off]
+        cw = sum(o["wall_s"] * k for o, k in zip(off, n)) / sum(k * k for k in n)
+        ck = sum(o["kernels_ms_total"] * k for o, k in zip(off, n)) / sum(k * k for k in n)
+        kerr = math.exp(sum(math.log(o["relmse_ref"] * o["spp"]) for o in off) / len(off))
         for r in sorted((r for r in rs if r["scene"] == sc and r["variant"] not in
                          ("off", "reference")), key=lambda r: (r["variant"], r["spp"])):
-            t = r.get("wall_s")
-            if not t:
+            if not r.get("wall_s") or not r.get("relmse_ref"):
                 continue
-            spp_eq = interp_loglog([o["wall_s"] for o in off], [o["spp"] for o in off], t)
-            err_eq = interp_loglog([o["wall_s"] for o in off], [o.get("relmse_ref") for o in off],
-                                   t)
-            body.append([sc, r["variant"], r["spp"], f1(t, 2), f1(spp_eq, 1),
-                         sci(r.get("relmse_ref")), sci(err_eq),
-                         f1(r.get("relmse_ref") / err_eq, 2) if err_eq and r.get("relmse_ref")
-                         else ""])
-    out.append(table(["scene", "HRPP variant", "spp", "wall s", "off spp in that time",
-                      "relMSE ref (HRPP)", "relMSE ref (off, same time)", "ratio"], body))
+            sk = r["kernels_ms_total"] / ck
+            sw = r["wall_s"] / cw
+            body.append([sc, r["variant"], r["spp"], f1(r["kernels_ms_total"], 0),
+                         f1(sk, 1), f1(r["wall_s"], 2), f1(sw, 1), sci(r["relmse_ref"]),
+                         sci(kerr / sk), f1(r["relmse_ref"] / (kerr / sk), 2)])
+    out.append(table(["scene", "HRPP variant", "spp", "kernels ms", "off spp, same kernel time",
+                      "wall s", "off spp, same wall time", "relMSE ref (HRPP)",
+                      "relMSE ref (off, same kernel time)", "ratio"], body))
     out.append("")
     for sc in sorted({r["scene"] for r in rs}):
         out.append(fig(figdir, results, f"error_time_{sc}.png", f"error vs time, {sc}"))
