@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/output_path.h"
 #include "app/hrpp_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
@@ -186,6 +187,7 @@ nlohmann::json tracer_json(const TracerResult& t) {
 }
 
 void run_bench(const BenchOptions& o) {
+  check_output_path(o.json, "--json");
   std::vector<RayKind> kinds;
   for (const std::string& k : o.kinds) kinds.push_back(parse_kind(k));
   if (o.rays == 0) throw Error("--rays: must be at least 1");
@@ -451,10 +453,7 @@ void run_bench(const BenchOptions& o) {
                  total_mismatches);
   }
   if (!o.json.empty()) {
-    std::ofstream out(o.json);
-    if (!out) throw Error(o.json + ": cannot write --json");
-    out << report.dump(2) << '\n';
-    if (!out) throw Error(o.json + ": cannot write --json");
+    write_file_atomically(o.json, report.dump(2) + "\n", "cannot write --json");
   }
   if (o.strict && total_mismatches > 0)
     throw Error("--strict: " + std::to_string(total_mismatches) +

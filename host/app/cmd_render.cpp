@@ -12,6 +12,7 @@
 
 #include "app/commands.h"
 #include "app/hrpp_options.h"
+#include "app/output_path.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -82,6 +83,8 @@ void run_render(RenderOptions& o) {
   check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
+  check_output_path(o.out, "--out");
+  check_output_path(o.stats, "--stats");
   o.render.predictor = o.hrpp.config();
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/output_path.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -37,6 +38,7 @@ const char* light_name(LightType t) {
 }
 
 void run_scene(const SceneOptions& o) {
+  check_output_path(o.dump_triangles, "--dump-triangles");
   const Scene scene = load_scene(o.scene);
   if (!o.dump_triangles.empty()) write_triangle_dump(scene, o.dump_triangles);
   const Bvh bvh = build_bvh(scene, o.bvh);

@@ -13,6 +13,7 @@
 
 #include "app/commands.h"
 #include "app/hrpp_options.h"
+#include "app/output_path.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -76,6 +77,8 @@ void write_hits(const std::filesystem::path& file, const std::vector<gpu::Hit>& 
 }
 
 void run_trace(const TraceOptions& o) {
+  check_output_path(o.hits, "--hits");
+  check_output_path(o.stats, "--stats");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
@@ -137,9 +140,7 @@ void run_trace(const TraceOptions& o) {
                               {"leaves_visited", c.leaves_visited},
                               {"triangles_tested", c.triangles_tested},
                               {"hrpp", hrpp_json}};
-    std::ofstream out(o.stats);
-    out << j.dump(2) << '\n';
-    if (!out) throw Error(o.stats + ": cannot write --stats");
+    write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write --stats");
   }
 }
 

@@ -27,6 +27,35 @@
 namespace hrpp {
 namespace {
 
+// Limits on what one file may expand to: a few hundred bytes of JSON can instance a mesh 2^40
+// times through a node graph that reuses nodes (a DAG), or name a file of any size as a buffer.
+constexpr std::size_t kMaxNodeInstances = std::size_t{1} << 20;  // nodes entered, all paths
+constexpr std::size_t kMaxTriangles = std::size_t{1} << 27;      // ~13 GiB of scene data
+constexpr std::uintmax_t kMaxExternalFileBytes = (std::uintmax_t{1} << 32) - 1;
+constexpr std::size_t kMaxJsonDepth = 512;  // real files nest < 10 levels
+
+// Deepest nesting of [ and { in a JSON text (outside strings); stops counting past the limit.
+std::size_t json_nesting_depth(const unsigned char* text, std::size_t size) {
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < size; ++i) {
+    const unsigned char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > kMaxJsonDepth) break;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 // tinygltf messages are multi-line; errors are one line.
 std::string one_line(std::string s) {
   for (char& c : s) {
@@ -53,6 +82,40 @@ bool defer_image(tinygltf::Image* image, const int /*image_idx*/, std::string* /
     image->as_is = true;
   }
   return true;
+}
+
+// tinygltf's file reader, made safe for any URI: only regular files (a directory, /dev/zero or
+// a FIFO would throw std::bad_alloc or block), at most kMaxExternalFileBytes.
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* /*user_data*/) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  std::string problem;
+  if (ec || !std::filesystem::exists(st)) {
+    problem = "not found";
+  } else if (!std::filesystem::is_regular_file(st)) {
+    problem = "is not a regular file";
+  } else {
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) {
+      problem = "cannot be read: " + ec.message();
+    } else if (size > kMaxExternalFileBytes) {
+      problem = "is 4 GiB or larger";
+    } else {
+      std::FILE* f = std::fopen(path.c_str(), "rb");
+      if (f == nullptr) {
+        problem = "cannot be opened";
+      } else {
+        out->resize(static_cast<std::size_t>(size));
+        const bool ok = std::fread(out->data(), 1, out->size(), f) == out->size();
+        std::fclose(f);
+        if (!ok) problem = "cannot be read";
+      }
+    }
+  }
+  if (problem.empty()) return true;
+  if (err != nullptr) *err += "file " + path + " " + problem;
+  return false;
 }
 
 const char* mode_name(int mode) {
@@ -272,6 +335,8 @@ class GltfLoader {
     } else if (gi.as_is) {
       bytes = gi.image.data();
       size = gi.image.size();
+    } else if (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0) {
+      fail("image " + std::to_string(img) + ": file " + gi.uri + " not found or unreadable");
     } else {
       fail("image " + std::to_string(img) + " has no data");
     }
@@ -418,6 +483,10 @@ class GltfLoader {
         fail(from + ": node " + std::to_string(node) + " does not exist");
       }
       if (state_[node] == 1) fail("node graph has a cycle through node " + std::to_string(node));
+      if (++instances_ > kMaxNodeInstances) {
+        fail("the node graph instances more than " + std::to_string(kMaxNodeInstances) +
+             " nodes (nodes reused by several parents)");
+      }
       const tinygltf::Node& n = m_.nodes[node];
       check_transform(n, node);
       const glm::dmat4 world = parent_world * node_local_matrix(n);
@@ -613,6 +682,10 @@ class GltfLoader {
                " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
         }
         wp[i] = glm::vec3(world * glm::dvec4(v, 1.0));
+        if (!std::isfinite(wp[i].x) || !std::isfinite(wp[i].y) || !std::isfinite(wp[i].z)) {
+          fail("accessor " + std::to_string(pos_it->second) + " (POSITION) element " +
+               std::to_string(i) + " is out of float range after the node transform");
+        }
       }
       if (has_normals) {
         for (std::size_t i = 0; i < nv; ++i) {
@@ -651,8 +724,11 @@ class GltfLoader {
       const std::uint32_t material = material_for(prim.material, mesh_index, static_cast<int>(p));
 
       const std::size_t nt = n_indices / 3;
-      scene_.triangles.reserve(scene_.triangles.size() + nt);
-      scene_.shading.reserve(scene_.shading.size() + nt);
+      if (nt > kMaxTriangles - scene_.triangles.size()) {
+        fail("more than " + std::to_string(kMaxTriangles) + " triangles");
+      }
+      // No reserve(size + nt) here: once per instance, it would defeat the vectors' geometric
+      // growth and copy every triangle loaded so far (quadratic in the instance count).
       for (std::size_t t = 0; t < nt; ++t) {
         std::uint32_t k[3];
         for (int c = 0; c < 3; ++c) {
@@ -689,6 +765,7 @@ class GltfLoader {
   std::vector<int> texture_of_image_;   // glTF image -> Scene::textures index, -1: not decoded
   std::set<int> texture_resolved_;
   std::vector<std::uint8_t> state_;     // per node: 1 while on the current path
+  std::size_t instances_ = 0;           // nodes entered so far, over every path
   int default_material_ = -1;
 };
 
@@ -702,40 +779,51 @@ Scene load_gltf(const std::filesystem::path& file) {
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(defer_image, nullptr);
-  tinygltf::Model model;
+  gltf.SetFsCallbacks(tinygltf::FsCallbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath,
+                                            &read_whole_file, &tinygltf::WriteWholeFile, nullptr});
+  std::vector<unsigned char> bytes;
   std::string err, warn;
+  if (!read_whole_file(&bytes, &err, name, nullptr)) throw Error(name + ": " + err);
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  bool binary = ext == ".glb";
-  if (ext != ".glb" && ext != ".gltf") {
-    // Unknown extension: sniff the GLB magic.
-    std::FILE* f = std::fopen(name.c_str(), "rb");
-    char magic[4] = {};
-    if (f != nullptr) {
-      binary = std::fread(magic, 1, 4, f) == 4 && std::memcmp(magic, "glTF", 4) == 0;
-      std::fclose(f);
+  auto u32_at = [&](std::size_t offset) {  // little-endian host (x86-64, aarch64)
+    std::uint32_t v = 0;
+    if (bytes.size() >= offset + 4) std::memcpy(&v, bytes.data() + offset, 4);
+    return v;
+  };
+  const bool magic = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  // Unknown extension: sniff the GLB magic.
+  const bool binary = ext == ".glb" || (ext != ".gltf" && magic);
+  std::size_t json_begin = 0, json_end = bytes.size();
+  if (binary && magic && bytes.size() >= 12) {
+    // tinygltf reads any GLB version; glTF 2.0 is version 2 (version 1 is the glTF 1.0 format).
+    if (u32_at(4) != 2) {
+      throw Error(name + ": GLB version " + std::to_string(u32_at(4)) +
+                  " is not supported (glTF 2.0 files are version 2)");
     }
+    json_begin = std::min<std::size_t>(20, bytes.size());
+    json_end = json_begin + std::min<std::size_t>(u32_at(12), bytes.size() - json_begin);
   }
-  const bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, name)
-                         : gltf.LoadASCIIFromFile(&model, &err, &warn, name);
+  // tinygltf converts JSON values recursively: deep nesting would overflow the stack.
+  const std::size_t depth = json_nesting_depth(bytes.data() + json_begin, json_end - json_begin);
+  if (depth > kMaxJsonDepth) {
+    throw Error(name + ": JSON nested " + std::to_string(depth) + " levels deep (at most " +
+                std::to_string(kMaxJsonDepth) + ")");
+  }
+  const std::string base_dir = file.parent_path().string();
+  tinygltf::Model model;
+  const auto size = static_cast<unsigned int>(bytes.size());  // < 4 GiB: read_whole_file
+  const bool ok = binary
+      ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, base_dir)
+      : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                 size, base_dir);
   if (!ok) {
     if (err.empty()) err = "cannot be parsed as glTF";
-    if (binary) {
-      // Say so when the GLB header promises more bytes than the file has.
-      std::uint8_t header[12] = {};
-      std::FILE* f = std::fopen(name.c_str(), "rb");
-      if (f != nullptr) {
-        const bool full = std::fread(header, 1, 12, f) == 12;
-        std::fclose(f);
-        std::uint32_t length = 0;
-        std::memcpy(&length, header + 8, 4);  // little-endian host (x86-64, aarch64)
-        const auto size = std::filesystem::file_size(file, ec);
-        if (full && std::memcmp(header, "glTF", 4) == 0 && !ec && length > size) {
-          err += " (truncated: the header says " + std::to_string(length) +
-                 " bytes, the file has " + std::to_string(size) + ")";
-        }
-      }
+    // Say so when the GLB header promises more bytes than the file has.
+    if (binary && magic && bytes.size() >= 12 && u32_at(8) > bytes.size()) {
+      err += " (truncated: the header says " + std::to_string(u32_at(8)) + " bytes, the file has " +
+             std::to_string(bytes.size()) + ")";
     }
     throw Error(one_line(name + ": " + err));
   }

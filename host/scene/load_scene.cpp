@@ -97,6 +97,10 @@ void add_default_camera(Scene& scene) {
 Scene load_scene(const std::string& spec) {
   Scene scene = dispatch(spec);
   if (scene.triangles.empty()) throw Error(spec + ": scene has no triangles");
+  if (std::all_of(scene.triangles.begin(), scene.triangles.end(), is_degenerate)) {
+    throw Error(spec + ": scene has no triangles with a non-zero area (all " +
+                std::to_string(scene.triangles.size()) + " are degenerate)");
+  }
   if (scene.cameras.empty()) add_default_camera(scene);
   return scene;
 }

@@ -56,6 +56,12 @@ class ManifestLoader {
         msg = msg.substr(p + 2);
       }
       fail("", "JSON syntax error at byte " + std::to_string(e.byte) + ": " + msg);
+    } catch (const json::exception& e) {  // e.g. out_of_range.406: a number like 1e999
+      std::string msg = e.what();
+      if (auto p = msg.find("] "); msg.rfind("[json.exception", 0) == 0 && p != std::string::npos) {
+        msg = msg.substr(p + 2);
+      }
+      fail("", "JSON error: " + msg);
     }
     if (!doc.is_object()) fail("", "the top level must be a JSON object");
     check_keys(doc, "", {"name", "objects", "lights", "camera"});

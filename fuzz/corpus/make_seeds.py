@@ -1,0 +1,130 @@
+#!/usr/bin/env python3
+"""Writes the fuzzers' seed corpora (committed; rerun only to change them): small VALID inputs
+that reach every part of the loaders. The malformed ones come from tests/data/bad/."""
+import base64
+import json
+import os
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def uri(data):
+    return "data:application/octet-stream;base64," + base64.b64encode(data).decode()
+
+
+def png(w, h):
+    rows = b"".join(b"\0" + b"".join(bytes([(x * 60) % 256, (y * 60) % 256, 128, 255])
+                                     for x in range(w)) for y in range(h))
+
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def full_doc():
+    """Two-node hierarchy, indexed u16 triangles with normals and uvs, a textured material,
+    a camera and a punctual light."""
+    pos = struct.pack("<12f", 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0)
+    nrm = struct.pack("<12f", *([0, 0, 1] * 4))
+    uv = struct.pack("<8f", 0, 0, 1, 0, 1, 1, 0, 1)
+    idx = struct.pack("<6H", 0, 1, 2, 0, 2, 3) + b"\0\0"
+    buf = pos + nrm + uv + idx
+    img = png(2, 2)
+    return {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "spot", "color": [1, 1, 1], "intensity": 5, "spot": {"outerConeAngle": 0.5}}]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"children": [1, 2], "translation": [0, 0, -2], "rotation": [0, 0.38268343, 0, 0.9238795],
+                   "scale": [2, 2, 2]},
+                  {"mesh": 0, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0, 0, 1]},
+                  {"camera": 0, "translation": [0, 0, 5],
+                   "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1, "aspectRatio": 1.5}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                                    "indices": 3, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.5, 1], "metallicFactor": 0.5,
+                                                "roughnessFactor": 0.3, "baseColorTexture": {"index": 0}},
+                       "emissiveFactor": [0.1, 0, 0],
+                       "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(img).decode()}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                        {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                        {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+                        {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
+        "buffers": [{"byteLength": len(buf), "uri": uri(buf)}],
+    }, buf
+
+
+def glb(d, binary):
+    d = json.loads(json.dumps(d))
+    d["buffers"] = [{"byteLength": len(binary)}]
+    j = json.dumps(d, separators=(",", ":")).encode()
+    j += b" " * (-len(j) % 4)
+    b = binary + b"\0" * (-len(binary) % 4)
+    body = struct.pack("<I", len(j)) + b"JSON" + j + struct.pack("<I", len(b)) + b"BIN\0" + b
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
+def put(folder, name, content):
+    os.makedirs(os.path.join(HERE, folder), exist_ok=True)
+    with open(os.path.join(HERE, folder, name), "wb") as f:
+        f.write(content if isinstance(content, bytes) else content.encode())
+
+
+def main():
+    d, buf = full_doc()
+    put("gltf", "full.gltf", json.dumps(d, separators=(",", ":")))
+    put("gltf", "full.glb", glb(d, buf))
+    tri = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+           "bufferViews": [{"buffer": 0, "byteLength": 36}],
+           "buffers": [{"byteLength": 36, "uri": uri(struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0))}]}
+    put("gltf", "triangle.gltf", json.dumps(tri, separators=(",", ":")))
+    u8 = json.loads(json.dumps(tri))
+    u8["meshes"][0]["primitives"][0]["indices"] = 1
+    data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + bytes([0, 1, 2, 0])
+    u8["accessors"].append({"bufferView": 1, "componentType": 5121, "count": 3, "type": "SCALAR"})
+    u8["bufferViews"].append({"buffer": 0, "byteOffset": 36, "byteLength": 3})
+    u8["buffers"] = [{"byteLength": len(data), "uri": uri(data)}]
+    put("gltf", "triangle_u8_indices.gltf", json.dumps(u8, separators=(",", ":")))
+
+    # Manifests: tri.glb is written next to the input by fuzz_manifest.cpp.
+    put("manifest", "full.scene.json", json.dumps({
+        "name": "seed",
+        "objects": [
+            {"gltf": "tri.glb", "fit": {"base": [0, 0, 0], "size": 2.0},
+             "transform": {"translate": [1, 0, 0], "rotate_deg": [0, 90, 0], "scale": [1, 2, 1]},
+             "material": {"type": "metal", "color": [0.9, 0.6, 0.5], "roughness": 0.1}},
+            {"gltf": "tri.glb", "transform": {"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 3, 1]},
+             "material": {"type": "glass", "ior": 1.3}},
+            {"quad": {"corner": [-5, 0, -5], "u": [0, 0, 10], "v": [10, 0, 0]},
+             "material": {"type": "emissive", "emission": [1, 1, 1], "strength": 3}},
+            {"quad": {"corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0]},
+             "material": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}}],
+        "lights": [
+            {"type": "area", "corner": [-0.5, 3, -0.5], "u": [1, 0, 0], "v": [0, 0, 1], "radiance": [10, 10, 10]},
+            {"type": "point", "position": [2, 3, 2], "intensity": [20, 20, 20]},
+            {"type": "environment", "radiance": [0.1, 0.1, 0.1]}],
+        "camera": {"position": [0, 0.6, 3], "target": [0, 0.4, 0], "up": [0, 1, 0], "yfov_deg": 40}},
+        indent=1))
+    put("manifest", "quad.scene.json",
+        '{"objects": [{"quad": {"corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0]}}]}')
+    put("manifest", "gltf_only.scene.json", '{"objects": [{"gltf": "tri.glb"}]}')
+
+
+if __name__ == "__main__":
+    main()
