@@ -1,0 +1,135 @@
+// Extreme cases on the CPU reference traversal (host/trace/): closest and any hit on every ray
+// group of tests/extreme_cases.h, in every frame (unit, translated by 1e4 and 1e6, scaled by
+// 1e-4 and 1e4), judged against the double-precision oracle (tests/double_reference.h, its
+// tolerances are explained there), plus exact rules: no ray from inside a closed mesh escapes
+// it, and crosses it exactly once (hits of triangles sharing the crossed edge or vertex have one
+// t); vertical rays never fall through the floor's shared edges and vertices; secondary rays
+// leaving a surface at grazing angles never hit it again; NaN/Inf/zero rays miss. Brute force
+// may pick another triangle on rays the oracle calls either way (see below); counted, printed.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "double_reference.h"
+#include "extreme_cases.h"
+#include "trace/brute_force.h"
+#include "trace/cpu_traversal.h"
+#include "trace/ray_setup.h"
+#include "trace/watertight.h"
+
+namespace hrpp {
+namespace {
+
+using test::RayGroup;
+
+// Distinct crossings of a ray with triangles [first, last): every triangle the float test hits,
+// their t values clustered (a crossing through a shared edge or vertex hits each triangle there
+// at the same t, up to rounding).
+int crossings(const Scene& s, const gpu::Ray& ray, int first, int last) {
+  const RaySetup r = setup_ray(ray);
+  std::vector<float> ts;
+  for (int i = first; i < last; ++i) {
+    TriangleHit h{};
+    const Triangle& t = s.triangles[i];
+    if (intersect_triangle(r, t.v0, t.v1, t.v2, ray.tmax, &h)) ts.push_back(h.t);
+  }
+  std::sort(ts.begin(), ts.end());
+  int n = 0;
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    if (i == 0 || ts[i] - ts[i - 1] > 1e-4f * std::max(1.0f, std::abs(ts[i]))) ++n;
+  return n;
+}
+
+class ExtremeRays : public testing::TestWithParam<test::Frame> {
+ protected:
+  void check(bool huge);
+};
+
+void ExtremeRays::check(bool huge) {
+  const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
+  const std::string name = GetParam().name + (huge ? "+huge" : "");
+  for (const RayGroup& g : x.groups) {
+    int oracle_fails = 0, brute_differs = 0, rule_fails = 0, hits = 0, crossing_fails = 0;
+    for (const gpu::Ray& ray : g.rays) {
+      const gpu::Hit h = trace_closest(bvh, ray);
+      const bool occluded = trace_any(bvh, ray);
+      hits += h.prim >= 0;
+      // Brute force with the same float tests gives the same answer except on rays the oracle
+      // calls either way (counted, printed): the slab test compares a box's rounded near
+      // distance with the unenlarged tmax, so a box whose hit lies at (or 1 ulp below) the
+      // current best t can be culled, and an axis-parallel ray lying exactly in a box's face
+      // plane gets an empty slab ((hi - o) * 2^80 = 0). Both answers are within the oracle's
+      // tolerance: checked below for the traversal's answer.
+      const gpu::Hit b = brute_force_closest(x.scene, ray);
+      if (b.prim != h.prim || (h.prim >= 0 && b.t != h.t)) ++brute_differs;
+      EXPECT_EQ(occluded, h.prim >= 0) << g.name;
+      const std::string why = test::judge_closest(x.scene, ray, h);
+      const std::string why_any = test::judge_any(x.scene, ray, occluded);
+      if (!why.empty() || !why_any.empty()) {
+        if (++oracle_fails <= 5) ADD_FAILURE() << g.name << ": " << why << why_any;
+      }
+      const bool in_range = h.prim >= g.first && h.prim < g.last;
+      if (!huge && ((g.rule == RayGroup::Rule::kHitRange && !in_range) ||
+          (g.rule == RayGroup::Rule::kAvoidRange && in_range))) {
+        if (++rule_fails <= 5)
+          ADD_FAILURE() << g.name << ": ray o=(" << ray.origin.x << "," << ray.origin.y << ","
+                        << ray.origin.z << ") d=(" << ray.dir.x << "," << ray.dir.y << ","
+                        << ray.dir.z << ") hit " << h.prim << " t=" << h.t;
+      }
+      // From inside a closed convex mesh: exactly one crossing of it.
+      if (!huge && g.name.rfind("inside_", 0) == 0 && crossings(x.scene, ray, g.first, g.last) != 1)
+        ++crossing_fails;
+    }
+    EXPECT_EQ(oracle_fails, 0) << name << " " << g.name;
+    EXPECT_EQ(rule_fails, 0) << name << " " << g.name << " (escapes / fall-throughs / self-hits)";
+    EXPECT_EQ(crossing_fails, 0) << name << " " << g.name << " (crossings != 1)";
+    std::printf("%-20s %-15s %5zu rays %5d hits, oracle fails %d, rule fails %d, "
+                "brute force differs (both right) %d\n",
+                name.c_str(), g.name.c_str(), g.rays.size(), hits, oracle_fails, rule_fails,
+                brute_differs);
+  }
+  // Invalid rays miss and are free (defined result, no hang).
+  for (const gpu::Ray& r : test::invalid_rays(x.scene.triangles[0].v0 * 0.0f + bvh.bounds.center())) {
+    EXPECT_EQ(trace_closest(bvh, r).prim, -1);
+    EXPECT_FALSE(trace_any(bvh, r));
+  }
+}
+
+TEST_P(ExtremeRays, CpuReferenceAgainstDoubleOracleAndExactRules) { check(false); }
+TEST_P(ExtremeRays, WithAHugeTriangleAgainstDoubleOracle) { check(true); }
+
+INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRays, testing::ValuesIn(test::extreme_frames()),
+                         [](const testing::TestParamInfo<test::Frame>& i) {
+                           std::string n = i.param.name;
+                           std::replace(n.begin(), n.end(), '-', 'm');
+                           return n;
+                         });
+
+// The oracle itself: a certain hit, a certain miss, an edge (either), a degenerate triangle.
+TEST(DoubleOracle, JudgesClearCasesAndToleratesEdges) {
+  const Triangle t{{-1, -1, 5}, {1, -1, 5}, {0, 1, 5}};
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kHit);
+  EXPECT_DOUBLE_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, inf}).t, 5.0);
+  EXPECT_EQ(test::oracle_triangle(t, {{3, 0, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kMiss);
+  EXPECT_EQ(test::oracle_triangle(t, {{0, -1, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kEither);
+  EXPECT_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, 4.0f}).verdict, test::Verdict::kMiss);
+  EXPECT_EQ(test::oracle_triangle({{0, 0, 5}, {1, 1, 5}, {2, 2, 5}}, {{1, 1, 0}, 0, {0, 0, 1}, inf}).verdict,
+            test::Verdict::kMiss);
+  Scene s;
+  s.triangles = {t};
+  // A wrong float answer is caught: a hit at the wrong t, a miss of a certain hit.
+  EXPECT_FALSE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {0, 5.01f, 0, 0}).empty());
+  EXPECT_FALSE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {-1, 0, 0, 0}).empty());
+  EXPECT_TRUE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {0, 5.0f, 0.25f, 0.5f}).empty());
+}
+
+}  // namespace
+}  // namespace hrpp
