@@ -1,0 +1,136 @@
+// Extreme cases on the Vulkan device (lavapipe here), closest and any hit: the rays of
+// tests/extreme_cases.h in every frame give the CPU reference's answers (same triangle, same t
+// within 1e-6 relative), so the oracle's verdicts and the exact rules (no escapes from closed
+// meshes, no fall-through, no self-hits of secondary rays) carry over; they are checked on the
+// device's answers directly too. NaN/Inf/zero rays miss with HRPP off and on, and through
+// `hrpp trace` (exit 0, every record a miss). The validation layer reports nothing.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "cli_runner.h"
+#include "extreme_cases.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/vulkan_context.h"
+#include "hrpp/predictor_config.h"
+#include "trace/cpu_traversal.h"
+
+namespace hrpp {
+namespace {
+
+using test::RayGroup;
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
+
+TEST_P(ExtremeRaysGpu, EqualsCpuReferenceAndKeepsTheExactRules) {
+  const test::ExtremeScene x = test::make_extreme_scene(GetParam(), false);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
+  rays.insert(rays.end(), invalid.begin(), invalid.end());
+
+  GpuTracer tracer(context(), bvh);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  const GpuTraceResult any = tracer.trace(rays, true);
+  ASSERT_EQ(closest.hits.size(), rays.size());
+  ASSERT_EQ(any.hits.size(), rays.size());
+
+  std::size_t i = 0;
+  for (const RayGroup& g : x.groups) {
+    int differs = 0, rule_fails = 0;
+    for (const gpu::Ray& ray : g.rays) {
+      const gpu::Hit& h = closest.hits[i];
+      const gpu::Hit ref = trace_closest(bvh, ray);
+      const bool same_t = ref.prim < 0 || std::abs(h.t - ref.t) <= 1e-6f * std::abs(ref.t);
+      if (h.prim != ref.prim || !same_t || (any.hits[i].prim >= 0) != trace_any(bvh, ray)) {
+        if (++differs <= 3)
+          ADD_FAILURE() << g.name << " ray " << i << ": gpu " << h.prim << " t " << h.t
+                        << ", cpu " << ref.prim << " t " << ref.t;
+      }
+      const bool in_range = h.prim >= g.first && h.prim < g.last;
+      if ((g.rule == RayGroup::Rule::kHitRange && !in_range) ||
+          (g.rule == RayGroup::Rule::kAvoidRange && in_range))
+        ++rule_fails;
+      ++i;
+    }
+    EXPECT_EQ(differs, 0) << GetParam().name << " " << g.name;
+    EXPECT_EQ(rule_fails, 0) << GetParam().name << " " << g.name;
+    std::printf("%-15s %-15s %5zu rays: gpu != cpu %d, rule fails %d\n", GetParam().name.c_str(),
+                g.name.c_str(), g.rays.size(), differs, rule_fails);
+  }
+  for (std::size_t k = 0; k < invalid.size(); ++k, ++i) {
+    EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << k;
+    EXPECT_EQ(any.hits[i].prim, -1) << "invalid ray " << k;
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysGpu, testing::ValuesIn(test::extreme_frames()),
+                         [](const testing::TestParamInfo<test::Frame>& f) {
+                           std::string n = f.param.name;
+                           for (char& c : n)
+                             if (c == '-') c = 'm';
+                           return n;
+                         });
+
+// HRPP on (exact closest, any hit): invalid rays still miss and never hang the probe or the
+// insert; valid rays keep the reference's answers.
+TEST(ExtremeRaysGpuHrpp, InvalidRaysMissWithThePredictorOn) {
+  const test::ExtremeScene x = test::make_extreme_scene(test::extreme_frames()[0], false);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
+  std::vector<gpu::Ray> rays = x.groups[0].rays;  // inside_sphere: all hit
+  const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
+  for (int rep = 0; rep < 4; ++rep) rays.insert(rays.end(), invalid.begin(), invalid.end());
+  PredictorConfig p;
+  p.enabled = true;
+  p.mode = PredictorMode::kExact;
+  GpuTracer tracer(context(), bvh, {}, p);
+  for (int pass = 0; pass < 2; ++pass) {  // the second pass probes a filled table
+    const GpuTraceResult c = tracer.trace(rays, false);
+    const GpuTraceResult a = tracer.trace(rays, true);
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+      const bool bad = k >= x.groups[0].rays.size();
+      EXPECT_EQ(c.hits[k].prim, bad ? -1 : trace_closest(bvh, rays[k]).prim) << k;
+      EXPECT_EQ(a.hits[k].prim >= 0, !bad) << k;
+    }
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// `hrpp trace` on a file of NaN/Inf/zero rays: exit 0, every record a miss, with HRPP off and on.
+class ExtremeTraceCli : public test::CliTest {};
+
+TEST_F(ExtremeTraceCli, InvalidRaysGiveMissesNotErrors) {
+  const std::vector<gpu::Ray> rays = test::invalid_rays({0.0f, 0.5f, 0.0f});
+  const std::filesystem::path rays_file = dir_ / "r.bin", hits_file = dir_ / "h.bin";
+  std::ofstream(rays_file, std::ios::binary)
+      .write(reinterpret_cast<const char*>(rays.data()),
+             static_cast<std::streamsize>(rays.size() * sizeof(gpu::Ray)));
+  for (const std::string extra : {"", " --any-hit", " --hrpp on --hrpp-mode exact",
+                                  " --any-hit --hrpp on"}) {
+    const test::CliResult r = run("trace --rays " + rays_file.string() + " --hits " +
+                                  hits_file.string() + " --validate" + extra);
+    ASSERT_EQ(r.status, 0) << extra << ": " << r.err;
+    std::vector<gpu::Hit> hits(rays.size());
+    std::ifstream in(hits_file, std::ios::binary);
+    ASSERT_TRUE(in.read(reinterpret_cast<char*>(hits.data()),
+                        static_cast<std::streamsize>(hits.size() * sizeof(gpu::Hit))));
+    for (const gpu::Hit& h : hits) EXPECT_EQ(h.prim, -1) << extra;
+  }
+}
+
+}  // namespace
+}  // namespace hrpp
