@@ -29,7 +29,7 @@ namespace {
 
 // Limits on what one file may expand to: a few hundred bytes of JSON can instance a mesh 2^40
 // times through a node graph that reuses nodes (a DAG), or name a file of any size as a buffer.
-constexpr std::size_t kMaxNodeInstances = std::size_t{1} << 20;  // nodes entered, all paths
+constexpr std::size_t kMaxReusedNodes = std::size_t{1} << 18;  // node visits beyond node count
 constexpr std::size_t kMaxTriangles = std::size_t{1} << 27;      // ~13 GiB of scene data
 constexpr std::uintmax_t kMaxExternalFileBytes = (std::uintmax_t{1} << 32) - 1;
 constexpr std::size_t kMaxJsonDepth = 512;  // real files nest < 10 levels
@@ -478,14 +478,18 @@ class GltfLoader {
       std::size_t next_child;
     };
     std::vector<Frame> stack;
-    auto enter = [&](int node, const glm::dmat4& parent_world, const std::string& from) {
+    // from -1: a root of the scene.
+    auto enter = [&](int node, const glm::dmat4& parent_world, int from) {
       if (node < 0 || static_cast<std::size_t>(node) >= m_.nodes.size()) {
-        fail(from + ": node " + std::to_string(node) + " does not exist");
+        fail((from < 0 ? std::string("scene") : "node " + std::to_string(from)) + ": node " +
+             std::to_string(node) + " does not exist");
       }
       if (state_[node] == 1) fail("node graph has a cycle through node " + std::to_string(node));
-      if (++instances_ > kMaxNodeInstances) {
-        fail("the node graph instances more than " + std::to_string(kMaxNodeInstances) +
-             " nodes (nodes reused by several parents)");
+      // A tree visits each node once; a DAG (nodes reused by several parents) can visit one
+      // node 2^depth times.
+      if (++instances_ > m_.nodes.size() + kMaxReusedNodes) {
+        fail("the node graph reuses nodes more than " + std::to_string(kMaxReusedNodes) +
+             " times (nodes with several parents)");
       }
       const tinygltf::Node& n = m_.nodes[node];
       check_transform(n, node);
@@ -494,14 +498,14 @@ class GltfLoader {
       emit_node(n, node, world);
       stack.push_back(Frame{node, world, 0});
     };
-    enter(root, parent, "scene");
+    enter(root, parent, -1);
     while (!stack.empty()) {
       Frame& f = stack.back();
       const tinygltf::Node& n = m_.nodes[f.node];
       if (f.next_child < n.children.size()) {
         const int child = n.children[f.next_child++];
         const glm::dmat4 world = f.world;  // f may dangle after push_back
-        enter(child, world, "node " + std::to_string(f.node));
+        enter(child, world, f.node);
       } else {
         state_[f.node] = 0;
         stack.pop_back();
