@@ -10,6 +10,7 @@ packages=(
   libglm-dev libtinygltf-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libembree-dev
   python3 python3-matplotlib python3-openimageio parallel
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -458,6 +458,9 @@ void run_bench(const BenchOptions& o) {
   if (o.strict && total_mismatches > 0)
     throw Error("--strict: " + std::to_string(total_mismatches) +
                 " mismatches against the CPU reference");
+  if (ctx && ctx->validation_messages() != 0)  // HRPP_VALIDATE=1 (bench has no --validate)
+    throw Error("HRPP_VALIDATE: " + std::to_string(ctx->validation_messages()) +
+                " Vulkan validation messages (printed above)");
 }
 
 }  // namespace

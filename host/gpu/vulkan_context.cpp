@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "common/error.h"
@@ -219,6 +220,10 @@ std::string device_list(const std::vector<DeviceInfo>& devices) {
 }  // namespace
 
 VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique<State>()) {
+  // HRPP_VALIDATE=1 turns validation on for every context of the process (CI's GPU tests, and
+  // the hrpp commands they run, whose --validate check then fails on any message).
+  const char* env = std::getenv("HRPP_VALIDATE");
+  const bool validate = options.validate || (env != nullptr && std::string(env) == "1");
   State& s = *s_;
   constexpr const char* kInstall =
       "install a Vulkan driver (Debian: apt-get install mesa-vulkan-drivers, for lavapipe)";
@@ -235,7 +240,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   VkInstanceCreateInfo ici{};
   ici.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   ici.pApplicationInfo = &app;
-  if (options.validate) {
+  if (validate) {
     if (!has_layer("VK_LAYER_KHRONOS_validation"))
       throw Error("--validate: the Vulkan layer VK_LAYER_KHRONOS_validation is not installed "
                   "(Debian: apt-get install vulkan-validationlayers)");
@@ -254,7 +259,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
     throw Error(std::string("no usable Vulkan driver (vkCreateInstance: ") + vk_result_name(ir) +
                 "); " + kInstall);
   check_vk(ir, "vkCreateInstance");
-  if (options.validate) {
+  if (validate) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(s.instance, "vkCreateDebugUtilsMessengerEXT"));
     if (!create) throw Error("--validate: vkCreateDebugUtilsMessengerEXT is missing");

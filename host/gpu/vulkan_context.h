@@ -17,7 +17,8 @@ struct VulkanOptions {
   // Vulkan's enumeration order; anything else: a case-insensitive substring of the device name.
   std::string device;
   // VK_LAYER_KHRONOS_validation with a debug-utils messenger that prints every warning and error
-  // to stderr and counts them (validation_messages()).
+  // to stderr and counts them (validation_messages()). Also on when the environment has
+  // HRPP_VALIDATE=1 (CI runs every GPU test so, and the commands treat any message as an error).
   bool validate = false;
 };
 
