@@ -29,7 +29,7 @@ namespace {
 
 // Limits on what one file may expand to: a few hundred bytes of JSON can instance a mesh 2^40
 // times through a node graph that reuses nodes (a DAG), or name a file of any size as a buffer.
-constexpr std::size_t kMaxReusedNodes = std::size_t{1} << 18;  // node visits beyond node count
+constexpr std::size_t kMaxReusedNodes = std::size_t{1} << 16;  // node visits beyond node count
 constexpr std::size_t kMaxTriangles = std::size_t{1} << 27;      // ~13 GiB of scene data
 constexpr std::uintmax_t kMaxExternalFileBytes = (std::uintmax_t{1} << 32) - 1;
 constexpr std::size_t kMaxJsonDepth = 512;  // real files nest < 10 levels
@@ -514,14 +514,15 @@ class GltfLoader {
   }
 
   void check_transform(const tinygltf::Node& n, int index) const {
-    const std::string where = "node " + std::to_string(index);
+    // No strings unless it fails: this runs on every visit of a node.
+    auto where = [&] { return "node " + std::to_string(index); };
     auto check = [&](const std::vector<double>& v, std::size_t want, const char* name) {
       if (!v.empty() && v.size() != want) {
-        fail(where + ": " + name + " has " + std::to_string(v.size()) + " numbers, expected " +
+        fail(where() + ": " + name + " has " + std::to_string(v.size()) + " numbers, expected " +
              std::to_string(want));
       }
       for (double d : v) {
-        if (!std::isfinite(d)) fail(where + ": " + name + " is not finite");
+        if (!std::isfinite(d)) fail(where() + ": " + name + " is not finite");
       }
     };
     check(n.matrix, 16, "matrix");
