@@ -19,6 +19,7 @@
 //                               offset by host/trace/offset_ray.h: must not hit that surface.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,8 @@ struct Frame {
   double scale = 1.0;
   glm::dvec3 offset{0.0};
 };
+
+inline void PrintTo(const Frame& f, std::ostream* os) { *os << f.name; }  // for GoogleTest
 
 // unit; translated by 1e4; translated by 1e6 (scale 100, so the unit sphere stays many float
 // steps wide); scaled by 1e-4; scaled by 1e4.
