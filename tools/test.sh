@@ -8,8 +8,9 @@ cd "$(dirname "$0")/.."
 tools/setup.sh
 tools/build.sh ci
 ctest --preset ci -j"$(nproc)" "$@"
-# The CPU tests (label unit) again under ASan + UBSan (clang), then each libFuzzer target for
-# 30 s (tools/fuzz.sh). HRPP_TEST_SANITIZERS=0 skips both (e.g. for a quick local run).
+# The CPU tests (label unit; the asan build preset lists their executables) again under
+# ASan + UBSan (clang), then each libFuzzer target for 30 s (tools/fuzz.sh).
+# HRPP_TEST_SANITIZERS=0 skips both (e.g. for a quick local run).
 if [ "${HRPP_TEST_SANITIZERS:-1}" != 0 ]; then
   tools/build.sh asan
   ctest --preset asan -j"$(nproc)"
