@@ -34,10 +34,13 @@ inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
   glm::vec3 out;
   for (int i = 0; i < 3; ++i) {
     const auto of_i = static_cast<std::int32_t>(kOffsetIntScale * n[i]);
-    const auto bits = std::bit_cast<std::int32_t>(p[i]);
+    const auto bits = std::bit_cast<std::uint32_t>(p[i]);
     // Moving the bit pattern of a negative float up makes it more negative: flip the sign of
-    // the step so the point always moves in the direction of n.
-    const float p_i = std::bit_cast<float>(bits + (p[i] < 0.0f ? -of_i : of_i));
+    // the step so the point always moves in the direction of n. Unsigned arithmetic wraps like
+    // the GLSL int does (-0.0 is INT32_MIN as an int: a signed step below it would be undefined
+    // behaviour in C++; its result is unused, |p| < kOffsetOrigin, but UBSan stops on it).
+    const auto step = static_cast<std::uint32_t>(p[i] < 0.0f ? -of_i : of_i);
+    const float p_i = std::bit_cast<float>(bits + step);
     out[i] = std::fabs(p[i]) < kOffsetOrigin ? p[i] + kOffsetFloatScale * n[i] : p_i;
   }
   return out;
