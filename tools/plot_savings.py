@@ -94,10 +94,10 @@ def goup(data, out, w):
                      label=f"{name}, net of verification")
     axes[0].set_ylabel("table entries / node ids")
     axes[1].set_ylabel("interior nodes skipped (%)")
-    for ax in axes:
+    for ax, loc in zip(axes, ("center", "best")):
         ax.set_xlabel("go-up level")
         ax.set_xticks(g)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc=loc)
         ax.grid(alpha=0.3)
     fig.suptitle(f"Go-up level (paper Fig. 4) - dragon, N=6, {res_of(rs)}", fontsize=10)
     save(fig, out, "goup.png", w)

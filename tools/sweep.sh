@@ -122,9 +122,11 @@ fi
 "$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
 "$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
 if [[ "$REPORT" == 1 ]]; then
+    desc="tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}"
+    [[ "$RUN" == 1 ]] || desc+=" --collect-only"
     "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" --results "$RESULTS" \
-        --mode "$MODE" --command "tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}" \
-        --elapsed $(( $(date +%s) - start ))
+        --mode "$MODE" --command "$desc" \
+        --elapsed $(( $(date +%s) - start )) --joblog "$OUT/joblog"
 fi
 echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $CSV, $FIGS$([[ $REPORT == 1 ]] && echo ", $RESULTS")"
 exit "$status"
