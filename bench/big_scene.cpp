@@ -55,11 +55,12 @@ int main(int argc, char** argv) {
   std::printf("scene       %zu triangles generated in %.0f ms\n", triangles, ms_since(t0));
   t0 = std::chrono::steady_clock::now();
   const hrpp::GpuBvh bvh = hrpp::make_gpu_layout(hrpp::build_bvh(scene), scene);
-  std::printf("bvh         built and laid out in %.0f ms: nodes %.1f MiB, leaves %.1f MiB, "
-              "triangles %.1f MiB (total %.1f MiB)\n",
-              ms_since(t0), mib(bvh.nodes.size() * sizeof(hrpp::gpu::BvhNode)),
-              mib(bvh.leaves.size() * sizeof(hrpp::gpu::BvhLeaf)),
-              mib(bvh.triangles.size() * sizeof(hrpp::gpu::TriangleRecord)), mib(bvh.bytes()));
+  std::printf(
+      "bvh         built and laid out in %.0f ms: nodes %.1f MiB, leaves %.1f MiB, "
+      "triangles %.1f MiB (total %.1f MiB)\n",
+      ms_since(t0), mib(bvh.nodes.size() * sizeof(hrpp::gpu::BvhNode)),
+      mib(bvh.leaves.size() * sizeof(hrpp::gpu::BvhLeaf)),
+      mib(bvh.triangles.size() * sizeof(hrpp::gpu::TriangleRecord)), mib(bvh.bytes()));
   try {
     hrpp::VulkanContext ctx(vk);
     const hrpp::DeviceInfo& d = ctx.info();
@@ -71,7 +72,8 @@ int main(int argc, char** argv) {
     std::printf("upload      %.0f ms: the scene fits\n", ms_since(t0));
     std::vector<hrpp::gpu::Ray> batch(rays);
     std::uniform_real_distribution<float> dir(-1.0f, 1.0f);
-    for (auto& r : batch) r = {{pos(rng), pos(rng), pos(rng)}, 0.0f, {dir(rng), dir(rng), dir(rng)}, 1e30f};
+    for (auto& r : batch)
+      r = {{pos(rng), pos(rng), pos(rng)}, 0.0f, {dir(rng), dir(rng), dir(rng)}, 1e30f};
     tracer.warm_up();
     const hrpp::GpuTraceResult res = tracer.trace(batch, false);
     std::printf("trace       %zu rays in %.1f ms kernel time: %.2f Mrays/s, %llu hits\n", rays,

@@ -16,8 +16,9 @@ namespace hrpp::fuzz {
 inline const std::filesystem::path& work_dir() {
   static const std::filesystem::path dir = [] {
     std::error_code ec;
-    std::filesystem::path base =
-        std::filesystem::is_directory("/dev/shm", ec) ? "/dev/shm" : std::filesystem::temp_directory_path();
+    std::filesystem::path base = std::filesystem::is_directory("/dev/shm", ec)
+                                     ? "/dev/shm"
+                                     : std::filesystem::temp_directory_path();
     std::filesystem::path d = base / ("hrpp-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d;

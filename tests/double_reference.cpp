@@ -70,9 +70,12 @@ OracleHit oracle_triangle(const Triangle& tri, const gpu::Ray& ray) {
   const double lo = ray.tmin, hi = ray.tmax;
   const bool in_range = out.t - out.t_tol >= lo && out.t + out.t_tol <= hi;
   const bool out_of_range = out.t + out.t_tol < lo || out.t - out.t_tol > hi;
-  if (outside || out_of_range) out.verdict = Verdict::kMiss;
-  else if (inside && in_range) out.verdict = Verdict::kHit;
-  else out.verdict = Verdict::kEither;
+  if (outside || out_of_range)
+    out.verdict = Verdict::kMiss;
+  else if (inside && in_range)
+    out.verdict = Verdict::kHit;
+  else
+    out.verdict = Verdict::kEither;
   return out;
 }
 
@@ -103,8 +106,8 @@ std::string judge_closest(const Scene& scene, const gpu::Ray& ray, const gpu::Hi
   const double far = std::isfinite(h.t) ? h.t - h.t_tol : static_cast<double>(hit.t);
   for (std::size_t i = 0; i < all.size(); ++i)
     if (all[i].verdict == Verdict::kHit && all[i].t + all[i].t_tol < far) {
-      why << describe(ray) << ": hit triangle " << hit.prim << " at t=" << hit.t
-          << " but triangle " << i << " is certainly hit closer, t=" << all[i].t;
+      why << describe(ray) << ": hit triangle " << hit.prim << " at t=" << hit.t << " but triangle "
+          << i << " is certainly hit closer, t=" << all[i].t;
       return why.str();
     }
   return "";

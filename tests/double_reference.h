@@ -31,7 +31,7 @@ enum class Verdict { kHit, kMiss, kEither };
 struct OracleHit {
   Verdict verdict = Verdict::kMiss;
   double t = std::numeric_limits<double>::infinity();  // exact distance (when not edge-on)
-  double t_tol = 0.0;                                   // bound on the float t's error
+  double t_tol = 0.0;                                  // bound on the float t's error
 };
 
 // One triangle.

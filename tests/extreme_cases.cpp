@@ -19,9 +19,7 @@ struct Builder {
   const Frame& frame;
   Scene& scene;
 
-  glm::vec3 place(const glm::dvec3& p) const {
-    return glm::vec3(p * frame.scale + frame.offset);
-  }
+  glm::vec3 place(const glm::dvec3& p) const { return glm::vec3(p * frame.scale + frame.offset); }
   int add(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     scene.triangles.push_back({place(a), place(b), place(c)});
     scene.shading.emplace_back();
@@ -32,12 +30,12 @@ struct Builder {
 // Icosphere: an icosahedron subdivided `levels` times, vertices pushed to the unit sphere.
 void icosphere(int levels, std::vector<glm::dvec3>& verts, std::vector<glm::ivec3>& faces) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  verts = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  verts = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+           {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (auto& v : verts) v = glm::normalize(v);
-  faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+  faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-           {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+           {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<int, int>, int> mid;
     auto midpoint = [&](int a, int b) {
@@ -125,9 +123,9 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
   x.floor_last = static_cast<int>(x.scene.triangles.size());
 
   // Degenerate triangles above the floor, left of the sphere: never hit.
-  b.add({-3, -1, 0}, {-3, -1, 0}, {-3, -1, 0});      // a point
-  b.add({-3, -1, 1}, {-3, -1, 1}, {-2, -1, 1.5});    // repeated vertex
-  b.add({-3.5, -1, -1}, {-3, -1, -1}, {-2.5, -1, -1});  // collinear
+  b.add({-3, -1, 0}, {-3, -1, 0}, {-3, -1, 0});              // a point
+  b.add({-3, -1, 1}, {-3, -1, 1}, {-2, -1, 1.5});            // repeated vertex
+  b.add({-3.5, -1, -1}, {-3, -1, -1}, {-2.5, -1, -1});       // collinear
   b.add({-3.5, -1.5, -1}, {-3, -1, -0.5}, {-2.5, -0.5, 0});  // collinear, oblique
 
   // Tiny triangles (edges 1e-7) near (-3, 1, 0), and near the world origin in unit frames.
@@ -164,7 +162,7 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
     for (const glm::dvec3 o : {glm::dvec3(0), glm::dvec3(0.3, -0.2, 0.1), glm::dvec3(0, 0.9, 0)}) {
       for (std::size_t i = 0; i < s.triangles.size() && static_cast<int>(i) < x.sphere_last; ++i) {
         const Triangle& t = s.triangles[i];
-        g.rays.push_back(ray_between(P(o), t.v0));                  // at a vertex
+        g.rays.push_back(ray_between(P(o), t.v0));                                  // at a vertex
         if (i % 2 == 0) g.rays.push_back(ray_between(P(o), 0.5f * (t.v0 + t.v1)));  // edge
       }
       for (int i = 0; i < 100; ++i) g.rays.push_back(ray_between(P(o), P(o + random_dir())));
@@ -177,7 +175,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
     for (const glm::dvec3 o : {cc, cc + glm::dvec3(0.1, 0.2, -0.3)}) {
       for (int i = 0; i < 8; ++i) {
         push_valid(g.rays, ray_between(P(o), P(cv[i])));
-        for (int k = i + 1; k < 8; ++k) push_valid(g.rays, ray_between(P(o), P(0.5 * (cv[i] + cv[k]))));
+        for (int k = i + 1; k < 8; ++k)
+          push_valid(g.rays, ray_between(P(o), P(0.5 * (cv[i] + cv[k]))));
       }
       for (int i = 0; i < 100; ++i) g.rays.push_back(ray_between(P(o), P(o + random_dir())));
     }
@@ -193,7 +192,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
   // floor_down: straight down (0, -1, 0) through the floor's inner grid vertices, edges and
   // cells (its outer boundary is no shared edge: a hit there is either way).
   {
-    RayGroup g{"floor_down", {}, RayGroup::Rule::kHitRange, 0, static_cast<int>(s.triangles.size())};
+    RayGroup g{
+        "floor_down", {}, RayGroup::Rule::kHitRange, 0, static_cast<int>(s.triangles.size())};
     for (int i = 1; i < 16; ++i)
       for (int k = 1; k < 16; ++k) {
         const glm::vec3 o = P({-4 + 0.5 * i, 3, -4 + 0.5 * k});
@@ -210,17 +210,17 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
     const glm::vec3 step = P({0, 1e-3, 0}) - P({0, 0, 0});
     for (const glm::vec3 d : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 0, 1),
                               glm::vec3(1, 0, 1), glm::vec3(1, 0, -1)}) {
-      g.rays.push_back({floor_pt, 0.0f, d, kInf});          // in the floor plane: edge-on
-      g.rays.push_back({floor_pt + step, 0.0f, d, kInf});   // just above
-      g.rays.push_back({floor_pt - step, 0.0f, d, kInf});   // just below
-      g.rays.push_back({cube_face, 0.0f, d, kInf});         // in the cube's top face plane
+      g.rays.push_back({floor_pt, 0.0f, d, kInf});         // in the floor plane: edge-on
+      g.rays.push_back({floor_pt + step, 0.0f, d, kInf});  // just above
+      g.rays.push_back({floor_pt - step, 0.0f, d, kInf});  // just below
+      g.rays.push_back({cube_face, 0.0f, d, kInf});        // in the cube's top face plane
     }
     for (int a = 0; a < 3; ++a)
       for (float sgn : {-1.0f, 1.0f}) {
         glm::vec3 d(0.0f);
         d[a] = sgn;
-        for (const glm::dvec3 o : {glm::dvec3(0, 0, 0), glm::dvec3(3, 0.5, 0.5), glm::dvec3(-5, -2, 0),
-                                   glm::dvec3(0.5, 0.25, -5)})
+        for (const glm::dvec3 o : {glm::dvec3(0, 0, 0), glm::dvec3(3, 0.5, 0.5),
+                                   glm::dvec3(-5, -2, 0), glm::dvec3(0.5, 0.25, -5)})
           g.rays.push_back({P(o), 0.0f, d, kInf});
       }
     // Subnormal and tiny direction components (valid rays; 1/d overflows to the ±2^80 clamp).
@@ -279,7 +279,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
     RayGroup g{"grazing", {}, RayGroup::Rule::kOracleOnly, 0, 0};
     for (int k = 1; k <= 6; ++k) {
       const double th = std::pow(10.0, -k);
-      for (const glm::dvec2 dir2 : {glm::dvec2(1, 0), glm::dvec2(0.6, 0.8), glm::dvec2(-0.8, 0.6)}) {
+      for (const glm::dvec2 dir2 :
+           {glm::dvec2(1, 0), glm::dvec2(0.6, 0.8), glm::dvec2(-0.8, 0.6)}) {
         const double L = 3.0;  // hits ~3 units from the start, inside the floor
         const glm::dvec3 target(-3.5 + 0.3 * k, -2, 3.2 - 0.4 * k);
         const glm::dvec3 d(dir2.x * std::cos(th), -std::sin(th), dir2.y * std::cos(th));
@@ -296,7 +297,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
       const Triangle& t = s.triangles[i];
       if (glm::length(t.v1 - t.v0) > 1e-5f * static_cast<float>(frame.scale)) continue;
       const glm::vec3 c = (t.v0 + t.v1 + t.v2) / 3.0f;
-      for (const glm::dvec3 from : {glm::dvec3(-3, 1, 5), glm::dvec3(-3, 1.2, -5), glm::dvec3(0, 3, 3)})
+      for (const glm::dvec3 from :
+           {glm::dvec3(-3, 1, 5), glm::dvec3(-3, 1.2, -5), glm::dvec3(0, 3, 3)})
         g.rays.push_back(ray_between(P(from), c));
     }
     x.groups.push_back(std::move(g));
@@ -316,9 +318,11 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
         for (int k = 1; k <= 6; ++k) {
           const float th = std::pow(10.0f, static_cast<float>(-k));
           const float phi = 6.2831853f * u01(rng);
-          g.rays.push_back({o, 0.0f,
-                            {std::cos(th) * std::cos(phi), std::sin(th), std::cos(th) * std::sin(phi)},
-                            kInf});
+          g.rays.push_back(
+              {o,
+               0.0f,
+               {std::cos(th) * std::cos(phi), std::sin(th), std::cos(th) * std::sin(phi)},
+               kInf});
         }
       }
     }
@@ -335,7 +339,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
       const glm::vec3 n = facing_normal(t, t.v0 - P({0, 0, 0})) * -1.0f;  // outward
       const glm::vec3 e = glm::normalize(t.v1 - t.v0);
       const glm::vec3 f = glm::cross(n, e);
-      for (const glm::vec2 bc : {glm::vec2(0.3f, 0.3f), glm::vec2(0.5f, 0.5f), glm::vec2(0.0f, 0.5f)}) {
+      for (const glm::vec2 bc :
+           {glm::vec2(0.3f, 0.3f), glm::vec2(0.5f, 0.5f), glm::vec2(0.0f, 0.5f)}) {
         const glm::vec3 o = offset_ray_origin(barycentric_point(t, bc.x, bc.y), n);
         for (int k = 1; k <= 6; ++k) {
           const float th = std::pow(10.0f, static_cast<float>(-k));
@@ -355,13 +360,20 @@ std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside) {
   const float inf = kInf;
   const glm::vec3 o = inside;
   return {
-      {{nan, o.y, o.z}, 0, {0, 0, 1}, inf},   {{o.x, -inf, o.z}, 0, {0, 0, 1}, inf},
-      {{inf, inf, inf}, 0, {1, 1, 1}, inf},   {o, 0, {nan, 0, 1}, inf},
-      {o, 0, {0, inf, 0}, inf},               {o, 0, {-inf, -inf, -inf}, inf},
-      {o, 0, {nan, nan, nan}, inf},           {o, 0, {0, 0, 0}, inf},
-      {o, 0, {-0.0f, 0.0f, -0.0f}, inf},      {o, nan, {0, 0, 1}, inf},
-      {o, 0, {0, 0, 1}, nan},                 {o, inf, {0, 0, 1}, inf},
-      {o, 1.0f, {0, 0, 1}, 0.5f},             {o, 0, {0, 0, 1}, -inf},
+      {{nan, o.y, o.z}, 0, {0, 0, 1}, inf},
+      {{o.x, -inf, o.z}, 0, {0, 0, 1}, inf},
+      {{inf, inf, inf}, 0, {1, 1, 1}, inf},
+      {o, 0, {nan, 0, 1}, inf},
+      {o, 0, {0, inf, 0}, inf},
+      {o, 0, {-inf, -inf, -inf}, inf},
+      {o, 0, {nan, nan, nan}, inf},
+      {o, 0, {0, 0, 0}, inf},
+      {o, 0, {-0.0f, 0.0f, -0.0f}, inf},
+      {o, nan, {0, 0, 1}, inf},
+      {o, 0, {0, 0, 1}, nan},
+      {o, inf, {0, 0, 1}, inf},
+      {o, 1.0f, {0, 0, 1}, 0.5f},
+      {o, 0, {0, 0, 1}, -inf},
   };
 }
 

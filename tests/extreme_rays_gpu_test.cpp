@@ -57,8 +57,8 @@ TEST_P(ExtremeRaysGpu, EqualsCpuReferenceAndKeepsTheExactRules) {
       const bool same_t = ref.prim < 0 || std::abs(h.t - ref.t) <= 1e-6f * std::abs(ref.t);
       if (h.prim != ref.prim || !same_t || (any.hits[i].prim >= 0) != trace_any(bvh, ray)) {
         if (++differs <= 3)
-          ADD_FAILURE() << g.name << " ray " << i << ": gpu " << h.prim << " t " << h.t
-                        << ", cpu " << ref.prim << " t " << ref.t;
+          ADD_FAILURE() << g.name << " ray " << i << ": gpu " << h.prim << " t " << h.t << ", cpu "
+                        << ref.prim << " t " << ref.t;
       }
       const bool in_range = h.prim >= g.first && h.prim < g.last;
       if ((g.rule == RayGroup::Rule::kHitRange && !in_range) ||
@@ -119,8 +119,8 @@ TEST_F(ExtremeTraceCli, InvalidRaysGiveMissesNotErrors) {
   std::ofstream(rays_file, std::ios::binary)
       .write(reinterpret_cast<const char*>(rays.data()),
              static_cast<std::streamsize>(rays.size() * sizeof(gpu::Ray)));
-  for (const std::string extra : {"", " --any-hit", " --hrpp on --hrpp-mode exact",
-                                  " --any-hit --hrpp on"}) {
+  for (const std::string extra :
+       {"", " --any-hit", " --hrpp on --hrpp-mode exact", " --any-hit --hrpp on"}) {
     const test::CliResult r = run("trace --rays " + rays_file.string() + " --hits " +
                                   hits_file.string() + " --validate" + extra);
     ASSERT_EQ(r.status, 0) << extra << ": " << r.err;

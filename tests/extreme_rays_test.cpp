@@ -77,7 +77,7 @@ void ExtremeRays::check(bool huge) {
       }
       const bool in_range = h.prim >= g.first && h.prim < g.last;
       if (!huge && ((g.rule == RayGroup::Rule::kHitRange && !in_range) ||
-          (g.rule == RayGroup::Rule::kAvoidRange && in_range))) {
+                    (g.rule == RayGroup::Rule::kAvoidRange && in_range))) {
         if (++rule_fails <= 5)
           ADD_FAILURE() << g.name << ": ray o=(" << ray.origin.x << "," << ray.origin.y << ","
                         << ray.origin.z << ") d=(" << ray.dir.x << "," << ray.dir.y << ","
@@ -90,13 +90,14 @@ void ExtremeRays::check(bool huge) {
     EXPECT_EQ(oracle_fails, 0) << name << " " << g.name;
     EXPECT_EQ(rule_fails, 0) << name << " " << g.name << " (escapes / fall-throughs / self-hits)";
     EXPECT_EQ(crossing_fails, 0) << name << " " << g.name << " (crossings != 1)";
-    std::printf("%-20s %-15s %5zu rays %5d hits, oracle fails %d, rule fails %d, "
-                "brute force differs (both right) %d\n",
-                name.c_str(), g.name.c_str(), g.rays.size(), hits, oracle_fails, rule_fails,
-                brute_differs);
+    std::printf(
+        "%-20s %-15s %5zu rays %5d hits, oracle fails %d, rule fails %d, "
+        "brute force differs (both right) %d\n",
+        name.c_str(), g.name.c_str(), g.rays.size(), hits, oracle_fails, rule_fails, brute_differs);
   }
   // Invalid rays miss and are free (defined result, no hang).
-  for (const gpu::Ray& r : test::invalid_rays(x.scene.triangles[0].v0 * 0.0f + bvh.bounds.center())) {
+  for (const gpu::Ray& r :
+       test::invalid_rays(x.scene.triangles[0].v0 * 0.0f + bvh.bounds.center())) {
     EXPECT_EQ(trace_closest(bvh, r).prim, -1);
     EXPECT_FALSE(trace_any(bvh, r));
   }
@@ -119,16 +120,20 @@ TEST(DoubleOracle, JudgesClearCasesAndToleratesEdges) {
   EXPECT_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kHit);
   EXPECT_DOUBLE_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, inf}).t, 5.0);
   EXPECT_EQ(test::oracle_triangle(t, {{3, 0, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kMiss);
-  EXPECT_EQ(test::oracle_triangle(t, {{0, -1, 0}, 0, {0, 0, 1}, inf}).verdict, test::Verdict::kEither);
-  EXPECT_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, 4.0f}).verdict, test::Verdict::kMiss);
-  EXPECT_EQ(test::oracle_triangle({{0, 0, 5}, {1, 1, 5}, {2, 2, 5}}, {{1, 1, 0}, 0, {0, 0, 1}, inf}).verdict,
+  EXPECT_EQ(test::oracle_triangle(t, {{0, -1, 0}, 0, {0, 0, 1}, inf}).verdict,
+            test::Verdict::kEither);
+  EXPECT_EQ(test::oracle_triangle(t, {{0, 0, 0}, 0, {0, 0, 1}, 4.0f}).verdict,
+            test::Verdict::kMiss);
+  EXPECT_EQ(test::oracle_triangle({{0, 0, 5}, {1, 1, 5}, {2, 2, 5}}, {{1, 1, 0}, 0, {0, 0, 1}, inf})
+                .verdict,
             test::Verdict::kMiss);
   Scene s;
   s.triangles = {t};
   // A wrong float answer is caught: a hit at the wrong t, a miss of a certain hit.
   EXPECT_FALSE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {0, 5.01f, 0, 0}).empty());
   EXPECT_FALSE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {-1, 0, 0, 0}).empty());
-  EXPECT_TRUE(test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {0, 5.0f, 0.25f, 0.5f}).empty());
+  EXPECT_TRUE(
+      test::judge_closest(s, {{0, 0, 0}, 0, {0, 0, 1}, inf}, {0, 5.0f, 0.25f, 0.5f}).empty());
 }
 
 }  // namespace

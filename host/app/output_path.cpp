@@ -29,7 +29,8 @@ void check_output_path(const std::string& path, const std::string& flag) {
   }
 }
 
-void write_file_atomically(const std::string& path, std::string_view bytes, const std::string& what) {
+void write_file_atomically(const std::string& path, std::string_view bytes,
+                           const std::string& what) {
   const std::string tmp = path + ".partial";
   std::error_code ec;
   {

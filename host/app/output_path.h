@@ -14,6 +14,7 @@ void check_output_path(const std::string& path, const std::string& flag);
 
 // Writes bytes to PATH.partial and renames it to PATH; on any error removes the partial file
 // and throws hrpp::Error naming PATH and `what` (e.g. "cannot write stats").
-void write_file_atomically(const std::string& path, std::string_view bytes, const std::string& what);
+void write_file_atomically(const std::string& path, std::string_view bytes,
+                           const std::string& what);
 
 }  // namespace hrpp::app

@@ -33,6 +33,7 @@ constexpr std::size_t kMaxReusedNodes = std::size_t{1} << 16;  // node visits be
 constexpr std::size_t kMaxTriangles = std::size_t{1} << 27;      // ~13 GiB of scene data
 constexpr std::uintmax_t kMaxExternalFileBytes = (std::uintmax_t{1} << 32) - 1;
 constexpr std::size_t kMaxJsonDepth = 512;  // real files nest < 10 levels
+constexpr std::uint32_t kMaxTextureSide = 16384;  // 1 GiB decoded at most
 
 // Deepest nesting of [ and { in a JSON text (outside strings); stops counting past the limit.
 std::size_t json_nesting_depth(const unsigned char* text, std::size_t size) {
@@ -342,6 +343,21 @@ class GltfLoader {
     }
     if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       fail("image " + std::to_string(img) + " has an invalid size");
+    }
+    // A PNG's size is in its header: refuse a decompression bomb (a few MB of zeros that
+    // inflate to gigabytes) before stb_image allocates it.
+    if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0) {
+      auto be32 = [&](std::size_t o) {  // IHDR width at byte 16, height at 20, big-endian
+        std::uint32_t v = 0;
+        for (std::size_t k = 0; k < 4; ++k) v = v << 8 | bytes[o + k];
+        return v;
+      };
+      const std::uint32_t w = be32(16), h = be32(20);
+      if (w > kMaxTextureSide || h > kMaxTextureSide) {
+        fail("image " + std::to_string(img) + ": PNG of " + std::to_string(w) + " x " +
+             std::to_string(h) + " pixels, larger than " + std::to_string(kMaxTextureSide) +
+             " on a side");
+      }
     }
     tinygltf::Image decoded;
     decoded.name = gi.name;
