@@ -3,29 +3,18 @@
 relMSE against the high-spp reference versus wall time and versus trace-kernel time for HRPP
 off, speculative and exact (spp ladders; runs without --hrpp-count), and the error each HRPP
 configuration adds against the HRPP-off image of the same seed and spp."""
-import argparse
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_common import read_csv, rows  # noqa: E402
+import plot_common  # noqa: E402
+from plot_common import plt, save  # noqa: E402
+from sweep_common import rows  # noqa: E402
 
 VARIANTS = (("off", "HRPP off", "k", "o-"), ("exact-small", "exact, small table", "tab:green", "s--"),
             ("spec-small", "speculative, small table", "tab:red", "^-"),
             ("spec-unbounded", "speculative, unbounded", "tab:purple", "v-"))
-
-
-def save(fig, out, name, written):
-    p = os.path.join(out, name)
-    fig.tight_layout()
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    written.append(p)
 
 
 def errtime(data, out, w):
@@ -140,20 +129,5 @@ def kernels(data, out, w):
     save(fig, out, "kernels_table1.png", w)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--csv", required=True)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    data = read_csv(a.csv)
-    w = []
-    errtime(data, a.out, w)
-    error_off(data, a.out, w)
-    kernels(data, a.out, w)
-    for p in w:
-        print(f"plot_error_time: {p}")
-
-
 if __name__ == "__main__":
-    main()
+    plot_common.main("plot_error_time", __doc__, (errtime, error_off, kernels))

@@ -2,27 +2,16 @@
 """Limit study figures from the sweep CSV (tools/sweep.sh): Table 1 against the paper, hash
 precision, go-up level, spp, bounded tables and hash functions. Writes PNGs into --out; a grid
 the CSV lacks is skipped."""
-import argparse
 import os
 import sys
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_common import PAPER_TABLE1, read_csv, rows  # noqa: E402
+import plot_common  # noqa: E402
+from plot_common import finish_bytes_axes, plot_savings_by_bytes, plt, save  # noqa: E402
+from sweep_common import PAPER_TABLE1, rows  # noqa: E402
 
 CLS = (("all", "hit-all"), ("any", "hit-any"))
-
-
-def save(fig, out, name, written):
-    p = os.path.join(out, name)
-    fig.tight_layout()
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    written.append(p)
 
 
 def res_of(rs):
@@ -143,19 +132,14 @@ def bounded(data, out, w):
                                 and r.get("policy") == pol and r.get("kib") != "unbounded"),
                                key=lambda r: r[f"{c}_table_bytes"])
                     if p:
-                        ax.plot([r[f"{c}_table_bytes"] / 1024 for r in p],
-                                [100 * (r.get(f"{c}_savings") or 0) for r in p], "o" + ls,
-                                label=f"{ways} way{'s' if ways > 1 else ''}, {pol}", ms=4)
+                        plot_savings_by_bytes(ax, c, p, "o" + ls,
+                                              f"{ways} way{'s' if ways > 1 else ''}, {pol}")
             if unb:
                 u = unb[0]
                 ax.scatter([u[f"{c}_table_bytes"] / 1024], [100 * (u.get(f"{c}_savings") or 0)],
                            marker="*", s=150, color="k", zorder=5, label="unbounded (16 ways)")
-            ax.set_xscale("log")
-            ax.set_xlabel("table bytes per ray class (KiB, allocated)")
-            ax.set_ylabel("interior nodes skipped (%)")
-            ax.set_title(f"{name}: {sc}, {res_of(srs)}, hash hrpp N=6, 8 nodes/entry")
-            ax.legend(fontsize=7)
-            ax.grid(alpha=0.3)
+            finish_bytes_axes(ax, "table bytes per ray class (KiB, allocated)",
+                              f"{name}: {sc}, {res_of(srs)}, hash hrpp N=6, 8 nodes/entry", 7)
         save(fig, out, f"bounded_{sc}.png", w)
 
         fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
@@ -167,14 +151,9 @@ def bounded(data, out, w):
                 u = [r for r in srs if r.get("hash") == h and r.get("kib") == "unbounded"]
                 p = p + u
                 if p:
-                    ax.plot([r[f"{c}_table_bytes"] / 1024 for r in p],
-                            [100 * (r.get(f"{c}_savings") or 0) for r in p], "o-", label=h, ms=4)
-            ax.set_xscale("log")
-            ax.set_xlabel("table bytes per ray class (KiB; last point: unbounded)")
-            ax.set_ylabel("interior nodes skipped (%)")
-            ax.set_title(f"{name}: hash functions, {sc}, 8 ways LRU, N=6")
-            ax.legend(fontsize=8)
-            ax.grid(alpha=0.3)
+                    plot_savings_by_bytes(ax, c, p, "o-", h)
+            finish_bytes_axes(ax, "table bytes per ray class (KiB; last point: unbounded)",
+                              f"{name}: hash functions, {sc}, 8 ways LRU, N=6", 8)
         save(fig, out, f"hashes_{sc}.png", w)
 
 
@@ -195,19 +174,5 @@ def test(data, out, w):
     save(fig, out, "test_savings.png", w)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--csv", required=True)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
-    data = read_csv(a.csv)
-    w = []
-    for f in (table1, precision, goup, spp, bounded, test):
-        f(data, a.out, w)
-    for p in w:
-        print(f"plot_savings: {p}")
-
-
 if __name__ == "__main__":
-    main()
+    plot_common.main("plot_savings", __doc__, (table1, precision, goup, spp, bounded, test))

@@ -92,5 +92,8 @@ void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeli
                               KernelTimer* timer);
 // Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
 void indirect_args_barrier(VkCommandBuffer cmd);
+// Makes transfer (fill, update, copy) and compute-shader writes visible to later transfers,
+// dispatches and host reads.
+void transfer_compute_barrier(VkCommandBuffer cmd);
 
 }  // namespace hrpp

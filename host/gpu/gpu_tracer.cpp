@@ -181,9 +181,10 @@ struct GpuTracer::State {
     return pc;
   }
 
-  // Zeroes the class's counters and sets their ray count: on the host's word (`count`), or
-  // copied from `queue` at `count_offset`. Transfers to disjoint bytes, then one barrier.
-  void reset_counters(VkCommandBuffer cmd, bool any_hit, const std::uint32_t* count,
+  // Before a recorded trace: zeroes the class's counters and sets their ray count, on the
+  // host's word (`count`) or copied from `queue` at `count_offset` (transfers to disjoint bytes,
+  // then one barrier), and starts HRPP's use stamps at the class's clock.
+  void prepare_trace(VkCommandBuffer cmd, bool any_hit, const std::uint32_t* count,
                       const StorageBuffer* queue, VkDeviceSize count_offset) {
     const VkBuffer c = classes[any_hit].counters.handle();
     gpu::TraceCounters start{};
@@ -199,26 +200,15 @@ struct GpuTracer::State {
       const VkBufferCopy region{count_offset, at, word};
       vkCmdCopyBuffer(cmd, queue->handle(), c, 1, &region);
     }
-    transfer_barrier(cmd);
-  }
-
-  static void transfer_barrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier b{};
-    b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
-                         1, &b, 0, nullptr, 0, nullptr);
+    transfer_compute_barrier(cmd);
+    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
   }
 
   void record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count, KernelTimer* t) {
     check_resident(any_hit, count);
-    reset_counters(cmd, any_hit, &count, nullptr, 0);
+    prepare_trace(cmd, any_hit, &count, nullptr, 0);
     ComputePipeline& p = kernel(any_hit);
     const gpu::TracePushConstants pc = push_constants();
-    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
     if (predicts(any_hit) && predictor->config().batch > 0) {
       predictor->record_batches(cmd, p, pc, classes[any_hit].counters, any_hit, count,
                                 classes[any_hit].clock);
@@ -234,10 +224,9 @@ struct GpuTracer::State {
       throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
     if (classes[any_hit].rays.size() == 0)
       throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
-    reset_counters(cmd, any_hit, nullptr, &queue, count_offset);
+    prepare_trace(cmd, any_hit, nullptr, &queue, count_offset);
     ComputePipeline& p = kernel(any_hit);
     const gpu::TracePushConstants pc = push_constants();
-    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
     record_dispatch_indirect(cmd, p, &pc, queue, args_offset, t);
   }
 
@@ -338,7 +327,6 @@ std::size_t GpuTracer::max_dispatch_rays() const { return s_->chunk_rays(); }
 
 GpuTraceResult GpuTracer::trace_resident(std::size_t count, bool any_hit) {
   if (count == 0) return {};
-  s_->check_resident(any_hit, count);
   const std::string what = s_->kernel(any_hit).name();
   s_->ctx->submit_and_wait(
       [&](VkCommandBuffer cmd) {

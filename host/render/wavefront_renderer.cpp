@@ -56,19 +56,6 @@ std::array<SpecializationConstant, HRPP_FEATURE_COUNT> specialization(const Rend
   return s;
 }
 
-void add_barrier(VkCommandBuffer cmd) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                    VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
-                    VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
-                           VK_PIPELINE_STAGE_HOST_BIT,
-                       0, 1, &b, 0, nullptr, 0, nullptr);
-}
-
 // The queues at the start of a bounce: empty, indirect dispatches of (0, 1, 1) workgroups.
 constexpr gpu::RenderQueues kRenderQueuesStart = [] {
   gpu::RenderQueues q{};
@@ -257,8 +244,8 @@ struct WavefrontRenderer::State {
 
   // Paths of pixels [first, first + n) for one sample, to the end. One command buffer per
   // bounce: (generate | move the continuation rays into place) → trace_closest → render_shade
-  // → trace_any → render_accumulate, the last two dispatched indirectly from the shadow queue; the host reads the queues once per bounce to check completion and
-  // size the next one.
+  // → trace_any → render_accumulate, the last two dispatched indirectly from the shadow queue;
+  // the host reads the queues once per bounce to check completion and size the next one.
   void trace_wavefront(std::uint32_t first, std::uint32_t n, std::uint32_t sample,
                        FrameStats& stats) {
     const bool indirect = tracer.records_indirect(true);
@@ -278,7 +265,7 @@ struct WavefrontRenderer::State {
               const VkBufferCopy states{0, 0, std::size_t{n} * sizeof(gpu::PathState)};
               vkCmdCopyBuffer(cmd, next_paths.handle(), paths.handle(), 1, &states);
             }
-            add_barrier(cmd);
+            transfer_compute_barrier(cmd);
             if (depth == 0) {
               const gpu::RenderPushConstants pc{first, n, sample, 0};
               record_dispatch(cmd, generate, &pc, groups(n), &timer);
@@ -302,7 +289,6 @@ struct WavefrontRenderer::State {
       add_trace(tracer.finish(false), false, stats);
       std::uint32_t accumulated = q.done[HRPP_RENDER_DONE_ACCUMULATE];
       if (!indirect && q.shadow_rays > 0) {  // HRPP batched mode: a second submit
-        tracer.begin(true);
         accumulated = submit([&](VkCommandBuffer cmd) { record_shadows(cmd, &q.shadow_rays, depth); },
                              "render shadows", stats)
                           .done[HRPP_RENDER_DONE_ACCUMULATE];
