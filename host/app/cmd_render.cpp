@@ -1,12 +1,9 @@
 // hrpp render [SCENE] --spp N --size WxH --max-depth D --seed S --out FILE --stats FILE: the
 // wavefront path tracer (host/render/) on the Vulkan device; prints per-kernel device time and
 // per-ray-class counters, writes the image (EXR linear, PNG sRGB) and optionally the stats JSON.
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -45,28 +42,6 @@ void parse_size(const std::string& s, RenderConfig& c) {
     throw Error("--size \"" + s + "\": expected WxH with 1..16384 each, e.g. 256x256");
   c.width = w;
   c.height = h;
-}
-
-// Next to the target, then renamed: an error never leaves a partial file.
-void write_json(const std::filesystem::path& file, const nlohmann::json& j) {
-  const std::filesystem::path tmp = file.string() + ".partial";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write stats: " + std::strerror(errno));
-    out << j.dump(2) << '\n';
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": cannot write stats");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot write stats: " + ec.message());
-  }
 }
 
 // Ranges checked here rather than by CLI11 so that every bad value is one line and exit 1.
@@ -123,7 +98,7 @@ void run_render(RenderOptions& o) {
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["hrpp_predictor"] = hrpp_json;
-    write_json(o.stats, j);
+    write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
 
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());

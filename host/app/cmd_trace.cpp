@@ -2,13 +2,12 @@
 // of rays on the GPU and write one hit record per ray (formats: README, DESIGN.md).
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/commands.h"
@@ -53,29 +52,6 @@ std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
   return rays;
 }
 
-// Writes next to the target and renames, so an error never leaves a partial file behind.
-void write_hits(const std::filesystem::path& file, const std::vector<gpu::Hit>& hits) {
-  const std::filesystem::path tmp = file.string() + ".partial";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write hits: " + std::strerror(errno));
-    out.write(reinterpret_cast<const char*>(hits.data()),
-              static_cast<std::streamsize>(hits.size() * sizeof(gpu::Hit)));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": cannot write hits");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot write hits: " + ec.message());
-  }
-}
-
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
@@ -110,7 +86,10 @@ void run_trace(const TraceOptions& o) {
   if (ctx.validation_messages() != 0)
     throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
                 " Vulkan validation messages (printed above)");
-  write_hits(o.hits, result.hits);
+  write_file_atomically(o.hits,
+                        std::string_view(reinterpret_cast<const char*>(result.hits.data()),
+                                         result.hits.size() * sizeof(gpu::Hit)),
+                        "cannot write hits");
 
   std::sort(ms.begin(), ms.end());
   const double median = ms[ms.size() / 2];
