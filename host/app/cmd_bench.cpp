@@ -365,7 +365,7 @@ void run_bench(const BenchOptions& o) {
       results.push_back(std::move(r));
     }
     std::optional<PredictorSummary> hrpp_summary;
-    if (hrpp_tracer && predictor.predicts(any_hit)) {
+    if (hrpp_tracer && predictor.predicts(ray_file_class(any_hit))) {
       TraversalCounters counters;
       TracerResult r = time_tracer(
           "gpu-hrpp", rays, o.repeat,
@@ -388,7 +388,7 @@ void run_bench(const BenchOptions& o) {
       const GpuTraceResult counted = hrpp_tracer->trace(rays, any_hit);
       hrpp_tracer->set_count_baseline(false);
       hrpp_summary = summarize(counted.predictor, counted.counters,
-                               hrpp_tracer->predictor_occupancy(any_hit), true);
+                               hrpp_tracer->predictor_occupancy(ray_file_class(any_hit)), true);
     }
 
     nlohmann::json kj = {{"kind", kname},

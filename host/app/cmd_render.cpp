@@ -51,6 +51,35 @@ void check_range(const char* flag, std::uint32_t v, std::uint32_t lo, std::uint3
                 ".." + std::to_string(hi));
 }
 
+// The paper's figures per predicting ray class, and for hit-all rays (camera + bounce) and
+// hit-any rays as a whole ("hit_all", "hit_any": the keys the limit study reads).
+void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& stats,
+                         const PredictorConfig& config, std::string& text, nlohmann::json& j) {
+  const bool baseline = config.count_baseline;
+  RayClassStats all;
+  TableOccupancy all_tables;
+  for (RayClass c : kRayClasses) {
+    if (!config.predicts(c)) continue;
+    const RayClassStats& s = stats.classes[c];
+    const TableOccupancy occupancy = renderer.predictor_occupancy(c);
+    const PredictorSummary summary = summarize(s.predictor, s.counters, occupancy, baseline);
+    text += format_summary(std::string("hrpp ") + ray_class_name(c), summary, is_any_hit(c));
+    j[ray_class_name(c)] = predictor_summary_json(summary);
+    if (is_any_hit(c)) {
+      j["hit_any"] = j[ray_class_name(c)];
+      continue;
+    }
+    all += s;
+    all_tables.entries += occupancy.entries;
+    all_tables.nodes += occupancy.nodes;
+    all_tables.capacity += occupancy.capacity;
+    all_tables.bytes += occupancy.bytes;
+  }
+  if (all.traces > 0)
+    j["hit_all"] = predictor_summary_json(summarize(all.predictor, all.counters, all_tables,
+                                                    baseline));
+}
+
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
   check_range("--spp", o.render.spp, 1, 1u << 20);
@@ -86,15 +115,8 @@ void run_render(RenderOptions& o) {
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
-  for (const bool any_hit : {false, true}) {
-    if (!o.render.predictor.predicts(any_hit)) continue;
-    const RayClassStats& c = any_hit ? result.stats.shadow : result.stats.closest;
-    const PredictorSummary s = summarize(c.predictor, c.counters,
-                                         renderer.predictor_occupancy(any_hit),
-                                         o.render.predictor.count_baseline);
-    hrpp_text += format_summary(any_hit ? "hrpp any" : "hrpp all", s, any_hit);
-    hrpp_json[any_hit ? "hit_any" : "hit_all"] = predictor_summary_json(s);
-  }
+  if (o.render.predictor.enabled) add_class_summaries(renderer, result.stats, o.render.predictor,
+                                                      hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["hrpp_predictor"] = hrpp_json;

@@ -74,12 +74,12 @@ void run_trace(const TraceOptions& o) {
   }
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (predictor.predicts(o.any_hit)) {
+  if (predictor.predicts(ray_file_class(o.any_hit))) {
     tracer.clear_predictor();
     tracer.set_count_baseline(true);
     const GpuTraceResult counted = tracer.trace(rays, o.any_hit);
     const PredictorSummary s = summarize(counted.predictor, counted.counters,
-                                         tracer.predictor_occupancy(o.any_hit), true);
+                                         tracer.predictor_occupancy(ray_file_class(o.any_hit)), true);
     hrpp_text = describe(predictor) + "\n" + format_summary("", s, o.any_hit);
     hrpp_json["summary"] = predictor_summary_json(s);
   }
@@ -108,7 +108,7 @@ void run_trace(const TraceOptions& o) {
               n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
               n > 0 ? static_cast<double>(c.triangles_tested) / n : 0.0);
   std::printf("hrpp        %s", hrpp_text.c_str());
-  if (!predictor.predicts(o.any_hit)) std::printf("\n");
+  if (!predictor.predicts(ray_file_class(o.any_hit))) std::printf("\n");
   if (!o.stats.empty()) {
     const nlohmann::json j = {{"scene", o.scene},
                               {"rays", rays.size()},

@@ -1,13 +1,40 @@
 #include "app/hrpp_options.h"
 
+#include <algorithm>
+#include <string>
+
 #include "common/error.h"
 
 namespace hrpp::app {
 
+namespace {
+
+PerClass<bool> parse_ray_classes(const std::string& list) {
+  PerClass<bool> on{};
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, end - start);
+    if (name == "all" || name == "both") on[RayClass::kCamera] = on[RayClass::kBounce] = true;
+    if (name == "any" || name == "both") on[RayClass::kShadow] = true;
+    if (name != "all" && name != "any" && name != "both") {
+      try {
+        on[parse_ray_class(name)] = true;
+      } catch (const Error& e) {
+        throw Error(std::string("--hrpp-rays: ") + e.what());
+      }
+    }
+    start = end + 1;
+  }
+  return on;
+}
+
+}  // namespace
+
 PredictorConfig HrppOptions::config() const {
   if (hrpp != "off" && hrpp != "on") throw Error("--hrpp: '" + hrpp + "' is not off or on");
-  if (rays != "all" && rays != "any" && rays != "both")
-    throw Error("--hrpp-rays: '" + rays + "' is not all, any or both");
+  if (adaptive != "off" && adaptive != "on")
+    throw Error("--hrpp-adaptive: '" + adaptive + "' is not off or on");
   PredictorConfig c;
   c.enabled = hrpp == "on";
   c.mode = parse_predictor_mode(mode);
@@ -21,8 +48,8 @@ PredictorConfig HrppOptions::config() const {
   c.batch = batch;
   c.serial = serial;
   c.count_baseline = count_baseline;
-  c.predict_all = rays != "any";
-  c.predict_any = rays != "all";
+  c.classes = parse_ray_classes(rays);
+  c.adaptive = adaptive == "on";
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
 }
@@ -33,7 +60,13 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->capture_default_str()
       ->group(g);
   cmd->add_option("--hrpp-rays", o.rays,
-                  "Ray classes that predict: all (hit-all), any (hit-any) or both")
+                  "Ray classes that predict: a comma-separated subset of camera, bounce, shadow")
+      ->capture_default_str()
+      ->group(g);
+  cmd->add_option("--hrpp-adaptive", o.adaptive,
+                  "render: per frame and ray class, stop probing a class whose prediction costs "
+                  "more time than it saves, retrying now and then: on | off (every named class "
+                  "probes every frame)")
       ->capture_default_str()
       ->group(g);
   cmd->add_option("--hrpp-mode", o.mode,
@@ -78,6 +111,13 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->group(g);
 }
 
+nlohmann::json class_names(const PredictorConfig& c) {
+  nlohmann::json names = nlohmann::json::array();
+  for (RayClass k : kRayClasses)
+    if (c.classes[k]) names.push_back(ray_class_name(k));
+  return names;
+}
+
 nlohmann::json predictor_config_json(const PredictorConfig& c) {
   return {{"enabled", c.enabled},
           {"hash", hash_kind_name(c.hash.kind)},
@@ -89,8 +129,8 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
           {"table_nodes", c.table.nodes},
           {"table_policy", table_policy_name(c.table.policy)},
           {"table_bytes", c.table.bytes()},
-          {"predict_hit_all", c.predict_all},
-          {"predict_hit_any", c.predict_any},
+          {"ray_classes", class_names(c)},
+          {"adaptive", c.adaptive},
           {"count_baseline", c.count_baseline},
           {"batch", c.batch},
           {"serial", c.serial}};

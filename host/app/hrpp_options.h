@@ -1,6 +1,7 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
-// --hrpp, --hrpp-rays, --hrpp-mode, --hash, --hash-bits, --go-up, --table-*, --hrpp-batch,
-// --hrpp-serial; and the JSON form of the configuration and of a run's predictor figures.
+// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hash, --hash-bits, --go-up, --table-*,
+// --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of a run's predictor
+// figures.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +17,8 @@ namespace hrpp::app {
 
 struct HrppOptions {
   std::string hrpp = "off";         // off | on
-  std::string rays = "both";        // which ray classes predict: all (hit-all) | any | both
+  std::string rays = "camera,bounce,shadow";  // ray classes that predict (or all | any | both)
+  std::string adaptive = "on";      // on | off
   std::string mode = "speculative";
   std::string hash = "hrpp";
   std::uint32_t hash_bits = 6;
@@ -29,6 +31,8 @@ struct HrppOptions {
   bool count_baseline = false;
 
   // The predictor configuration (enabled = --hrpp on). Throws hrpp::Error naming the flag.
+  // --hrpp-rays: a comma-separated subset of camera, bounce, shadow; the older names all
+  // (camera, bounce: the hit-all rays), any (shadow) and both (every class) still work.
   PredictorConfig config() const;
 };
 

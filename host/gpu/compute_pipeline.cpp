@@ -248,9 +248,9 @@ void compute_to_compute_barrier(VkCommandBuffer cmd) {
 }  // namespace
 
 void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
-                     std::uint32_t groups, KernelTimer* timer) {
+                     std::uint32_t groups, KernelTimer* timer, std::string_view label) {
   bind_and_push(cmd, pipeline, push);
-  if (timer) timer->begin(cmd, pipeline.name());
+  if (timer) timer->begin(cmd, label.empty() ? pipeline.name() : std::string(label));
   vkCmdDispatch(cmd, groups, 1, 1);
   if (timer) timer->end(cmd);
   compute_to_compute_barrier(cmd);
@@ -258,12 +258,18 @@ void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const
 
 void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
                               const void* push, const StorageBuffer& args, VkDeviceSize offset,
-                              KernelTimer* timer) {
+                              KernelTimer* timer, std::string_view label) {
   bind_and_push(cmd, pipeline, push);
-  if (timer) timer->begin(cmd, pipeline.name());
+  if (timer) timer->begin(cmd, label.empty() ? pipeline.name() : std::string(label));
   vkCmdDispatchIndirect(cmd, args.handle(), offset);
   if (timer) timer->end(cmd);
   compute_to_compute_barrier(cmd);
+}
+
+void record_copy(VkCommandBuffer cmd, const StorageBuffer& src, VkDeviceSize src_offset,
+                 const StorageBuffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes) {
+  const VkBufferCopy region{src_offset, dst_offset, bytes};
+  vkCmdCopyBuffer(cmd, src.handle(), dst.handle(), 1, &region);
 }
 
 void transfer_compute_barrier(VkCommandBuffer cmd) {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include <vulkan/vulkan.h>
 
@@ -81,17 +82,21 @@ class KernelTimer {
 };
 
 // Records push constants + bind + dispatch of `groups` workgroups along x, timed when `timer` is
-// given, then a compute→compute barrier so the next dispatch sees this one's writes.
+// given (under `label`, or the pipeline's name), then a compute→compute barrier so the next
+// dispatch sees this one's writes.
 void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
-                     std::uint32_t groups, KernelTimer* timer);
+                     std::uint32_t groups, KernelTimer* timer, std::string_view label = {});
 // The same with the workgroup counts read on the device from a VkDispatchIndirectCommand at
 // `offset` in `args` (written by an earlier dispatch: make it visible to
 // VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT first, e.g. with indirect_args_barrier).
 void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
                               const void* push, const StorageBuffer& args, VkDeviceSize offset,
-                              KernelTimer* timer);
+                              KernelTimer* timer, std::string_view label = {});
 // Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
 void indirect_args_barrier(VkCommandBuffer cmd);
+// Copies `bytes` from `src` at `src_offset` to `dst` at `dst_offset` (record a barrier after).
+void record_copy(VkCommandBuffer cmd, const StorageBuffer& src, VkDeviceSize src_offset,
+                 const StorageBuffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes);
 // Makes transfer (fill, update, copy) and compute-shader writes visible to later transfers,
 // dispatches and host reads.
 void transfer_compute_barrier(VkCommandBuffer cmd);

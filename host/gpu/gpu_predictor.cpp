@@ -1,48 +1,75 @@
 #include "gpu/gpu_predictor.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
+#include "gpu/kernel_bindings.h"
 #include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "hrpp/prediction_node.h"
 
 namespace hrpp {
 
 static_assert(sizeof(gpu::InsertPushConstants) == 16);
+static_assert(sizeof(gpu::StagePushConstants) == 16);
+static_assert(sizeof(gpu::PredictQueue) == 64);
+static_assert(sizeof(gpu::QueueEntry) == 16);
 
 namespace {
 
-// One predictor's buffers (hit-all or hit-any).
+std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
+  return static_cast<std::uint64_t>(c.wide[2 * counter]) |
+         (static_cast<std::uint64_t>(c.wide[2 * counter + 1]) << 32);
+}
+
+// The queue at the start of a trace (or a batch): empty, indirect dispatches of (0, 1, 1).
+gpu::PredictQueue empty_queue(std::uint32_t next_ray, std::uint32_t ray_count) {
+  gpu::PredictQueue q{};
+  q.next_ray = next_ray;
+  q.ray_count = ray_count;
+  q.trace_groups[1] = q.trace_groups[2] = 1;
+  q.resolve_groups[1] = q.resolve_groups[2] = 1;
+  return q;
+}
+
+// One ray class's table and its kernels (bound to the table and to the class's query arrays).
 struct Table {
   gpu::PredictorParams params{};
   StorageBuffer param_buf, tags, stamps, slots, requests, counters;
-  ComputePipeline insert;
+  ComputePipeline predict, resolve, insert;
 
-  Table(VulkanContext& ctx, const gpu::PredictorParams& p, const char* which)
+  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c)
       : params(p),
-        param_buf(ctx, sizeof(gpu::PredictorParams), std::string(which) + " predictor parameters"),
+        param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters")),
         tags(ctx, std::size_t{p.sets} * p.ways * sizeof(std::uint64_t),
-             std::string(which) + " predictor tags (--table-sets × --table-ways)"),
+             name(c, "predictor tags (--table-sets × --table-ways)")),
         stamps(ctx, std::size_t{p.sets} * p.ways * sizeof(std::uint32_t),
-               std::string(which) + " predictor stamps"),
+               name(c, "predictor stamps")),
         slots(ctx, std::size_t{p.sets} * p.ways * p.nodes * sizeof(std::uint32_t),
-              std::string(which) + " predictor node slots (sets × ways × --table-nodes)"),
+              name(c, "predictor node slots (sets × ways × --table-nodes)")),
         requests(ctx, sizeof(gpu::InsertRequest), "insert requests"),
-        counters(ctx, sizeof(gpu::PredictorCounters), std::string(which) + " predictor counters"),
+        counters(ctx, sizeof(gpu::PredictorCounters), name(c, "predictor counters")),
+        predict(ctx, "hrpp_predict", embedded_spirv(is_any_hit(c) ? "hrpp_predict_any"
+                                                                  : "hrpp_predict"),
+                kStageBindingTypes, sizeof(gpu::StagePushConstants)),
+        resolve(ctx, "hrpp_resolve", embedded_spirv("hrpp_resolve"), kStageBindingTypes,
+                sizeof(gpu::StagePushConstants)),
         insert(ctx, "hrpp_insert", embedded_spirv("hrpp_insert"), HRPP_TABLE_BINDING_COUNT,
                sizeof(gpu::InsertPushConstants)) {
     clear();
-    insert.bind(HRPP_TABLE_PARAMS, param_buf);
-    insert.bind(HRPP_TABLE_TAGS, tags);
-    insert.bind(HRPP_TABLE_STAMPS, stamps);
-    insert.bind(HRPP_TABLE_SLOTS, slots);
-    insert.bind(HRPP_TABLE_REQUESTS, requests);
-    insert.bind(HRPP_TABLE_COUNTERS, counters);
+    upload_params();
+    bind_table(insert, 0);
+    for (ComputePipeline* k : {&predict, &resolve}) bind_table(*k, HRPP_STAGE_BINDING_TABLE);
+  }
+
+  static std::string name(RayClass c, const char* what) {
+    return std::string(ray_class_name(c)) + " " + what;
   }
 
   void clear() {
@@ -51,24 +78,37 @@ struct Table {
     slots.fill(static_cast<std::uint32_t>(HRPP_EMPTY_NODE));
   }
 
-  void bind_to(ComputePipeline& p) const {
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_PARAMS, param_buf);
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_TAGS, tags);
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_STAMPS, stamps);
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_SLOTS, slots);
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_REQUESTS, requests);
-    p.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_TABLE_COUNTERS, counters);
+  void upload_params() { param_buf.upload(&params, sizeof params); }
+
+  void bind_table(ComputePipeline& p, std::uint32_t base) const {
+    p.bind(base + HRPP_TABLE_PARAMS, param_buf);
+    p.bind(base + HRPP_TABLE_TAGS, tags);
+    p.bind(base + HRPP_TABLE_STAMPS, stamps);
+    p.bind(base + HRPP_TABLE_SLOTS, slots);
+    p.bind(base + HRPP_TABLE_REQUESTS, requests);
+    p.bind(base + HRPP_TABLE_COUNTERS, counters);
   }
 };
 
-void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-             VkPipelineStageFlags dst, VkAccessFlags dst_access) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = src_access;
-  b.dstAccessMask = dst_access;
-  vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
-}
+// The queue of one query kind (hit-all: camera and bounce rays; hit-any: shadow rays) and the
+// trace kernel bound to it.
+struct Queue {
+  StorageBuffer state;           // gpu::PredictQueue
+  StorageBuffer trace_counters;  // gpu::TraceCounters of the trace over the queue
+  StorageBuffer rays, entries, hits;
+  TexelView ray_view;
+  ComputePipeline trace;
+  std::size_t capacity = 0;
+
+  Queue(VulkanContext& ctx, bool any_hit)
+      : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue"),
+        trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters"),
+        trace(ctx, any_hit ? "trace_any" : "trace_closest",
+              embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
+              sizeof(gpu::TracePushConstants)) {
+    trace.bind(HRPP_TRACE_BINDING_COUNTERS, trace_counters);
+  }
+};
 
 }  // namespace
 
@@ -76,13 +116,59 @@ struct GpuPredictor::State {
   VulkanContext* ctx;
   PredictorConfig config;
   StorageBuffer node_of_prim;
-  std::unique_ptr<Table> all, any;
+  PerClass<std::unique_ptr<Table>> tables;
+  std::unique_ptr<Queue> queues[2];  // [any_hit]
 
-  Table& table(bool any_hit) { return any_hit ? *any : *all; }
-  const Table& table(bool any_hit) const { return any_hit ? *any : *all; }
+  Table& table(RayClass c) const { return *tables[c]; }
+  Queue& queue(RayClass c) const { return *queues[is_any_hit(c)]; }
+
+  void bind_bvh(ComputePipeline& p, const TexelView& nodes, const TexelView& leaves,
+                const TexelView& triangles) {
+    p.bind(HRPP_TRACE_BINDING_NODES, nodes);
+    p.bind(HRPP_TRACE_BINDING_LEAVES, leaves);
+    p.bind(HRPP_TRACE_BINDING_TRIANGLES, triangles);
+  }
+
+  void set_clock(RayClass c, std::uint32_t clock) {
+    Table& t = table(c);
+    t.params.clock = clock;
+    t.upload_params();
+  }
+
+  gpu::StagePushConstants stage_push(const gpu::TracePushConstants& trace_pc) const {
+    return {trace_pc.rays_per_invocation, trace_pc.canary_iterations,
+            rays_per_workgroup(trace_pc.rays_per_invocation), 0};
+  }
+
+  std::uint32_t rays_per_workgroup(std::uint32_t rays_per_invocation) const {
+    const std::uint32_t sub = std::max(ctx->info().subgroup_size, 1u);
+    const std::uint32_t lanes =
+        config.serial ? std::max(HRPP_TRACE_WORKGROUP_SIZE / sub, 1u) : HRPP_TRACE_WORKGROUP_SIZE;
+    return lanes * rays_per_invocation;
+  }
+
+  // The trace over the queue and the resolve pass, after hrpp_predict: the trace's ray count
+  // is the queue's size, both dispatched indirectly from the queue.
+  void record_queue_trace(VkCommandBuffer cmd, RayClass c, const gpu::TracePushConstants& trace_pc,
+                          KernelTimer* timer) {
+    Queue& q = queue(c);
+    const std::string cls = std::string(":") + ray_class_name(c);
+    indirect_args_barrier(cmd);
+    record_copy(cmd, q.state, offsetof(gpu::PredictQueue, queued), q.trace_counters,
+                offsetof(gpu::TraceCounters, ray_count), sizeof(std::uint32_t));
+    transfer_compute_barrier(cmd);
+    record_dispatch_indirect(cmd, q.trace, &trace_pc, q.state,
+                             offsetof(gpu::PredictQueue, trace_groups), timer, q.trace.name() + cls);
+    const gpu::StagePushConstants spc = stage_push(trace_pc);
+    record_dispatch_indirect(cmd, table(c).resolve, &spc, q.state,
+                             offsetof(gpu::PredictQueue, resolve_groups), timer,
+                             "hrpp_resolve" + cls);
+  }
 };
 
-GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config)
+GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
+                           const TexelView& nodes, const TexelView& leaves,
+                           const TexelView& triangles)
     : s_(std::make_unique<State>()) {
   if (!ctx.info().int64 || !ctx.info().int64_atomics)
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
@@ -93,14 +179,25 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
   gpu::PredictorParams params = make_predictor_params(config, bvh.bounds);
   params.serial = config.serial ? 1u : 0u;
   // The node to insert for each triangle id: the go-up level applied once, here.
-  const std::vector<std::uint32_t> leaves = leaf_of_prim(bvh);
-  std::vector<std::int32_t> nodes(leaves.size(), HRPP_EMPTY_NODE);
-  for (std::size_t p = 0; p < leaves.size(); ++p)
-    if (leaves[p] != kNoLeaf) nodes[p] = prediction_node(bvh, leaves[p], config.go_up);
-  s_->node_of_prim = StorageBuffer(ctx, nodes.size() * sizeof(std::int32_t), "node of triangle");
-  s_->node_of_prim.upload(std::span<const std::int32_t>(nodes));
-  s_->all = std::make_unique<Table>(ctx, params, "hit-all");
-  s_->any = std::make_unique<Table>(ctx, params, "hit-any");
+  const std::vector<std::uint32_t> leaves_of = leaf_of_prim(bvh);
+  std::vector<std::int32_t> node_of(leaves_of.size(), HRPP_EMPTY_NODE);
+  for (std::size_t p = 0; p < leaves_of.size(); ++p)
+    if (leaves_of[p] != kNoLeaf) node_of[p] = prediction_node(bvh, leaves_of[p], config.go_up);
+  s_->node_of_prim = StorageBuffer(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle");
+  s_->node_of_prim.upload(std::span<const std::int32_t>(node_of));
+  for (bool any_hit : {false, true}) {
+    s_->queues[any_hit] = std::make_unique<Queue>(ctx, any_hit);
+    s_->bind_bvh(s_->queues[any_hit]->trace, nodes, leaves, triangles);
+  }
+  for (RayClass c : kRayClasses) {
+    if (!config.predicts(c)) continue;
+    s_->tables[c] = std::make_unique<Table>(ctx, params, c);
+    for (ComputePipeline* k : {&s_->tables[c]->predict, &s_->tables[c]->resolve}) {
+      s_->bind_bvh(*k, nodes, leaves, triangles);
+      k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queues[is_any_hit(c)]->state);
+      k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim);
+    }
+  }
 }
 
 GpuPredictor::~GpuPredictor() = default;
@@ -109,70 +206,147 @@ GpuPredictor& GpuPredictor::operator=(GpuPredictor&&) noexcept = default;
 
 const PredictorConfig& GpuPredictor::config() const { return s_->config; }
 
-void GpuPredictor::bind(ComputePipeline& pipeline, bool any_hit, std::size_t rays) {
-  Table& t = s_->table(any_hit);
-  const std::size_t bytes = std::max<std::size_t>(rays, 1) * sizeof(gpu::InsertRequest);
-  if (t.requests.size() < bytes) {
-    t.requests = StorageBuffer();
-    t.requests = StorageBuffer(*s_->ctx, bytes, "insert requests");
-    t.insert.bind(HRPP_TABLE_REQUESTS, t.requests);
+void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const StorageBuffer& hits,
+                             std::size_t capacity) {
+  Queue& q = *s_->queues[any_hit];
+  capacity = std::max<std::size_t>(capacity, 1);
+  if (q.capacity < capacity) {
+    q.ray_view = TexelView();
+    q.rays = StorageBuffer();  // free first: one at a time in the heap
+    q.entries = StorageBuffer();
+    q.hits = StorageBuffer();
+    q.rays = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::Ray), "HRPP queue rays");
+    q.entries = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::QueueEntry), "HRPP queue entries");
+    q.hits = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::Hit), "HRPP queue hits");
+    q.ray_view = TexelView(*s_->ctx, q.rays);
+    q.capacity = capacity;
+    q.trace.bind(HRPP_TRACE_BINDING_RAYS, q.ray_view);
+    q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hits);
   }
-  t.bind_to(pipeline);
-  pipeline.bind(HRPP_PREDICT_BINDING_FIRST + HRPP_PREDICT_NODE_OF_PRIM, s_->node_of_prim);
+  for (RayClass c : kRayClasses) {
+    if (is_any_hit(c) != any_hit || !s_->tables[c]) continue;
+    Table& t = s_->table(c);
+    const std::size_t request_bytes = capacity * sizeof(gpu::InsertRequest);
+    if (t.requests.size() < request_bytes) {
+      t.requests = StorageBuffer();
+      t.requests = StorageBuffer(*s_->ctx, request_bytes, "insert requests");
+      for (ComputePipeline* k : {&t.predict, &t.resolve, &t.insert})
+        k->bind((k == &t.insert ? 0 : HRPP_STAGE_BINDING_TABLE) + HRPP_TABLE_REQUESTS,
+                t.requests);
+    }
+    for (ComputePipeline* k : {&t.predict, &t.resolve}) {
+      k->bind(HRPP_TRACE_BINDING_RAYS, rays);
+      k->bind(HRPP_STAGE_BINDING_HITS, hits);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_RAYS, q.rays);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_ENTRIES, q.entries);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_HITS, q.hits);
+    }
+  }
 }
 
-void GpuPredictor::begin_trace(bool any_hit) {
+void GpuPredictor::begin(RayClass c) {
   const gpu::PredictorCounters zero{};
-  s_->table(any_hit).counters.upload(&zero, sizeof zero);
+  s_->table(c).counters.upload(&zero, sizeof zero);
 }
 
-void GpuPredictor::set_clock(bool any_hit, std::uint32_t clock) {
-  Table& t = s_->table(any_hit);
-  t.params.clock = clock;
-  t.param_buf.upload(&t.params, sizeof t.params);
+void GpuPredictor::record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                          const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
+                          KernelTimer* timer) {
+  if (s_->config.batch > 0)
+    throw Error("HRPP's batched mode (--hrpp-batch) records with record_batches");
+  Queue& q = s_->queue(c);
+  if (q.capacity == 0) throw Error("HRPP: a trace recorded before bind_rays sized its queue");
+  s_->set_clock(c, clock);
+  const gpu::PredictQueue start = empty_queue(0, count.host ? *count.host : 0);
+  const gpu::TraceCounters trace_start{};
+  vkCmdUpdateBuffer(cmd, q.state.handle(), 0, sizeof start, &start);
+  vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), 0, sizeof trace_start, &trace_start);
+  if (!count.host) {
+    transfer_compute_barrier(cmd);  // the update before the copy into the same buffer
+    record_copy(cmd, *count.buffer, count.count_offset, q.state,
+                offsetof(gpu::PredictQueue, ray_count), sizeof(std::uint32_t));
+  }
+  transfer_compute_barrier(cmd);
+  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);
+  const std::string label = std::string("hrpp_predict:") + ray_class_name(c);
+  if (count.host) {
+    const std::uint32_t per_group = spc.trace_group_rays;
+    record_dispatch(cmd, s_->table(c).predict, &spc, (*count.host + per_group - 1) / per_group,
+                    timer, label);
+  } else {
+    record_dispatch_indirect(cmd, s_->table(c).predict, &spc, *count.buffer, count.args_offset,
+                             timer, label);
+  }
+  s_->record_queue_trace(cmd, c, trace_pc, timer);
 }
 
-std::uint32_t GpuPredictor::rays_per_workgroup(std::uint32_t rays_per_invocation) const {
-  const std::uint32_t sub = std::max(s_->ctx->info().subgroup_size, 1u);
-  const std::uint32_t lanes =
-      s_->config.serial ? std::max(HRPP_TRACE_WORKGROUP_SIZE / sub, 1u) : HRPP_TRACE_WORKGROUP_SIZE;
-  return lanes * rays_per_invocation;
-}
-
-void GpuPredictor::record_batches(VkCommandBuffer cmd, ComputePipeline& trace,
-                                  const gpu::TracePushConstants& pc, StorageBuffer& counters,
-                                  bool any_hit, std::uint32_t count, std::uint32_t clock) {
-  Table& t = s_->table(any_hit);
-  const std::uint32_t per_group = rays_per_workgroup(pc.rays_per_invocation);
+void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
+                                  const gpu::TracePushConstants& trace_pc, std::uint32_t clock) {
+  Queue& q = s_->queue(c);
+  Table& t = s_->table(c);
+  s_->set_clock(c, clock);
+  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);
+  const gpu::PredictQueue zero = empty_queue(0, 0);
+  const gpu::TraceCounters trace_zero{};
+  vkCmdUpdateBuffer(cmd, q.state.handle(), 0, sizeof zero, &zero);
+  vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), 0, sizeof trace_zero, &trace_zero);
   for (std::uint32_t first = 0; first < count; first += s_->config.batch) {
     const std::uint32_t n = std::min(s_->config.batch, count - first);
-    // The batch's rays: the cursor starts at `first`, the kernel stops at first + n.
-    barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    const std::uint32_t end = first + n;
-    vkCmdUpdateBuffer(cmd, counters.handle(), offsetof(gpu::TraceCounters, next_ray),
-                      sizeof(std::uint32_t), &first);
-    vkCmdUpdateBuffer(cmd, counters.handle(), offsetof(gpu::TraceCounters, ray_count),
-                      sizeof(std::uint32_t), &end);
-    barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    record_dispatch(cmd, trace, &pc, (n + per_group - 1) / per_group, nullptr);
+    // The batch: the cursor starts at `first`, prediction stops at first + n; the queue and the
+    // trace's cursor start empty (answer counts go on adding up).
+    const gpu::PredictQueue batch = empty_queue(first, first + n);
+    const std::uint32_t cursor = 0;
+    transfer_compute_barrier(cmd);
+    vkCmdUpdateBuffer(cmd, q.state.handle(), 0, 3 * sizeof(std::uint32_t), &batch);
+    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, trace_groups),
+                      sizeof batch.trace_groups + sizeof batch.resolve_groups,
+                      &batch.trace_groups);
+    vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), offsetof(gpu::TraceCounters, next_ray),
+                      sizeof cursor, &cursor);
+    transfer_compute_barrier(cmd);
+    record_dispatch(cmd, t.predict, &spc, (n + spc.trace_group_rays - 1) / spc.trace_group_rays,
+                    nullptr);
+    s_->record_queue_trace(cmd, c, trace_pc, nullptr);
     const gpu::InsertPushConstants ipc{first, n, clock + first, 0};
     record_dispatch(cmd, t.insert, &ipc, 1, nullptr);
   }
 }
 
-gpu::PredictorCounters GpuPredictor::counters(bool any_hit) const {
-  gpu::PredictorCounters c{};
-  s_->table(any_hit).counters.download(&c, sizeof c);
-  return c;
+PredictedTrace GpuPredictor::finish(RayClass c) const {
+  const Queue& q = s_->queue(c);
+  gpu::PredictQueue state{};
+  q.state.download(&state, sizeof state);
+  gpu::TraceCounters traced{};
+  q.trace_counters.download(&traced, sizeof traced);
+  PredictedTrace out;
+  s_->table(c).counters.download(&out.predictor, sizeof out.predictor);
+  out.queued = wide(traced, HRPP_COUNTER_RAYS);
+  const std::uint64_t answered = state.resolved + std::uint64_t{state.resolve_done};
+  if (answered != state.ray_count || state.resolve_done != out.queued || state.aborted != 0 ||
+      traced.aborted != 0)
+    throw Error("hrpp_predict / " + q.trace.name() + " / hrpp_resolve: only " +
+                std::to_string(answered) + " of " + std::to_string(state.ray_count) +
+                " rays answered (" + std::to_string(state.aborted + traced.aborted) +
+                " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
+                "subgroup) ended the kernels' loops; lower rays_per_invocation");
+  const auto& pc = out.predictor.c;
+  out.counters.rays = answered;
+  out.counters.hits = state.resolved + std::uint64_t{state.queue_hits};
+  out.counters.interior_visited = wide(traced, HRPP_COUNTER_INTERIOR) + pc[HRPP_PC_VERIFY_INTERIOR];
+  out.counters.leaves_visited = wide(traced, HRPP_COUNTER_LEAVES) + pc[HRPP_PC_VERIFY_LEAVES];
+  out.counters.triangles_tested =
+      wide(traced, HRPP_COUNTER_TRIANGLES) + pc[HRPP_PC_VERIFY_TRIANGLES];
+  return out;
 }
 
-TableOccupancy GpuPredictor::occupancy(bool any_hit) const {
-  const Table& t = s_->table(any_hit);
+std::uint32_t GpuPredictor::rays_per_workgroup(std::uint32_t rays_per_invocation) const {
+  return s_->rays_per_workgroup(rays_per_invocation);
+}
+
+TableOccupancy GpuPredictor::occupancy(RayClass c) const {
   TableOccupancy o;
+  if (!s_->tables[c]) return o;
+  const Table& t = s_->table(c);
   o.capacity = std::uint64_t{t.params.sets} * t.params.ways;
   o.bytes = s_->config.table.bytes();
   std::vector<std::uint64_t> tags(o.capacity);
@@ -190,12 +364,16 @@ TableOccupancy GpuPredictor::occupancy(bool any_hit) const {
 
 void GpuPredictor::set_count_baseline(bool on) {
   s_->config.count_baseline = on;
-  s_->all->params.count_baseline = s_->any->params.count_baseline = on ? 1u : 0u;
+  for (RayClass c : kRayClasses) {
+    if (!s_->tables[c]) continue;
+    s_->table(c).params.count_baseline = on ? 1u : 0u;
+    s_->table(c).upload_params();
+  }
 }
 
 void GpuPredictor::clear() {
-  s_->all->clear();
-  s_->any->clear();
+  for (RayClass c : kRayClasses)
+    if (s_->tables[c]) s_->table(c).clear();
 }
 
 }  // namespace hrpp

@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
+#include "gpu/kernel_bindings.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
@@ -36,34 +37,35 @@ namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
 
-// The trace kernels' bindings; the HRPP variants add the predictor's storage buffers after them.
-template <std::size_t N>
-constexpr std::array<VkDescriptorType, N> binding_types() {
-  std::array<VkDescriptorType, N> t{};
-  t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  t[HRPP_TRACE_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}
-constexpr auto kBindingTypes = binding_types<HRPP_TRACE_BINDING_COUNT>();
-constexpr auto kPredictBindingTypes = binding_types<HRPP_PREDICT_BINDING_COUNT>();
-static_assert(HRPP_PREDICT_BINDING_FIRST == HRPP_TRACE_BINDING_COUNT);
-
 std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
   return static_cast<std::uint64_t>(c.wide[2 * counter]) |
          (static_cast<std::uint64_t>(c.wide[2 * counter + 1]) << 32);
 }
 
+// The record a hit-any query's answer leaves in a ray file: prim 0 occluded, -1 free.
+void to_occlusion_records(std::span<gpu::Hit> hits) {
+  for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
+}
+
 }  // namespace
 
-// The resident arrays and counters of one ray class (hit-all or hit-any).
-struct ClassArrays {
+// The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
+// rays), its trace kernel (HRPP off, or a class that does not probe) and its counters.
+struct QueryArrays {
   StorageBuffer rays, hits;  // grown on demand
   TexelView ray_view;        // how the kernels read the rays
-  StorageBuffer counters;    // TraceCounters of the class's last trace
-  std::uint32_t clock = 0;   // HRPP use stamps: rays of the class traced so far
+  StorageBuffer counters;    // TraceCounters of the plain trace
+  ComputePipeline kernel;
+  bool predicted = false;    // the last recorded trace ran the HRPP stage
+
+  QueryArrays(VulkanContext& c, bool any_hit)
+      : counters(c, sizeof(gpu::TraceCounters),
+                 any_hit ? "hit-any trace counters" : "hit-all trace counters"),
+        kernel(c, any_hit ? "trace_any" : "trace_closest",
+               embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
+               sizeof(gpu::TracePushConstants)) {
+    kernel.bind(HRPP_TRACE_BINDING_COUNTERS, counters);
+  }
 };
 
 struct GpuTracer::State {
@@ -71,11 +73,11 @@ struct GpuTracer::State {
   GpuTracerConfig config;
   StorageBuffer nodes, leaves, triangles;
   TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
-  ClassArrays classes[2];                         // [any_hit]
-  ComputePipeline closest, any;
+  std::unique_ptr<QueryArrays> queries[2];        // [any_hit]
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on
-  std::unique_ptr<ComputePipeline> closest_hrpp, any_hrpp;  // HRPP on
+  PerClass<bool> probing{};                 // HRPP on: the classes that trace through it now
+  PerClass<std::uint32_t> clock{};          // HRPP use stamps: rays of the class traced so far
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
@@ -88,35 +90,22 @@ struct GpuTracer::State {
         node_view(c, nodes),
         leaf_view(c, leaves),
         triangle_view(c, triangles),
-        closest(c, "trace_closest", embedded_spirv("trace_closest"), kBindingTypes,
-                sizeof(gpu::TracePushConstants)),
-        any(c, "trace_any", embedded_spirv("trace_any"), kBindingTypes,
-            sizeof(gpu::TracePushConstants)),
         timer(c, 4) {
-    if (predictor_config.enabled) {
-      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config);
-      closest_hrpp = std::make_unique<ComputePipeline>(
-          c, "trace_closest_hrpp", embedded_spirv("trace_closest_hrpp"), kPredictBindingTypes,
-          sizeof(gpu::TracePushConstants));
-      any_hrpp = std::make_unique<ComputePipeline>(c, "trace_any_hrpp",
-                                                   embedded_spirv("trace_any_hrpp"),
-                                                   kPredictBindingTypes,
-                                                   sizeof(gpu::TracePushConstants));
-    }
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
     nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {
-      classes[any_hit].counters =
-          StorageBuffer(c, sizeof(gpu::TraceCounters),
-                        any_hit ? "hit-any trace counters" : "hit-all trace counters");
-      for (ComputePipeline* p : pipelines(any_hit)) {
-        p->bind(HRPP_TRACE_BINDING_NODES, node_view);
-        p->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
-        p->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
-        p->bind(HRPP_TRACE_BINDING_COUNTERS, classes[any_hit].counters);
-      }
+      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit);
+      ComputePipeline& k = queries[any_hit]->kernel;
+      k.bind(HRPP_TRACE_BINDING_NODES, node_view);
+      k.bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
+      k.bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
+    }
+    if (predictor_config.enabled) {
+      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
+                                                 triangle_view);
+      for (RayClass k : kRayClasses) probing[k] = predictor_config.predicts(k);
     }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
@@ -125,22 +114,14 @@ struct GpuTracer::State {
     probe.tmax = 1e30f;
   }
 
-  // The kernels of one ray class: plain, and with HRPP the predicting one.
-  std::vector<ComputePipeline*> pipelines(bool any_hit) {
-    std::vector<ComputePipeline*> p{any_hit ? &any : &closest};
-    if (predictor) p.push_back(any_hit ? any_hrpp.get() : closest_hrpp.get());
-    return p;
-  }
+  QueryArrays& query(RayClass c) { return *queries[is_any_hit(c)]; }
+  const QueryArrays& query(RayClass c) const { return *queries[is_any_hit(c)]; }
+  bool predicts(RayClass c) const { return predictor && probing[c]; }
+  bool batched() const { return predictor && predictor->config().batch > 0; }
+  bool serial() const { return predictor && predictor->config().serial; }
 
-  bool predicts(bool any_hit) const { return predictor && predictor->config().predicts(any_hit); }
-
-  ComputePipeline& kernel(bool any_hit) {
-    if (predicts(any_hit)) return *(any_hit ? any_hrpp : closest_hrpp);
-    return any_hit ? any : closest;
-  }
-
-  std::uint32_t rays_per_workgroup(bool any_hit) const {
-    if (predicts(any_hit)) return predictor->rays_per_workgroup(config.rays_per_invocation);
+  std::uint32_t rays_per_workgroup() const {
+    if (predictor) return predictor->rays_per_workgroup(config.rays_per_invocation);
     return HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
   }
 
@@ -157,110 +138,127 @@ struct GpuTracer::State {
     return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
   }
 
-  void ensure_capacity(bool any_hit, std::size_t n) {
-    ClassArrays& a = classes[any_hit];
+  void ensure_capacity(RayClass c, std::size_t n) {
+    QueryArrays& a = query(c);
     if (a.rays.size() >= n * sizeof(gpu::Ray)) return;
     a.ray_view = TexelView();
     a.rays = StorageBuffer();  // free first: one at a time in the heap
     a.hits = StorageBuffer();
-    const char* which = any_hit ? "hit-any" : "hit-all";
-    a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), std::string(which) + " ray array");
-    a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), std::string(which) + " hit array");
+    const std::string which = is_any_hit(c) ? "hit-any" : "hit-all";
+    a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), which + " ray array");
+    a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
     a.ray_view = TexelView(*ctx, a.rays);
-    for (ComputePipeline* p : pipelines(any_hit)) {
-      p->bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
-      p->bind(HRPP_TRACE_BINDING_HITS, a.hits);
-    }
-    if (predictor) predictor->bind(any_hit ? *any_hrpp : *closest_hrpp, any_hit, n);
+    a.kernel.bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
+    a.kernel.bind(HRPP_TRACE_BINDING_HITS, a.hits);
+    if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hits, n);
   }
 
   gpu::TracePushConstants push_constants() const {
     gpu::TracePushConstants pc{};
     pc.rays_per_invocation = config.rays_per_invocation;
     pc.canary_iterations = kCanaryIterations;
+    pc.serial = serial() ? 1u : 0u;
     return pc;
   }
 
-  // Before a recorded trace: zeroes the class's counters and sets their ray count, on the
-  // host's word (`count`) or copied from `queue` at `count_offset` (transfers to disjoint bytes,
-  // then one barrier), and starts HRPP's use stamps at the class's clock.
-  void prepare_trace(VkCommandBuffer cmd, bool any_hit, const std::uint32_t* count,
-                      const StorageBuffer* queue, VkDeviceSize count_offset) {
-    const VkBuffer c = classes[any_hit].counters.handle();
+  // Before a plain recorded trace: zeroes the kind's counters and sets their ray count, on the
+  // host's word (`count`) or copied from `queue` at `count_offset` (transfers to disjoint
+  // bytes, then one barrier).
+  void prepare_trace(VkCommandBuffer cmd, RayClass c, const std::uint32_t* count,
+                     const StorageBuffer* queue, VkDeviceSize count_offset) {
+    const StorageBuffer& counters = query(c).counters;
     gpu::TraceCounters start{};
     if (count) {
       start.ray_count = *count;
-      vkCmdUpdateBuffer(cmd, c, 0, sizeof start, &start);
+      vkCmdUpdateBuffer(cmd, counters.handle(), 0, sizeof start, &start);
     } else {
       constexpr VkDeviceSize at = offsetof(gpu::TraceCounters, ray_count);
       constexpr VkDeviceSize word = sizeof(std::uint32_t);
-      vkCmdUpdateBuffer(cmd, c, 0, at, &start);
-      vkCmdUpdateBuffer(cmd, c, at + word, sizeof start - at - word,
+      vkCmdUpdateBuffer(cmd, counters.handle(), 0, at, &start);
+      vkCmdUpdateBuffer(cmd, counters.handle(), at + word, sizeof start - at - word,
                         reinterpret_cast<const char*>(&start) + at + word);
-      const VkBufferCopy region{count_offset, at, word};
-      vkCmdCopyBuffer(cmd, queue->handle(), c, 1, &region);
+      record_copy(cmd, *queue, count_offset, counters, at, word);
     }
     transfer_compute_barrier(cmd);
-    if (predicts(any_hit)) predictor->set_clock(any_hit, classes[any_hit].clock);
   }
 
-  void record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count, KernelTimer* t) {
-    check_resident(any_hit, count);
-    prepare_trace(cmd, any_hit, &count, nullptr, 0);
-    ComputePipeline& p = kernel(any_hit);
+  static std::string label(const ComputePipeline& p, RayClass c) {
+    return p.name() + ":" + ray_class_name(c);
+  }
+
+  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* t) {
+    check_resident(c, count);
     const gpu::TracePushConstants pc = push_constants();
-    if (predicts(any_hit) && predictor->config().batch > 0) {
-      predictor->record_batches(cmd, p, pc, classes[any_hit].counters, any_hit, count,
-                                classes[any_hit].clock);
-      return;  // many small dispatches: not timed
+    query(c).predicted = predicts(c);
+    if (predicts(c)) {
+      if (batched()) return predictor->record_batches(cmd, c, count, pc, clock[c]);
+      return predictor->record(cmd, c, RayCountSource{&count}, pc, clock[c], t);
     }
-    const std::uint32_t per_group = rays_per_workgroup(any_hit);
-    record_dispatch(cmd, p, &pc, (count + per_group - 1) / per_group, t);
+    prepare_trace(cmd, c, &count, nullptr, 0);
+    ComputePipeline& k = query(c).kernel;
+    const std::uint32_t per_group = rays_per_workgroup();
+    record_dispatch(cmd, k, &pc, (count + per_group - 1) / per_group, t, label(k, c));
   }
 
-  void record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+  void record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
                        VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* t) {
-    if (!records_indirect(any_hit))
+    if (!records_indirect(c))
       throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
-    if (classes[any_hit].rays.size() == 0)
+    if (query(c).rays.size() == 0)
       throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
-    prepare_trace(cmd, any_hit, nullptr, &queue, count_offset);
-    ComputePipeline& p = kernel(any_hit);
     const gpu::TracePushConstants pc = push_constants();
-    record_dispatch_indirect(cmd, p, &pc, queue, args_offset, t);
+    query(c).predicted = predicts(c);
+    if (predicts(c)) {
+      const RayCountSource source{nullptr, &queue, count_offset, args_offset};
+      return predictor->record(cmd, c, source, pc, clock[c], t);
+    }
+    prepare_trace(cmd, c, nullptr, &queue, count_offset);
+    ComputePipeline& k = query(c).kernel;
+    record_dispatch_indirect(cmd, k, &pc, queue, args_offset, t, label(k, c));
   }
 
-  bool records_indirect(bool any_hit) const {
-    return !(predicts(any_hit) && predictor->config().batch > 0);
-  }
+  bool records_indirect(RayClass c) const { return !(predicts(c) && batched()); }
 
-  void check_resident(bool any_hit, std::size_t count) const {
-    if (count * sizeof(gpu::Ray) > classes[any_hit].rays.size() || count > chunk_rays())
+  void check_resident(RayClass c, std::size_t count) const {
+    if (count * sizeof(gpu::Ray) > query(c).rays.size() || count > chunk_rays())
       throw Error("trace: " + std::to_string(count) +
                   " rays exceed the device-resident ray array or one dispatch");
   }
 
-  // After the submit: the class's counters, checked (every ray finished).
-  GpuTraceResult finish(bool any_hit) {
+  // After the submit: the plain trace's counters, checked (every ray finished).
+  GpuTraceResult finish_plain(RayClass c) const {
     GpuTraceResult out;
-    gpu::TraceCounters c{};
-    classes[any_hit].counters.download(&c, sizeof c);
-    const std::uint64_t done = wide(c, HRPP_COUNTER_RAYS);
-    const std::string name = kernel(any_hit).name();
-    if (done != c.ray_count || c.aborted != 0)
-      throw Error(name + ": only " + std::to_string(done) + " of " +
-                  std::to_string(c.ray_count) + " rays finished (" + std::to_string(c.aborted) +
+    gpu::TraceCounters k{};
+    query(c).counters.download(&k, sizeof k);
+    const std::uint64_t done = wide(k, HRPP_COUNTER_RAYS);
+    if (done != k.ray_count || k.aborted != 0)
+      throw Error(query(c).kernel.name() + ": only " + std::to_string(done) + " of " +
+                  std::to_string(k.ray_count) + " rays finished (" + std::to_string(k.aborted) +
                   " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
                   "subgroup) ended the kernel's loops at " +
                   std::to_string(config.rays_per_invocation) +
                   " rays per invocation; lower rays_per_invocation");
     out.counters.rays = done;
-    out.counters.interior_visited = wide(c, HRPP_COUNTER_INTERIOR);
-    out.counters.leaves_visited = wide(c, HRPP_COUNTER_LEAVES);
-    out.counters.triangles_tested = wide(c, HRPP_COUNTER_TRIANGLES);
-    out.counters.hits = wide(c, HRPP_COUNTER_HITS);
-    classes[any_hit].clock += c.ray_count;
-    if (predictor) out.predictor = predictor->counters(any_hit);
+    out.counters.interior_visited = wide(k, HRPP_COUNTER_INTERIOR);
+    out.counters.leaves_visited = wide(k, HRPP_COUNTER_LEAVES);
+    out.counters.triangles_tested = wide(k, HRPP_COUNTER_TRIANGLES);
+    out.counters.hits = wide(k, HRPP_COUNTER_HITS);
+    out.traced = done;
+    return out;
+  }
+
+  GpuTraceResult finish(RayClass c) {
+    GpuTraceResult out;
+    if (query(c).predicted) {
+      const PredictedTrace p = predictor->finish(c);
+      out.counters = p.counters;
+      out.predictor = p.predictor;
+      out.traced = p.queued;
+      out.predicted = true;
+    } else {
+      out = finish_plain(c);
+    }
+    clock[c] += static_cast<std::uint32_t>(out.counters.rays);
     return out;
   }
 };
@@ -275,79 +273,90 @@ GpuTracer& GpuTracer::operator=(GpuTracer&&) noexcept = default;
 
 const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 
-GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c) {
   GpuTraceResult out;
   out.hits.resize(rays.size());
-  begin(any_hit);
   const std::size_t chunk = s_->chunk_rays();
   for (std::size_t first = 0; first < rays.size(); first += chunk) {
     const std::size_t n = std::min(chunk, rays.size() - first);
-    s_->ensure_capacity(any_hit, n);
-    s_->classes[any_hit].rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
-    const GpuTraceResult r = trace_resident(n, any_hit);
-    s_->classes[any_hit].hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
+    s_->ensure_capacity(c, n);
+    s_->query(c).rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
+    const GpuTraceResult r = trace_resident(n, c);
+    s_->query(c).hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
     out.counters += r.counters;
     out.kernel_ms += r.kernel_ms;
-    out.predictor = r.predictor;  // since begin(): the whole call
+    out.traced += r.traced;
+    out.predicted = r.predicted;
+    for (int i = 0; i < HRPP_PC_COUNT; ++i) out.predictor.c[i] += r.predictor.c[i];
   }
+  if (is_any_hit(c)) to_occlusion_records(out.hits);
   return out;
 }
 
-StorageBuffer& GpuTracer::ray_buffer(bool any_hit, std::size_t rays) {
-  s_->ensure_capacity(any_hit, std::max<std::size_t>(rays, 1));
-  return s_->classes[any_hit].rays;
+StorageBuffer& GpuTracer::ray_buffer(RayClass c, std::size_t rays) {
+  s_->ensure_capacity(c, std::max<std::size_t>(rays, 1));
+  return s_->query(c).rays;
 }
 
-StorageBuffer& GpuTracer::hit_buffer(bool any_hit) { return s_->classes[any_hit].hits; }
+StorageBuffer& GpuTracer::hit_buffer(RayClass c) { return s_->query(c).hits; }
 
-void GpuTracer::begin(bool any_hit) {
-  if (s_->predictor) s_->predictor->begin_trace(any_hit);
+void GpuTracer::begin(RayClass c) {
+  if (s_->predicts(c)) s_->predictor->begin(c);
 }
 
-void GpuTracer::record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count,
+void GpuTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
                        KernelTimer* timer) {
-  s_->record(cmd, any_hit, count, timer);
+  s_->record(cmd, c, count, timer);
 }
 
-void GpuTracer::record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+void GpuTracer::record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
                                 VkDeviceSize count_offset, VkDeviceSize args_offset,
                                 KernelTimer* timer) {
-  s_->record_indirect(cmd, any_hit, queue, count_offset, args_offset, timer);
+  s_->record_indirect(cmd, c, queue, count_offset, args_offset, timer);
 }
 
-GpuTraceResult GpuTracer::finish(bool any_hit) { return s_->finish(any_hit); }
+GpuTraceResult GpuTracer::finish(RayClass c) { return s_->finish(c); }
 
-bool GpuTracer::records_indirect(bool any_hit) const { return s_->records_indirect(any_hit); }
+bool GpuTracer::records_indirect(RayClass c) const { return s_->records_indirect(c); }
 
-std::uint32_t GpuTracer::rays_per_workgroup(bool any_hit) const {
-  return s_->rays_per_workgroup(any_hit);
-}
+std::uint32_t GpuTracer::rays_per_workgroup() const { return s_->rays_per_workgroup(); }
 
 std::size_t GpuTracer::max_dispatch_rays() const { return s_->chunk_rays(); }
 
-GpuTraceResult GpuTracer::trace_resident(std::size_t count, bool any_hit) {
+GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c) {
   if (count == 0) return {};
-  const std::string what = s_->kernel(any_hit).name();
+  begin(c);
   s_->ctx->submit_and_wait(
       [&](VkCommandBuffer cmd) {
         s_->timer.reset(cmd);
-        s_->record(cmd, any_hit, static_cast<std::uint32_t>(count), &s_->timer);
+        s_->record(cmd, c, static_cast<std::uint32_t>(count), &s_->timer);
       },
-      what);
-  GpuTraceResult out = s_->finish(any_hit);
+      s_->query(c).kernel.name());
+  GpuTraceResult out = s_->finish(c);
   for (const auto& [kernel, ms] : s_->timer.read_ms()) out.kernel_ms += ms;
   return out;
 }
 
 void GpuTracer::warm_up() {
   const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
-  trace(rays, false);
-  trace(rays, true);
+  for (RayClass c : kRayClasses) {
+    trace(rays, c);
+    if (!s_->predictor || !s_->predicts(c)) continue;
+    s_->probing[c] = false;  // the plain kernel too: the adaptive switch may turn to it
+    trace(rays, c);
+    s_->probing[c] = true;
+  }
   clear_predictor();  // the warm-up rays leave nothing behind
 }
 
-TableOccupancy GpuTracer::predictor_occupancy(bool any_hit) const {
-  return s_->predictor ? s_->predictor->occupancy(any_hit) : TableOccupancy{};
+void GpuTracer::set_probing(RayClass c, bool on) {
+  if (s_->predictor) s_->probing[c] = on && s_->predictor->config().predicts(c);
+}
+
+bool GpuTracer::probing(RayClass c) const { return s_->predicts(c); }
+
+TableOccupancy GpuTracer::predictor_occupancy(RayClass c) const {
+  return s_->predictor ? s_->predictor->occupancy(c) : TableOccupancy{};
 }
 
 void GpuTracer::set_count_baseline(bool on) {
@@ -356,7 +365,7 @@ void GpuTracer::set_count_baseline(bool on) {
 
 void GpuTracer::clear_predictor() {
   if (s_->predictor) s_->predictor->clear();
-  for (ClassArrays& a : s_->classes) a.clock = 0;
+  for (RayClass c : kRayClasses) s_->clock[c] = 0;
 }
 
 }  // namespace hrpp

@@ -14,6 +14,7 @@
 #include "gpu/gpu_predictor.h"
 #include "gpu_types.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/ray_class.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -24,24 +25,27 @@ class KernelTimer;
 
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
-  // instead). Lavapipe's loop limiter (DESIGN.md) ends every loop of a subgroup after 65,535
-  // iterations in total, a few hundred rays' worth; 16 keeps a wide margin. A dispatch whose
-  // rays do not all finish throws hrpp::Error naming the limit.
+  // instead). Lavapipe's loop limiter (docs/ARCHITECTURE.md, "Lavapipe facts") ends every loop
+  // of a subgroup after 65,535 iterations in total, a few hundred rays' worth; 16 keeps a wide
+  // margin. A dispatch whose rays do not all finish throws hrpp::Error naming the limit.
   std::uint32_t rays_per_invocation = 16;
 };
 
 struct GpuTraceResult {
   std::vector<gpu::Hit> hits;   // one per ray; any-hit: prim 0 occluded, -1 free (t, u, v = 0)
   TraversalCounters counters;   // summed over the ray chunks of the call
-  double kernel_ms = 0.0;       // device timestamps around the trace dispatches (0 when
+  double kernel_ms = 0.0;       // device timestamps around the trace's dispatches (0 when
                                 // HRPP runs in batches: many small dispatches)
+  bool predicted = false;       // the HRPP stage ran (the class probes)
+  std::uint64_t traced = 0;     // rays the trace kernel traced (HRPP: the queue)
   gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
 };
 
 class GpuTracer {
  public:
   // Uploads the BVH. Throws hrpp::Error when an array exceeds maxStorageBufferRange. With
-  // predictor.enabled (HRPP on), the trace_*_hrpp kernels probe the predictor before traversal.
+  // predictor.enabled (HRPP on), the classes it names trace through the HRPP stage
+  // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
             const PredictorConfig& predictor = {});
   ~GpuTracer();
@@ -50,43 +54,49 @@ class GpuTracer {
   GpuTracer(const GpuTracer&) = delete;
   GpuTracer& operator=(const GpuTracer&) = delete;
 
-  // Traces every ray (closest hit, or any hit when any_hit). Rays beyond one storage buffer's
-  // range are traced in several dispatches. Throws hrpp::Error when a dispatch does not finish
-  // every ray (loop limiter) or the device is lost.
-  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
+  // Traces every ray as rays of class `c` (closest hit, or any hit for shadow rays). Rays
+  // beyond one storage buffer's range are traced in several dispatches. Throws hrpp::Error
+  // when a dispatch does not finish every ray (loop limiter) or the device is lost.
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, RayClass c);
+  // Rays of a ray file: closest hit as camera rays, any hit as shadow rays.
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit) {
+    return trace(rays, ray_file_class(any_hit));
+  }
 
-  // Device-resident rays (the wavefront renderer, host/render/): each ray class (hit-all,
-  // hit-any) has its own ray and hit arrays, grown to hold at least `rays` rays, so other
-  // kernels write rays into them and read hits back without a host round trip. The references
-  // stay valid until a call asks for more.
-  StorageBuffer& ray_buffer(bool any_hit, std::size_t rays);
-  StorageBuffer& hit_buffer(bool any_hit);
+  // Device-resident rays (the wavefront renderer, host/render/): hit-all classes (camera,
+  // bounce) share one ray and hit array, the hit-any class has its own, grown to hold at least
+  // `rays` rays, so other kernels write rays into them and read hits back without a host round
+  // trip. The references stay valid until a call asks for more. A hit-any record in the hit
+  // array is the first occluder found (prim >= 0) or a miss; trace() turns it into 0 / -1.
+  StorageBuffer& ray_buffer(RayClass c, std::size_t rays);
+  StorageBuffer& hit_buffer(RayClass c);
 
-  // Traces recorded into the caller's command buffer, over ray_buffer(any_hit)[0..count):
-  //   begin(any_hit)             before recording: zeroes the class's HRPP counters (host write);
-  //   record(...)                the trace of `count` rays (known on the host), or
-  //   record_indirect(...)       the trace of as many rays as the uint at `count_offset` of
-  //                              `queue` says when the command buffer runs, with the
-  //                              VkDispatchIndirectCommand at `args_offset` (workgroups of
-  //                              rays_per_workgroup() rays); not in HRPP's batched mode;
-  //   finish(any_hit)            after the submit: checks that every ray finished (throws
-  //                              hrpp::Error naming the loop limiter otherwise), returns the
-  //                              counters (hits left empty) and HRPP counters since begin.
-  // One trace per class per command buffer. Dispatches are timed with `timer` when given.
-  void begin(bool any_hit);
-  void record(VkCommandBuffer cmd, bool any_hit, std::uint32_t count, KernelTimer* timer);
-  void record_indirect(VkCommandBuffer cmd, bool any_hit, const StorageBuffer& queue,
+  // Traces recorded into the caller's command buffer, over ray_buffer(c)[0..count):
+  //   begin(c)                before recording: zeroes the class's HRPP counters (host write);
+  //   record(...)             the trace of `count` rays (known on the host), or
+  //   record_indirect(...)    the trace of as many rays as the uint at `count_offset` of
+  //                           `queue` says when the command buffer runs, with the
+  //                           VkDispatchIndirectCommand at `args_offset` (workgroups of
+  //                           rays_per_workgroup() rays); not in HRPP's batched mode;
+  //   finish(c)               after the submit: checks that every ray finished (throws
+  //                           hrpp::Error naming the loop limiter otherwise), returns the
+  //                           counters (hits left empty) and HRPP counters since begin.
+  // One trace per query kind (hit-all, hit-any) per command buffer. Dispatches are timed with
+  // `timer` when given, under "<kernel>:<class>" labels.
+  void begin(RayClass c);
+  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer);
+  void record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
                        VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* timer);
-  GpuTraceResult finish(bool any_hit);
+  GpuTraceResult finish(RayClass c);
   // False when the class's trace needs its ray count on the host (HRPP's batched mode).
-  bool records_indirect(bool any_hit) const;
-  // Rays one workgroup of the class's trace kernel takes (for indirect dispatch arguments).
-  std::uint32_t rays_per_workgroup(bool any_hit) const;
+  bool records_indirect(RayClass c) const;
+  // Rays one workgroup of a trace takes, with or without HRPP (indirect dispatch arguments).
+  std::uint32_t rays_per_workgroup() const;
   // Most rays one dispatch reaches (storage-buffer range, texel-buffer size, workgroup count).
   std::size_t max_dispatch_rays() const;
 
-  // begin + record + submit + finish of ray_buffer(any_hit)[0..count).
-  GpuTraceResult trace_resident(std::size_t count, bool any_hit);
+  // begin + record + submit + finish of ray_buffer(c)[0..count).
+  GpuTraceResult trace_resident(std::size_t count, RayClass c);
 
   // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on
   // lavapipe, so call this before timing.
@@ -94,8 +104,12 @@ class GpuTracer {
 
   const GpuTracerConfig& config() const;
 
-  // HRPP on: what the hit-all or hit-any table holds now; empty both tables.
-  TableOccupancy predictor_occupancy(bool any_hit) const;
+  // HRPP on: whether class `c` traces through the HRPP stage from the next record on (the
+  // adaptive predictor's switch; initially every class the configuration names).
+  void set_probing(RayClass c, bool on);
+  bool probing(RayClass c) const;
+  // HRPP on: what the class's table holds now; empty every table.
+  TableOccupancy predictor_occupancy(RayClass c) const;
   void clear_predictor();
   // HRPP on: count what full traversals would visit (savings %) in the next traces; doubles
   // their work, so time with it off.

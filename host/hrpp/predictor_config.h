@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "bvh/aabb.h"
+#include "hrpp/ray_class.h"
 #include "hrpp/ray_hash.h"
 #include "hrpp_types.h"
 
@@ -62,12 +63,14 @@ struct PredictorConfig {
   // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):
   // doubles the traversal work, so timings are taken with it off.
   bool count_baseline = false;
-  // Ray classes that predict (--hrpp-rays): hit-all (closest) and hit-any; the other class
-  // traces as with HRPP off.
-  bool predict_all = true;
-  bool predict_any = true;
+  // Ray classes that predict (--hrpp-rays); the others trace as with HRPP off.
+  PerClass<bool> classes{{true, true, true}};
+  // Per frame, per class: stop probing a class whose prediction costs more time than it saves,
+  // and try it again now and then (host/hrpp/adaptive_predictor.h). Off: every enabled class
+  // probes every ray (the limit study's counting runs).
+  bool adaptive = true;
 
-  bool predicts(bool any_hit) const { return enabled && (any_hit ? predict_any : predict_all); }
+  bool predicts(RayClass c) const { return enabled && classes[c]; }
 };
 
 PredictorMode parse_predictor_mode(std::string_view name);

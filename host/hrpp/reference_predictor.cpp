@@ -22,12 +22,13 @@ ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig&
       params_(make_predictor_params(config, bvh.bounds)),
       leaf_of_prim_(leaf_of_prim(bvh)) {}
 
-PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
+  const bool any_hit = is_any_hit(cls);
   PredictorTraceResult out;
   out.hits.resize(rays.size());
   auto& pc = out.predictor.c;
   TraversalCounters& c = out.counters;
-  Table& table = any_hit ? any_ : all_;
+  Table& table = tables_[cls];
   const bool exact = config_.mode == PredictorMode::kExact;
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
 
@@ -121,13 +122,13 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, b
   return out;
 }
 
-std::uint64_t ReferencePredictor::entries(bool any_hit) const {
-  return (any_hit ? any_ : all_).size();
+std::uint64_t ReferencePredictor::entries(RayClass c) const {
+  return tables_[c].size();
 }
 
-std::uint64_t ReferencePredictor::stored_nodes(bool any_hit) const {
+std::uint64_t ReferencePredictor::stored_nodes(RayClass c) const {
   std::uint64_t n = 0;
-  for (const auto& [key, nodes] : any_hit ? any_ : all_) n += nodes.size();
+  for (const auto& [key, nodes] : tables_[c]) n += nodes.size();
   return n;
 }
 

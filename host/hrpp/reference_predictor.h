@@ -1,7 +1,7 @@
 // The CPU reference predictor: the paper's limit-study table (an unbounded map key → node list
 // without duplicates) over the CPU reference traversal (host/trace/cpu_traversal.h), with the
 // kernels' semantics and counters (shaders/lib/hrpp_predict.glsl):
-//   - a valid ray is hashed and probes its class's table (hit-all / hit-any); invalid rays are
+//   - a valid ray is hashed and probes its class's table (camera, bounce, shadow); invalid rays are
 //     traced (they miss) without probing;
 //   - predictor hit: the ray is tested against the entry's nodes in list order (leaf: its
 //     triangles; interior: its subtree), hit-all keeping the closest hit (tmax shrinking across
@@ -22,6 +22,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/ray_class.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -37,11 +38,11 @@ class ReferencePredictor {
   ReferencePredictor(const GpuBvh& bvh, const PredictorConfig& config);
 
   // Traces rays of one class through its table; the table keeps its contents between calls.
-  PredictorTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit);
+  PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c);
 
   // Keys in the class's table and node references stored under them.
-  std::uint64_t entries(bool any_hit) const;
-  std::uint64_t stored_nodes(bool any_hit) const;
+  std::uint64_t entries(RayClass c) const;
+  std::uint64_t stored_nodes(RayClass c) const;
 
  private:
   using Table = std::unordered_map<std::uint64_t, std::vector<int>>;
@@ -50,7 +51,7 @@ class ReferencePredictor {
   PredictorConfig config_;
   gpu::PredictorParams params_;
   std::vector<std::uint32_t> leaf_of_prim_;
-  Table all_, any_;
+  PerClass<Table> tables_;
 };
 
 }  // namespace hrpp

@@ -28,22 +28,39 @@ json counters_json(const TraversalCounters& c) {
 json class_json(const RayClassStats& s, bool hrpp_on) {
   json j = counters_json(s.counters);
   j["trace_dispatches"] = s.traces;
+  j["kernels_ms"] = s.kernels_ms;
   if (hrpp_on) {
     json p;
     for (int i = 0; i <= HRPP_PC_EVICTIONS; ++i) p[kPredictorCounterNames[i]] = s.predictor.c[i];
+    p["predicted_traces"] = s.predicted_traces;
+    p["traced"] = s.traced;
     j["hrpp"] = p;
   }
   return j;
 }
 
+json decision_json(const ClassDecision& d) {
+  return json{{"probed", d.probed},         {"reason", d.reason},
+              {"gain_ms", d.gain_ms},       {"off_ms_per_ray", d.off_ms_per_ray},
+              {"confidence", d.confidence}, {"probe_next", d.probe_next}};
+}
+
+// The per-class figures of a frame or a render.
+void add_classes(json& j, const FrameStats& f, bool hrpp_on) {
+  j["rays"] = {{"camera", f.camera_rays()},
+               {"bounce", f.bounce_rays()},
+               {"shadow", f.shadow().counters.rays}};
+  j["closest"] = class_json(f.closest(), hrpp_on);
+  j["shadow"] = class_json(f.shadow(), hrpp_on);
+  for (RayClass c : kRayClasses) j["classes"][ray_class_name(c)] = class_json(f.classes[c], hrpp_on);
+}
+
 json frame_json(const FrameStats& f, bool hrpp_on) {
-  return json{{"kernels_ms", f.kernels_ms},
-              {"rays", {{"camera", f.camera_rays},
-                        {"bounce", f.bounce_rays},
-                        {"shadow", f.shadow.counters.rays}}},
-              {"closest", class_json(f.closest, hrpp_on)},
-              {"shadow", class_json(f.shadow, hrpp_on)},
-              {"wall_s", f.wall_s}};
+  json j{{"kernels_ms", f.kernels_ms}, {"wall_s", f.wall_s}};
+  add_classes(j, f, hrpp_on);
+  if (hrpp_on)
+    for (RayClass c : kRayClasses) j["hrpp_decisions"][ray_class_name(c)] = decision_json(f.decisions[c]);
+  return j;
 }
 
 double per_ray(std::uint64_t v, std::uint64_t rays) {
@@ -56,8 +73,8 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                                  const DeviceInfo& device, const RenderResult& result) {
   const RenderStats& s = result.stats;
   const bool hrpp_on = config.predictor.enabled;
-  TraversalCounters total = s.closest.counters;
-  total += s.shadow.counters;
+  TraversalCounters total = s.closest().counters;
+  total += s.shadow().counters;
   double kernels_total = 0.0;
   for (const auto& [k, ms] : s.kernels_ms) kernels_total += ms;
   json j;
@@ -88,11 +105,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                 {"texture_halvings", s.texture_halvings}};
   j["kernels_ms"] = s.kernels_ms;
   j["kernels_ms_total"] = kernels_total;
-  j["rays"] = {{"camera", s.camera_rays},
-               {"bounce", s.bounce_rays},
-               {"shadow", s.shadow.counters.rays}};
-  j["closest"] = class_json(s.closest, hrpp_on);
-  j["shadow"] = class_json(s.shadow, hrpp_on);
+  add_classes(j, s, hrpp_on);
   j["totals"] = counters_json(total);
   j["wall_s"] = s.wall_s;
   j["frames"] = json::array();
@@ -116,20 +129,20 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
   std::snprintf(line, sizeof line, "kernel      %-18s %10.3f ms (wall %.3f s)\n", "total", total,
                 s.wall_s);
   out += line;
-  for (const auto* cls : {&s.closest, &s.shadow}) {
-    const TraversalCounters& c = cls->counters;
+  for (RayClass cls : kRayClasses) {
+    const TraversalCounters& c = s.classes[cls].counters;
     std::snprintf(line, sizeof line,
                   "%-11s %llu rays, %llu hits; per ray %.2f interior nodes, %.2f leaves, "
                   "%.2f triangles\n",
-                  cls == &s.closest ? "closest" : "shadow", static_cast<unsigned long long>(c.rays),
+                  ray_class_name(cls), static_cast<unsigned long long>(c.rays),
                   static_cast<unsigned long long>(c.hits), per_ray(c.interior_visited, c.rays),
                   per_ray(c.leaves_visited, c.rays), per_ray(c.triangles_tested, c.rays));
     out += line;
   }
   std::snprintf(line, sizeof line, "rays        camera %llu, bounce %llu, shadow %llu (%ux%u, %u spp)\n",
-                static_cast<unsigned long long>(s.camera_rays),
-                static_cast<unsigned long long>(s.bounce_rays),
-                static_cast<unsigned long long>(s.shadow.counters.rays), config.width,
+                static_cast<unsigned long long>(s.camera_rays()),
+                static_cast<unsigned long long>(s.bounce_rays()),
+                static_cast<unsigned long long>(s.shadow().counters.rays), config.width,
                 config.height, config.spp);
   out += line;
   return out;

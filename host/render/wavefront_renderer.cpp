@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <string>
+#include <utility>
 
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
@@ -65,9 +66,30 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
 }();
 
 // The tracer's hit array of a ray class, sized for `rays` resident rays.
-const StorageBuffer& resident_hits(GpuTracer& tracer, bool any_hit, std::size_t rays) {
-  tracer.ray_buffer(any_hit, rays);
-  return tracer.hit_buffer(any_hit);
+const StorageBuffer& resident_hits(GpuTracer& tracer, RayClass c, std::size_t rays) {
+  tracer.ray_buffer(c, rays);
+  return tracer.hit_buffer(c);
+}
+
+// A timer label "<kernel>:<class>" (GpuTracer) split into the two.
+std::pair<std::string, std::string> split_label(const std::string& label) {
+  const std::size_t colon = label.find(':');
+  if (colon == std::string::npos) return {label, ""};
+  return {label.substr(0, colon), label.substr(colon + 1)};
+}
+
+// What one frame of a class cost, for the adaptive predictor.
+ClassFrameCost frame_cost(const RayClassStats& s, bool probed) {
+  ClassFrameCost c;
+  c.probed = probed;
+  c.rays = s.counters.rays;
+  c.traced = s.traced;
+  for (const auto& [kernel, ms] : s.kernels_ms) {
+    if (kernel == "hrpp_predict") c.predict_ms += ms;
+    else if (kernel == "hrpp_resolve") c.resolve_ms += ms;
+    else c.trace_ms += ms;
+  }
+  return c;
 }
 
 }  // namespace
@@ -76,15 +98,21 @@ RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
   counters += o.counters;
   for (int i = 0; i < HRPP_PC_COUNT; ++i) predictor.c[i] += o.predictor.c[i];
   traces += o.traces;
+  predicted_traces += o.predicted_traces;
+  traced += o.traced;
+  for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
   return *this;
+}
+
+RayClassStats FrameStats::closest() const {
+  RayClassStats s = classes[RayClass::kCamera];
+  s += classes[RayClass::kBounce];
+  return s;
 }
 
 FrameStats& FrameStats::operator+=(const FrameStats& o) {
   for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
-  closest += o.closest;
-  shadow += o.shadow;
-  camera_rays += o.camera_rays;
-  bounce_rays += o.bounce_rays;
+  for (RayClass c : kRayClasses) classes[c] += o.classes[c];
   wall_s += o.wall_s;
   return *this;
 }
@@ -102,6 +130,7 @@ struct WavefrontRenderer::State {
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
   ComputePipeline generate, shade, accumulate;
   KernelTimer timer;
+  AdaptivePredictor adaptive;
 
   State(VulkanContext& c, const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
       : ctx(c),
@@ -128,9 +157,9 @@ struct WavefrontRenderer::State {
         shade_view(c, shade_triangles),
         material_view(c, materials),
         light_view(c, lights),
-        ray_view(c, tracer.ray_buffer(false, wave)),
-        hit_view(c, resident_hits(tracer, false, wave)),
-        shadow_hit_view(c, resident_hits(tracer, true, wave)),
+        ray_view(c, tracer.ray_buffer(RayClass::kCamera, wave)),
+        hit_view(c, resident_hits(tracer, RayClass::kCamera, wave)),
+        shadow_hit_view(c, resident_hits(tracer, RayClass::kShadow, wave)),
         path_view(c, paths),
         spec(specialization(rs.features)),
         generate(c, "render_generate", embedded_spirv("render_generate"), kBindingTypes,
@@ -139,17 +168,18 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 16) {
+        timer(c, 16),
+        adaptive(config.predictor) {
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {
       p->bind(HRPP_RENDER_BINDING_PARAMS, params);
       p->bind(HRPP_RENDER_BINDING_PATHS, paths);
       p->bind(HRPP_RENDER_BINDING_NEXT_PATHS, next_paths);
-      p->bind(HRPP_RENDER_BINDING_RAYS, tracer.ray_buffer(false, wave));
+      p->bind(HRPP_RENDER_BINDING_RAYS, tracer.ray_buffer(RayClass::kCamera, wave));
       p->bind(HRPP_RENDER_BINDING_HITS, hit_view);
       p->bind(HRPP_RENDER_BINDING_RAY_TEXELS, ray_view);
       p->bind(HRPP_RENDER_BINDING_PATH_TEXELS, path_view);
       p->bind(HRPP_RENDER_BINDING_NEXT_RAYS, next_rays);
-      p->bind(HRPP_RENDER_BINDING_SHADOW_RAYS, tracer.ray_buffer(true, wave));
+      p->bind(HRPP_RENDER_BINDING_SHADOW_RAYS, tracer.ray_buffer(RayClass::kShadow, wave));
       p->bind(HRPP_RENDER_BINDING_SHADOW_HITS, shadow_hit_view);
       p->bind(HRPP_RENDER_BINDING_SHADOWS, shadows);
       p->bind(HRPP_RENDER_BINDING_IMAGE, image);
@@ -180,7 +210,7 @@ struct WavefrontRenderer::State {
     p.environment = glm::vec4(rs.environment, 0.0f);
     p.light_count = static_cast<std::uint32_t>(rs.lights.size());
     p.rr_depth = cfg.rr_depth;
-    p.trace_any_group_rays = tracer.rays_per_workgroup(true);
+    p.trace_any_group_rays = tracer.rays_per_workgroup();
     params.upload(&p, sizeof p);
   }
 
@@ -198,18 +228,14 @@ struct WavefrontRenderer::State {
           record(cmd);
         },
         what);
-    for (const auto& [name, ms] : timer.read_ms()) stats.kernels_ms[kernel_key(name)] += ms;
+    for (const auto& [label, ms] : timer.read_ms()) {
+      const auto [kernel, cls] = split_label(label);
+      stats.kernels_ms[kernel] += ms;
+      if (!cls.empty()) stats.classes[parse_ray_class(cls)].kernels_ms[kernel] += ms;
+    }
     gpu::RenderQueues q{};
     queues.download(&q, sizeof q);
     return q;
-  }
-
-  // The stats name a trace kernel by its ray class, with HRPP or without.
-  static std::string kernel_key(const std::string& name) {
-    const std::string suffix = "_hrpp";
-    if (name.size() > suffix.size() && name.ends_with(suffix))
-      return name.substr(0, name.size() - suffix.size());
-    return name;
   }
 
   static void check_done(const char* kernel, std::uint32_t done, std::uint32_t submitted) {
@@ -219,11 +245,13 @@ struct WavefrontRenderer::State {
                   " items finished: the driver's loop limiter or a lost dispatch");
   }
 
-  void add_trace(const GpuTraceResult& r, bool any_hit, FrameStats& stats) {
-    RayClassStats& c = any_hit ? stats.shadow : stats.closest;
+  void add_trace(const GpuTraceResult& r, RayClass cls, FrameStats& stats) {
+    RayClassStats& c = stats.classes[cls];
     c.counters += r.counters;
     for (int i = 0; i < HRPP_PC_COUNT; ++i) c.predictor.c[i] += r.predictor.c[i];
     ++c.traces;
+    c.predicted_traces += r.predicted ? 1 : 0;
+    c.traced += r.traced;
   }
 
   // The shadow half of a bounce: trace_any, then render_accumulate, on the shadow queue's count
@@ -231,12 +259,12 @@ struct WavefrontRenderer::State {
   void record_shadows(VkCommandBuffer cmd, const std::uint32_t* host_count, std::uint32_t depth) {
     const gpu::RenderPushConstants pc{0, 0, 0, depth};
     if (host_count) {
-      tracer.record(cmd, true, *host_count, &timer);
+      tracer.record(cmd, RayClass::kShadow, *host_count, &timer);
       record_dispatch(cmd, accumulate, &pc, groups(*host_count), &timer);
       return;
     }
     indirect_args_barrier(cmd);  // render_shade's queue count and dispatch arguments
-    tracer.record_indirect(cmd, true, queues, offsetof(gpu::RenderQueues, shadow_rays),
+    tracer.record_indirect(cmd, RayClass::kShadow, queues, offsetof(gpu::RenderQueues, shadow_rays),
                            offsetof(gpu::RenderQueues, trace_any_groups), &timer);
     record_dispatch_indirect(cmd, accumulate, &pc, queues,
                              offsetof(gpu::RenderQueues, accumulate_groups), &timer);
@@ -248,20 +276,21 @@ struct WavefrontRenderer::State {
   // the host reads the queues once per bounce to check completion and size the next one.
   void trace_wavefront(std::uint32_t first, std::uint32_t n, std::uint32_t sample,
                        FrameStats& stats) {
-    const bool indirect = tracer.records_indirect(true);
+    const bool indirect = tracer.records_indirect(RayClass::kShadow);
     for (std::uint32_t depth = 0; n > 0; ++depth) {
       if (depth >= cfg.max_depth)
         throw Error("render_shade: paths continued past the max depth (kernel bug)");
-      tracer.begin(false);
-      tracer.begin(true);
+      const RayClass closest = depth == 0 ? RayClass::kCamera : RayClass::kBounce;
+      tracer.begin(closest);
+      tracer.begin(RayClass::kShadow);
       const gpu::RenderQueues q = submit(
           [&](VkCommandBuffer cmd) {
             vkCmdUpdateBuffer(cmd, queues.handle(), 0, sizeof kRenderQueuesStart,
                               &kRenderQueuesStart);
             if (depth > 0) {
               const VkBufferCopy rays{0, 0, std::size_t{n} * sizeof(gpu::Ray)};
-              vkCmdCopyBuffer(cmd, next_rays.handle(), tracer.ray_buffer(false, wave).handle(), 1,
-                              &rays);
+              vkCmdCopyBuffer(cmd, next_rays.handle(),
+                              tracer.ray_buffer(RayClass::kCamera, wave).handle(), 1, &rays);
               const VkBufferCopy states{0, 0, std::size_t{n} * sizeof(gpu::PathState)};
               vkCmdCopyBuffer(cmd, next_paths.handle(), paths.handle(), 1, &states);
             }
@@ -270,23 +299,18 @@ struct WavefrontRenderer::State {
               const gpu::RenderPushConstants pc{first, n, sample, 0};
               record_dispatch(cmd, generate, &pc, groups(n), &timer);
             }
-            tracer.record(cmd, false, n, &timer);
+            tracer.record(cmd, closest, n, &timer);
             const gpu::RenderPushConstants pc{0, n, 0, depth};
             record_dispatch(cmd, shade, &pc, groups(n), &timer);
             if (indirect) record_shadows(cmd, nullptr, depth);
           },
           "render bounce", stats);
-      if (depth == 0) {
-        check_done("render_generate", q.done[HRPP_RENDER_DONE_GENERATE], n);
-        stats.camera_rays += n;
-      } else {
-        stats.bounce_rays += n;
-      }
+      if (depth == 0) check_done("render_generate", q.done[HRPP_RENDER_DONE_GENERATE], n);
       check_done("render_shade", q.done[HRPP_RENDER_DONE_SHADE], n);
       if (q.next_rays > n || q.shadow_rays > n)
         throw Error("render_shade: queue overflow (" + std::to_string(q.next_rays) + ", " +
                     std::to_string(q.shadow_rays) + " of " + std::to_string(n) + ")");
-      add_trace(tracer.finish(false), false, stats);
+      add_trace(tracer.finish(closest), closest, stats);
       std::uint32_t accumulated = q.done[HRPP_RENDER_DONE_ACCUMULATE];
       if (!indirect && q.shadow_rays > 0) {  // HRPP batched mode: a second submit
         accumulated = submit([&](VkCommandBuffer cmd) { record_shadows(cmd, &q.shadow_rays, depth); },
@@ -294,8 +318,8 @@ struct WavefrontRenderer::State {
                           .done[HRPP_RENDER_DONE_ACCUMULATE];
       }
       if (indirect || q.shadow_rays > 0) {
-        const GpuTraceResult shadow = tracer.finish(true);  // checks the trace finished
-        if (q.shadow_rays > 0) add_trace(shadow, true, stats);
+        const GpuTraceResult shadow = tracer.finish(RayClass::kShadow);  // checks it finished
+        if (q.shadow_rays > 0) add_trace(shadow, RayClass::kShadow, stats);
       }
       check_done("render_accumulate", accumulated, q.shadow_rays);
       n = q.next_rays;
@@ -338,10 +362,14 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
                           "render_accumulate"})
       frame.kernels_ms[k] = 0.0;
+    for (RayClass c : kRayClasses) s_->tracer.set_probing(c, s_->adaptive.probing(c));
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
     frame.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+    for (RayClass c : kRayClasses)
+      frame.decisions[c] =
+          s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->tracer.probing(c)));
     stats += frame;
     stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);
@@ -356,8 +384,8 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   return out;
 }
 
-TableOccupancy WavefrontRenderer::predictor_occupancy(bool any_hit) const {
-  return s_->tracer.predictor_occupancy(any_hit);
+TableOccupancy WavefrontRenderer::predictor_occupancy(RayClass c) const {
+  return s_->tracer.predictor_occupancy(c);
 }
 
 }  // namespace hrpp

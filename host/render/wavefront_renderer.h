@@ -2,7 +2,9 @@
 // Path Tracing on GPUs", HPG 2013): per sample pass and wavefront of pixels, kernels
 //   render_generate → trace_closest → render_shade → trace_any → render_accumulate
 // with the continuation rays looping back to trace_closest until --max-depth or Russian
-// roulette ends every path. The traces are GpuTracer's kernels on its own device-resident ray
+// roulette ends every path. With HRPP on, each trace of a class that probes is the HRPP stage
+// (hrpp_predict → trace kernel over the queue → hrpp_resolve), and an adaptive predictor
+// (host/hrpp/adaptive_predictor.h) decides per frame which classes probe. The traces are GpuTracer's kernels on its own device-resident ray
 // and hit arrays (so HRPP, when configured, predicts them too: one traversal in the project).
 // render_shade fills the continuation and shadow queues with atomic counters; the shadow trace
 // and render_accumulate are dispatched indirectly from the shadow queue, so a bounce is one
@@ -18,7 +20,9 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
+#include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/ray_class.h"
 #include "render/render_scene.h"
 #include "scene/scene.h"
 #include "trace/traversal_counters.h"
@@ -39,18 +43,21 @@ struct RenderConfig {
   std::uint32_t camera = 0;     // index into Scene::cameras
   std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)
   // Run every kernel once on a few paths before the timed frame: the first dispatch of a
-  // pipeline JIT-compiles on lavapipe (DESIGN.md). The image and the counters leave it out.
+  // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe facts"). The image and
+  // the counters leave it out.
   bool warm_up = true;
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };
 
-// Counters of one ray class: hit-all (camera + bounce rays, trace_closest) or hit-any (shadow
-// rays, trace_any).
+// Counters and device time of one ray class (camera, bounce, shadow).
 struct RayClassStats {
-  TraversalCounters counters;
+  TraversalCounters counters;          // verification included when the class probes
   gpu::PredictorCounters predictor{};  // HRPP on: summed over the class's traces
-  std::uint64_t traces = 0;            // trace dispatches
+  std::uint64_t traces = 0;            // traces (one per bounce and wavefront)
+  std::uint64_t predicted_traces = 0;  // of those, through the HRPP stage
+  std::uint64_t traced = 0;            // rays the trace kernel traced (HRPP: the queues)
+  std::map<std::string, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve
 
   RayClassStats& operator+=(const RayClassStats& o);
 };
@@ -59,12 +66,15 @@ struct RayClassStats {
 // dispatch, summed) and counters per ray class.
 struct FrameStats {
   std::map<std::string, double> kernels_ms;
-  RayClassStats closest;  // camera + bounce rays
-  RayClassStats shadow;
-  std::uint64_t camera_rays = 0;
-  std::uint64_t bounce_rays = 0;
+  PerClass<RayClassStats> classes;
+  PerClass<ClassDecision> decisions;  // HRPP on: the adaptive predictor after this frame
   double wall_s = 0.0;  // host wall time
 
+  // Camera + bounce rays (hit-all), as one class.
+  RayClassStats closest() const;
+  const RayClassStats& shadow() const { return classes[RayClass::kShadow]; }
+  std::uint64_t camera_rays() const { return classes[RayClass::kCamera].counters.rays; }
+  std::uint64_t bounce_rays() const { return classes[RayClass::kBounce].counters.rays; }
   FrameStats& operator+=(const FrameStats& o);
 };
 
@@ -101,8 +111,8 @@ class WavefrontRenderer {
   RenderResult render(const std::function<void(std::uint32_t)>& progress = {});
 
   const RenderScene& render_scene() const;
-  // HRPP on: what the hit-all or hit-any predictor table holds (it persists across samples).
-  TableOccupancy predictor_occupancy(bool any_hit) const;
+  // HRPP on: what a ray class's predictor table holds (it persists across samples).
+  TableOccupancy predictor_occupancy(RayClass c) const;
 
  private:
   struct State;

@@ -1,4 +1,4 @@
-// The HRPP predictor table on the GPU: sets × ways entries, each a 64-bit tag (the full key;
+// The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag (the full key;
 // all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
 // set (key × golden-ratio constant) >> 32 mod sets, in any of its ways. Concurrent rays update it
 // with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is

@@ -4,6 +4,7 @@
 #define HRPP_HRPP_INTERFACE_H
 
 #include "hrpp_types.h"
+#include "trace_interface.h"
 
 // hrpp_hash_rays.comp: keys[i] = hash(rays[i]) under params.
 #define HRPP_HASH_WORKGROUP_SIZE 64
@@ -12,12 +13,21 @@
 #define HRPP_HASH_BINDING_PARAMS 2
 #define HRPP_HASH_BINDING_COUNT 3
 
-// The predictor's buffers in the trace kernels with HRPP (trace_closest_hrpp, trace_any_hrpp):
-// after the trace kernels' own bindings (shaders/shared/trace_interface.h).
-#define HRPP_PREDICT_BINDING_FIRST 6
-#define HRPP_PREDICT_BINDING_COUNT 13  // bindings 0..12 in all
+// The HRPP stage: hrpp_predict(_any).comp and hrpp_resolve.comp share one binding layout. The
+// first four are the trace kernels' texel buffers (BVH arrays and the class's rays, the same
+// slots as shaders/shared/trace_interface.h); then the class's hit array, the queue, the
+// queued rays, their entries and the trace's hits of the queued rays.
+#define HRPP_STAGE_BINDING_HITS 4
+#define HRPP_STAGE_BINDING_QUEUE 5
+#define HRPP_STAGE_BINDING_QUEUE_RAYS 6
+#define HRPP_STAGE_BINDING_QUEUE_ENTRIES 7
+#define HRPP_STAGE_BINDING_QUEUE_HITS 8
+#define HRPP_STAGE_BINDING_TABLE 9  // the table's buffers: 9 + HRPP_TABLE_*
+#define HRPP_STAGE_BINDING_NODE_OF_PRIM 15
+#define HRPP_STAGE_BINDING_COUNT 16
+#define HRPP_RESOLVE_WORKGROUP_SIZE 64
 
-// The table's buffers at base + these offsets (trace kernels: base HRPP_PREDICT_BINDING_FIRST;
+// The table's buffers at base + these offsets (the stage: base HRPP_STAGE_BINDING_TABLE;
 // hrpp_insert: base 0): params, 64-bit tags, use stamps, node slots, requests, counters.
 #define HRPP_TABLE_PARAMS 0
 #define HRPP_TABLE_TAGS 1
@@ -26,15 +36,20 @@
 #define HRPP_TABLE_REQUESTS 4
 #define HRPP_TABLE_COUNTERS 5
 #define HRPP_TABLE_BINDING_COUNT 6
-// Trace kernels only: the prediction node (go-up level applied) of every triangle id, as a child
-// reference (host/hrpp/prediction_node.h); HRPP_EMPTY_NODE for ids in no leaf.
-#define HRPP_PREDICT_NODE_OF_PRIM 6
 
-// hrpp_insert.comp: one invocation applies requests[first .. first + count) in index order (the
-// deterministic batch order of host/hrpp/predictor_config.h).
 #ifdef __cplusplus
 namespace hrpp::gpu {
 #endif
+// hrpp_predict and hrpp_resolve.
+struct StagePushConstants {
+  uint rays_per_invocation;  // hrpp_predict: cap on the rays one invocation takes (loop limiter)
+  uint canary_iterations;    // always 2 (shaders/lib/trace_kernel.glsl, loop_budget_left)
+  uint trace_group_rays;     // rays per workgroup of the trace kernel over the queue
+  uint pad;
+};
+
+// hrpp_insert.comp: one invocation applies requests[first .. first + count) in index order (the
+// deterministic batch order of host/hrpp/predictor_config.h).
 struct InsertPushConstants {
   uint first;
   uint count;

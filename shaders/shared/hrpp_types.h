@@ -1,6 +1,7 @@
 // HRPP (hash-based ray path prediction): the constants and structs that the C++ side
-// (host/hrpp/) and the GLSL side (shaders/lib/hrpp_*.glsl) share. One definition each; the host
-// static_asserts sizes (host/hrpp/ray_hash.h, host/hrpp/predictor_table.h).
+// (host/hrpp/, host/gpu/gpu_predictor.cpp) and the GLSL side (shaders/lib/hrpp_*.glsl,
+// shaders/hrpp_*.comp) share. One definition each; the host static_asserts sizes
+// (host/hrpp/ray_hash.h, host/hrpp/predictor_config.h, host/gpu/gpu_predictor.cpp).
 #ifndef HRPP_HRPP_TYPES_H
 #define HRPP_HRPP_TYPES_H
 
@@ -51,11 +52,19 @@ struct HashParams {
 #define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
                             // shaders/lib/hrpp_table.glsl)
 
+// Ray classes: each has its own table, switch, counters and
+// kernel times (host/hrpp/ray_class.h names them). Camera and bounce rays are hit-all (closest
+// hit), shadow rays hit-any.
+#define HRPP_RAY_CLASS_CAMERA 0
+#define HRPP_RAY_CLASS_BOUNCE 1
+#define HRPP_RAY_CLASS_SHADOW 2
+#define HRPP_RAY_CLASS_COUNT 3
+
 // An empty node slot; node slots hold BVH child references (>= 0 interior node, < 0 leaf
 // ~index), as BvhNode::link does.
 #define HRPP_EMPTY_NODE 0x7FFFFFFF
 
-// One predictor (a table and how it is used); one for hit-all rays, one for hit-any rays.
+// One predictor (a table and how it is used); one per ray class, each in buffers of its own.
 // Table: sets (a power of two) × ways entries, each a 64-bit tag (the full key; all ones =
 // empty), a use stamp and `nodes` node slots. Bytes: sets × ways × (8 + 4 + 4 × nodes).
 struct PredictorParams {
@@ -66,13 +75,40 @@ struct PredictorParams {
   uint policy;  // HRPP_POLICY_*
   uint go_up;   // go-up level L: the ancestor L levels above the leaf that held the hit
   uint mode;    // HRPP_MODE_* (hit-all)
-  uint insert_deferred;  // 0: insert during the trace; 1: write insert requests (batches)
+  uint insert_deferred;  // 0: hrpp_resolve inserts; 1: it writes insert requests (batches)
   uint count_baseline;   // 1: also time-free count what a full traversal of each probed ray
                          //    visits (savings) and, speculative, whether the answer was wrong
   uint clock;  // use stamp of the dispatch's first ray (LRU); ray i of the dispatch: clock + i
   uint serial;  // 1: one ray per subgroup (the CPU reference's node order; deterministic runs)
   uint pad1;
   uint pad2;
+};
+
+// The HRPP stage's queue of one trace (shaders/hrpp_predict.comp → the trace kernel →
+// shaders/hrpp_resolve.comp): rays the prediction did not answer, compacted. `trace_groups` and
+// `resolve_groups` are VkDispatchIndirectCommands that hrpp_predict raises as it appends.
+struct PredictQueue {
+  uint next_ray;   // hrpp_predict's fetch cursor
+  uint ray_count;  // rays to predict: written by the host or copied from a queue on the device
+  uint queued;     // rays appended to the queue (the trace's ray count)
+  uint resolved;   // rays answered by their prediction alone (never queued)
+  uint aborted;    // rays whose prediction a loop limiter cut short
+  uint resolve_done;  // queue entries hrpp_resolve answered
+  uint queue_hits;    // of those, answers that are hits
+  uint pad;
+  uint trace_groups[4];    // x, y, z (+ pad): workgroups of the trace kernel over the queue
+  uint resolve_groups[4];  // x, y, z (+ pad): workgroups of hrpp_resolve
+};
+
+// A queued ray's origin: its index in the class's ray array, its key and how it was probed.
+#define HRPP_QUEUE_PROBED 1u   // the ray probed the table (valid): a hit is inserted
+#define HRPP_QUEUE_BOUNDED 2u  // exact mode, true positive: tmax = the predicted t, and the
+                               // predicted hit waits in the hit array
+struct QueueEntry {
+  uint ray;
+  uint flags;  // HRPP_QUEUE_*
+  uint key_lo;
+  uint key_hi;
 };
 
 // An insert request (deferred inserts): the node a ray's full traversal found, under its key.

@@ -57,9 +57,9 @@ struct TraceCounters {
 };
 
 struct TracePushConstants {
-  uint rays_per_invocation;  // cap on the rays one invocation traces (loop limiter, DESIGN.md)
+  uint rays_per_invocation;  // cap on the rays one invocation traces (loop limiter)
   uint canary_iterations;    // always 2; a loop bound the compiler cannot know (limiter probe)
-  uint pad0;
+  uint serial;  // 1: one ray per subgroup (the CPU reference's node visiting order)
   uint pad1;
 };
 

@@ -1,0 +1,31 @@
+// Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h) and of the
+// HRPP stage's (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel
+// buffers (bindings 0..3), everything else storage buffers.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include <vulkan/vulkan.h>
+
+#include "hrpp_interface.h"
+#include "trace_interface.h"
+
+namespace hrpp {
+
+template <std::size_t N>
+constexpr std::array<VkDescriptorType, N> texel_then_storage_bindings() {
+  std::array<VkDescriptorType, N> t{};
+  t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_TRACE_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+
+inline constexpr auto kTraceBindingTypes = texel_then_storage_bindings<HRPP_TRACE_BINDING_COUNT>();
+inline constexpr auto kStageBindingTypes = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
+static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
+
+}  // namespace hrpp

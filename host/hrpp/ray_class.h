@@ -1,0 +1,47 @@
+// Ray classes: camera, bounce and shadow rays. Each has its own predictor table, switch,
+// counters and kernel times (shaders/shared/hrpp_types.h, HRPP_RAY_CLASS_*). A new class is one
+// value there and here, plus the place that produces its rays (docs/ARCHITECTURE.md, "Adding
+// a ray class").
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "hrpp_types.h"
+
+namespace hrpp {
+
+enum class RayClass : std::uint32_t {
+  kCamera = HRPP_RAY_CLASS_CAMERA,  // closest hit, from render_generate (or a ray file)
+  kBounce = HRPP_RAY_CLASS_BOUNCE,  // closest hit, continuation rays from render_shade
+  kShadow = HRPP_RAY_CLASS_SHADOW,  // any hit, toward a sampled light
+};
+
+inline constexpr std::size_t kRayClassCount = HRPP_RAY_CLASS_COUNT;
+inline constexpr std::array<RayClass, kRayClassCount> kRayClasses = {
+    RayClass::kCamera, RayClass::kBounce, RayClass::kShadow};
+
+constexpr std::size_t index_of(RayClass c) { return static_cast<std::size_t>(c); }
+// Hit-any (occlusion) queries: the first hit found answers them.
+constexpr bool is_any_hit(RayClass c) { return c == RayClass::kShadow; }
+// Rays of a ray file (hrpp trace, hrpp bench): closest-hit rays are traced as camera rays,
+// any-hit rays as shadow rays.
+constexpr RayClass ray_file_class(bool any_hit) {
+  return any_hit ? RayClass::kShadow : RayClass::kCamera;
+}
+
+const char* ray_class_name(RayClass c);  // "camera", "bounce", "shadow"
+// Throws hrpp::Error for an unknown name.
+RayClass parse_ray_class(std::string_view name);
+
+// A value per ray class.
+template <class T>
+struct PerClass {
+  std::array<T, kRayClassCount> v{};
+  T& operator[](RayClass c) { return v[index_of(c)]; }
+  const T& operator[](RayClass c) const { return v[index_of(c)]; }
+};
+
+}  // namespace hrpp

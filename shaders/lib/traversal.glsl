@@ -1,0 +1,120 @@
+// The traversal of one ray, shared by the trace kernels (shaders/lib/trace_kernel.glsl) and
+// HRPP's predict kernel (shaders/hrpp_predict.comp, which tests predicted nodes with it).
+// Semantics are those of the CPU reference (host/trace/cpu_traversal.h): same ray setup, slab
+// and triangle tests, inclusive [tmin, tmax], equal t → lower triangle id, invalid rays miss;
+// the visiting order differs (leaf postponing), the answer does not.
+//
+// Aila–Laine "speculative while-while" traversal (Aila & Laine 2009, "Understanding the
+// Efficiency of Ray Traversal on GPUs"): 64-byte nodes holding both child boxes, nearest child
+// first, a per-invocation stack, the first leaf met is postponed while the traversal goes on
+// until every lane of the subgroup has one (subgroupAny), then the leaves are tested.
+//
+// The includer defines HRPP_ANY_HIT (0: closest hit; 1: any hit, the first occluder found is
+// the answer) and a push-constant block `pc` with a canary_iterations member.
+#ifndef HRPP_TRAVERSAL_GLSL
+#define HRPP_TRAVERSAL_GLSL
+
+#include "trace_interface.h"
+#include "slab_test.glsl"
+#include "watertight.glsl"
+#include "texel_fetch.glsl"
+
+// Stack bottom / end of traversal. Child references: >= 0 interior node, < 0 leaf (~leaf index).
+const int kSentinel = 0x7fffffff;
+
+// Work done by this invocation, summed per subgroup at the end.
+uint g_interior = 0u;
+uint g_leaves = 0u;
+uint g_triangles = 0u;
+
+bool is_interior(int ref) { return uint(ref) < uint(kSentinel); }  // leaves are negative
+
+// Tests a leaf's triangles. Returns true when an any-hit query is answered.
+bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
+  ++g_leaves;
+  const BvhLeaf leaf = load_leaf(~leaf_ref);
+  const uint end = leaf.first_triangle + leaf.triangle_count;
+  for (uint i = leaf.first_triangle; i < end; ++i) {
+    ++g_triangles;
+    const TriangleRecord tri = load_triangle(i);
+    float t, u, v;
+    if (!intersect_triangle(r, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) continue;
+#if HRPP_ANY_HIT
+    best = Hit(int(tri.prim), t, u, v);  // the first occluder found (HRPP inserts its leaf)
+    return true;
+#else
+    const int prim = int(tri.prim);
+    if (best.prim >= 0 && t == best.t && prim > best.prim) continue;  // tie: lower id wins
+    best = Hit(prim, t, u, v);
+    tmax = t;
+#endif
+  }
+  return false;
+}
+
+// Traces one ray into `best` through the subtree under interior node `start` (0: the whole
+// tree; HRPP verifies predicted interior nodes this way). Returns false when the traversal did
+// not reach its end.
+bool traverse_from(RaySetup r, int start, inout Hit best) {
+  int stack[HRPP_STACK_SIZE];
+  int sp = 0;
+  float tmax = r.tmax;
+  int node = r.valid ? start : kSentinel;
+  int leaf = 0;  // postponed leaf (< 0); >= 0: none
+  while (node != kSentinel) {
+    // Interior nodes until every lane still searching has postponed a leaf.
+    bool searching = true;
+    while (is_interior(node)) {
+      ++g_interior;
+      const BvhNode n = load_node(node);
+      float t_left, t_right;
+      const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
+                                      vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
+      const bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
+                                       vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
+      int next = kSentinel;  // kSentinel: continue with the stack top
+      if (hit_left && hit_right) {
+        const bool right_first = t_right < t_left;
+        stack[sp++] = right_first ? n.link.x : n.link.y;
+        next = right_first ? n.link.y : n.link.x;
+      } else if (hit_left || hit_right) {
+        next = hit_left ? n.link.x : n.link.y;
+      }
+      if (next < 0 && leaf >= 0) {  // first leaf: postpone it and keep searching
+        searching = false;
+        leaf = next;
+        next = kSentinel;
+      }
+      // One pop site: lavapipe runs every branch of a subgroup, so each pop written costs a
+      // gather whether a lane takes it or not.
+      node = next != kSentinel ? next : (sp > 0 ? stack[--sp] : kSentinel);
+      if (!subgroupAny(searching)) break;
+    }
+    // A leaf the search popped without a postponed one becomes the postponed one.
+    if (node < 0 && leaf >= 0) {
+      leaf = node;
+      node = sp > 0 ? stack[--sp] : kSentinel;
+    }
+    // The postponed leaf, then any leaf the traversal stopped at.
+    while (leaf < 0) {
+      if (test_leaf(r, leaf, best, tmax)) {  // any-hit answered
+        node = kSentinel;
+        leaf = 0;
+        break;
+      }
+      leaf = node;
+      if (node < 0) node = sp > 0 ? stack[--sp] : kSentinel;
+    }
+  }
+  return node == kSentinel;
+}
+
+// True while the loop limiter has budget left: a loop of pc.canary_iterations (2) iterations
+// runs in full. Once a limiter has fired, loops run once, so this reads false from then on.
+bool loop_budget_left() {
+  uint n = 0u;
+  for (uint i = 0u; i < pc.canary_iterations; ++i) ++n;
+  return n == pc.canary_iterations;
+}
+
+#endif  // HRPP_TRAVERSAL_GLSL
