@@ -26,7 +26,7 @@ uint r_requests = 0u, r_inserted = 0u, r_present = 0u, r_dropped = 0u, r_evictio
 
 Hit answer_of(QueueEntry e, Hit traced) {
   if ((e.flags & HRPP_QUEUE_BOUNDED) == 0u) return traced;
-  const Hit predicted = hits[e.ray];
+  const Hit predicted = load_hit(e.ray);
   if (traced.prim < 0 || predicted.t < traced.t ||
       (predicted.t == traced.t && predicted.prim < traced.prim))
     return predicted;
@@ -51,9 +51,9 @@ void main() {
   const uint i = gl_GlobalInvocationID.x;
   uint done = 0u, hit = 0u;
   if (i < queue.queued) {
-    const QueueEntry e = queue_entries[i];
-    const Hit answer = answer_of(e, queue_hits[i]);
-    hits[e.ray] = answer;
+    const QueueEntry e = load_queue_entry(i);
+    const Hit answer = answer_of(e, load_queue_hit(i));
+    store_hit(e.ray, answer);
     if (answer.prim >= 0 && (e.flags & HRPP_QUEUE_PROBED) != 0u) insert(e, answer);
     done = 1u;
     hit = answer.prim >= 0 ? 1u : 0u;

@@ -132,7 +132,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       expect_same_hits(on.hits, reference.hits, what);
       expect_counters_add_up(on.predictor, c.rays->size(), what);
       const auto& pc = on.predictor.c;
-      const TableOccupancy occ = tracer->predictor_occupancy(c.any);
+      const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.any));
       EXPECT_GT(occ.entries, 0u) << what;
       EXPECT_LE(occ.entries, occ.capacity) << what;
       EXPECT_LE(occ.nodes, occ.entries * t.nodes) << what;
@@ -172,7 +172,7 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         GpuTracer* tracer = nullptr;
         const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.any, &tracer);
         ReferencePredictor cpu_predictor(bunny().bvh, p);
-        const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, c.any);
+        const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.any));
         expect_same_hits(gpu.hits, cpu.hits, what);
         for (int k = 0; k < HRPP_PC_COUNT; ++k)
           EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
@@ -180,9 +180,9 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
         EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
         EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
-        const TableOccupancy occ = tracer->predictor_occupancy(c.any);
-        EXPECT_EQ(occ.entries, cpu_predictor.entries(c.any)) << what;
-        EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(c.any)) << what;
+        const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.any));
+        EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.any))) << what;
+        EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.any))) << what;
         expect_counters_add_up(gpu.predictor, c.rays->size(), what);
         EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
         std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
@@ -191,6 +191,43 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
                     static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
                     static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
                     static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
+      }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// The HRPP stage's queue: every ray is answered once, by its prediction or by the trace of the
+// queue, whatever the number of rays (1 ray, part of a subgroup, workgroups of one ray per
+// invocation) and however small the table; the trace kernel traces exactly the rays that were
+// not answered by a true positive (speculative), and exact answers equal HRPP off.
+TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
+  GpuTracerConfig tc;
+  tc.rays_per_invocation = 1;
+  GpuTracer off(context(), bunny().bvh, tc);
+  for (const std::size_t n : {std::size_t{1}, std::size_t{7}, std::size_t{65}, std::size_t{1500}})
+    for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
+      for (const TableConfig& t : {table_preset("tiny"), table_preset("small")}) {
+        const std::vector<gpu::Ray> rays(bunny().primary.begin(),
+                                         bunny().primary.begin() + static_cast<long>(n));
+        const std::string what = std::to_string(n) + " rays " + predictor_mode_name(mode) +
+                                 " table " + std::to_string(t.entries());
+        PredictorConfig p = config(mode, t);
+        p.hash.bits = 4;  // coarse: many predictor hits even among a few rays
+        GpuTracer on(context(), bunny().bvh, tc, p);
+        on.trace(rays, false);  // fills the table
+        const GpuTraceResult r = on.trace(rays, false);
+        ASSERT_EQ(r.hits.size(), n) << what;
+        EXPECT_TRUE(r.predicted) << what;
+        EXPECT_EQ(r.counters.rays, n) << what;
+        expect_counters_add_up(r.predictor, n, what);
+        const std::uint64_t tp = r.predictor.c[HRPP_PC_TRUE_POSITIVES];
+        EXPECT_EQ(r.traced, mode == PredictorMode::kExact ? n : n - tp) << what;
+        std::uint64_t hits = 0;
+        for (const gpu::Hit& h : r.hits) hits += h.prim >= 0;
+        EXPECT_EQ(r.counters.hits, hits) << what;
+        if (mode == PredictorMode::kExact) expect_same_hits(r.hits, off.trace(rays, false).hits, what);
+        if (n == 1500) {
+          EXPECT_GT(tp, 0u) << what;
+        }
       }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

@@ -46,6 +46,7 @@ PredictorConfig on(PredictorMode mode, const TableConfig& table, std::uint32_t b
   p.table = table;
   p.hash.bits = bits;
   p.count_baseline = true;
+  p.adaptive = false;  // every class probes every frame
   return p;
 }
 
@@ -63,16 +64,16 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
     const RenderResult exact = render(on(PredictorMode::kExact, t, 4));
     ASSERT_EQ(exact.rgb.size(), off.rgb.size());
     EXPECT_TRUE(exact.rgb == off.rgb) << what;
-    EXPECT_EQ(exact.stats.closest.counters.hits, off.stats.closest.counters.hits) << what;
-    EXPECT_EQ(exact.stats.shadow.counters.hits, off.stats.shadow.counters.hits) << what;
-    expect_counters_add_up(exact.stats.closest, what + " hit-all");
-    expect_counters_add_up(exact.stats.shadow, what + " hit-any");
-    EXPECT_GT(exact.stats.closest.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
-    EXPECT_GT(exact.stats.shadow.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
-    EXPECT_EQ(exact.stats.closest.predictor.c[HRPP_PC_WRONG_CLOSEST], 0u) << what;
+    EXPECT_EQ(exact.stats.closest().counters.hits, off.stats.closest().counters.hits) << what;
+    EXPECT_EQ(exact.stats.shadow().counters.hits, off.stats.shadow().counters.hits) << what;
+    expect_counters_add_up(exact.stats.closest(), what + " hit-all");
+    expect_counters_add_up(exact.stats.shadow(), what + " hit-any");
+    EXPECT_GT(exact.stats.closest().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    EXPECT_GT(exact.stats.shadow().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    EXPECT_EQ(exact.stats.closest().predictor.c[HRPP_PC_WRONG_CLOSEST], 0u) << what;
     if (t.sets == 4) {
       const int full = t.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
-      EXPECT_GT(exact.stats.closest.predictor.c[full], 0u) << what;
+      EXPECT_GT(exact.stats.closest().predictor.c[full], 0u) << what;
     }
   }
   EXPECT_EQ(context().validation_messages(), 0u);
@@ -86,22 +87,22 @@ TEST(HrppRender, BatchedModeRendersTheImageOfHrppOff) {
   p.batch = 256;
   const RenderResult batched = render(p);
   EXPECT_TRUE(batched.rgb == off.rgb);
-  EXPECT_EQ(batched.stats.shadow.counters.rays, off.stats.shadow.counters.rays);
-  EXPECT_EQ(batched.stats.shadow.traces, off.stats.shadow.traces);
-  EXPECT_GT(batched.stats.shadow.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u);
-  expect_counters_add_up(batched.stats.closest, "batched hit-all");
-  expect_counters_add_up(batched.stats.shadow, "batched hit-any");
+  EXPECT_EQ(batched.stats.shadow().counters.rays, off.stats.shadow().counters.rays);
+  EXPECT_EQ(batched.stats.shadow().traces, off.stats.shadow().traces);
+  EXPECT_GT(batched.stats.shadow().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u);
+  expect_counters_add_up(batched.stats.closest(), "batched hit-all");
+  expect_counters_add_up(batched.stats.shadow(), "batched hit-any");
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
 TEST(HrppRender, SpeculativeWrongClosestHitsAreCounted) {
   const RenderResult off = render({});
   const RenderResult spec = render(on(PredictorMode::kSpeculative, table_preset("small"), 2));
-  const auto& c = spec.stats.closest.predictor.c;
+  const auto& c = spec.stats.closest().predictor.c;
   EXPECT_GT(c[HRPP_PC_WRONG_CLOSEST], 0u);
   EXPECT_LE(c[HRPP_PC_WRONG_CLOSEST], c[HRPP_PC_TRUE_POSITIVES]);
   EXPECT_FALSE(spec.rgb == off.rgb);  // wrong closest hits change paths
-  expect_counters_add_up(spec.stats.closest, "speculative hit-all");
+  expect_counters_add_up(spec.stats.closest(), "speculative hit-all");
   std::printf("speculative N=2: %llu wrong closest hits of %llu true positives\n",
               static_cast<unsigned long long>(c[HRPP_PC_WRONG_CLOSEST]),
               static_cast<unsigned long long>(c[HRPP_PC_TRUE_POSITIVES]));

@@ -46,6 +46,7 @@ PredictorConfig HrppOptions::config() const {
   if (nodes) c.table.nodes = nodes;
   if (!policy.empty()) c.table.policy = parse_table_policy(policy);
   c.batch = batch;
+  c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
   c.count_baseline = count_baseline;
   c.classes = parse_ray_classes(rays);
@@ -101,6 +102,11 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
                   "during the trace)")
       ->capture_default_str()
       ->group(g);
+  cmd->add_option("--hrpp-pilot", o.pilot,
+                  "Pilot schedule: each trace predicts and traces every K-th ray first, so the "
+                  "others find their entries (0: one round; ignored with --hrpp-batch)")
+      ->capture_default_str()
+      ->group(g);
   cmd->add_flag("--hrpp-serial", o.serial,
                 "One ray per subgroup: the CPU reference's node order (with --hrpp-batch, "
                 "counters a CPU reference predictor reproduces exactly)")
@@ -133,6 +139,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
           {"adaptive", c.adaptive},
           {"count_baseline", c.count_baseline},
           {"batch", c.batch},
+          {"pilot", c.pilot},
           {"serial", c.serial}};
 }
 

@@ -27,6 +27,7 @@ struct HrppOptions {
   std::uint32_t sets = 0, ways = 0, nodes = 0;  // 0: the preset's
   std::string policy;                           // "": the preset's
   std::uint32_t batch = 0;
+  std::uint32_t pilot = PredictorConfig{}.pilot;
   bool serial = false;
   bool count_baseline = false;
 

@@ -20,6 +20,7 @@ struct ComputePipeline::State {
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
+  std::vector<VkDescriptorType> types;  // per binding
 
   ~State() {
     if (!device) return;
@@ -58,6 +59,7 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   mci.pCode = spirv.data();
   check_vk(vkCreateShaderModule(s.device, &mci, nullptr, &s.module), "vkCreateShaderModule" + what);
 
+  s.types.assign(binding_types.begin(), binding_types.end());
   std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
   for (std::uint32_t i = 0; i < binding_count; ++i) {
     bindings[i] = {};
@@ -147,7 +149,7 @@ void ComputePipeline::bind(std::uint32_t binding, const TexelView& view) {
   w.dstSet = s_->set;
   w.dstBinding = binding;
   w.descriptorCount = 1;
-  w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  w.descriptorType = s_->types.at(binding);  // uniform or storage texel buffer
   w.pTexelBufferView = &handle;
   vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
 }

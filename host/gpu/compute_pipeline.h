@@ -29,8 +29,9 @@ class ComputePipeline {
   ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
                   std::uint32_t binding_count, std::uint32_t push_constant_bytes,
                   std::span<const SpecializationConstant> specialization = {});
-  // Binding i of set 0 has descriptor type binding_types[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER or
-  // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER.
+  // Binding i of set 0 has descriptor type binding_types[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER or VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER (a
+  // kernel's vec4 stores: one per lane instead of one per 32-bit word on lavapipe).
   ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
                   std::span<const VkDescriptorType> binding_types,
                   std::uint32_t push_constant_bytes,
@@ -43,7 +44,7 @@ class ComputePipeline {
 
   // Points a binding at a buffer (do not call while a submit using the set is in flight).
   void bind(std::uint32_t binding, const StorageBuffer& buffer);
-  // Same for a uniform texel buffer binding.
+  // Same for a uniform or storage texel buffer binding.
   void bind(std::uint32_t binding, const TexelView& view);
 
   const std::string& name() const;

@@ -1,6 +1,7 @@
 #include "gpu/gpu_predictor.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@
 namespace hrpp {
 
 static_assert(sizeof(gpu::InsertPushConstants) == 16);
-static_assert(sizeof(gpu::StagePushConstants) == 16);
+static_assert(sizeof(gpu::StagePushConstants) == 24);
 static_assert(sizeof(gpu::PredictQueue) == 64);
 static_assert(sizeof(gpu::QueueEntry) == 16);
 
@@ -38,26 +39,43 @@ gpu::PredictQueue empty_queue(std::uint32_t next_ray, std::uint32_t ray_count) {
   return q;
 }
 
+// Bytes rounded up to whole texels (the tags and slots are also read through texel views).
+std::size_t texel_bytes(std::size_t bytes) {
+  return (bytes + TexelView::kTexelBytes - 1) / TexelView::kTexelBytes * TexelView::kTexelBytes;
+}
+
 // One ray class's table and its kernels (bound to the table and to the class's query arrays).
+// hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
+// counting traversal only in the variant that counts.
+ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up, bool counts) {
+  const SpecializationConstant spec[] = {{HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
+                                         {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u}};
+  return ComputePipeline(ctx, "hrpp_predict",
+                         embedded_spirv(is_any_hit(c) ? "hrpp_predict_any" : "hrpp_predict"),
+                         kStageBindingTypes, sizeof(gpu::StagePushConstants), spec);
+}
+
 struct Table {
   gpu::PredictorParams params{};
   StorageBuffer param_buf, tags, stamps, slots, requests, counters;
-  ComputePipeline predict, resolve, insert;
+  TexelView tag_view, slot_view;
+  ComputePipeline predicts[2];  // [counts the baseline]
+  ComputePipeline resolve, insert;
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c)
       : params(p),
         param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters")),
-        tags(ctx, std::size_t{p.sets} * p.ways * sizeof(std::uint64_t),
+        tags(ctx, texel_bytes(std::size_t{p.sets} * p.ways * sizeof(std::uint64_t)),
              name(c, "predictor tags (--table-sets × --table-ways)")),
         stamps(ctx, std::size_t{p.sets} * p.ways * sizeof(std::uint32_t),
                name(c, "predictor stamps")),
-        slots(ctx, std::size_t{p.sets} * p.ways * p.nodes * sizeof(std::uint32_t),
+        slots(ctx, texel_bytes(std::size_t{p.sets} * p.ways * p.nodes * sizeof(std::uint32_t)),
               name(c, "predictor node slots (sets × ways × --table-nodes)")),
         requests(ctx, sizeof(gpu::InsertRequest), "insert requests"),
         counters(ctx, sizeof(gpu::PredictorCounters), name(c, "predictor counters")),
-        predict(ctx, "hrpp_predict", embedded_spirv(is_any_hit(c) ? "hrpp_predict_any"
-                                                                  : "hrpp_predict"),
-                kStageBindingTypes, sizeof(gpu::StagePushConstants)),
+        tag_view(ctx, tags),
+        slot_view(ctx, slots),
+        predicts{make_predict(ctx, c, p.go_up, false), make_predict(ctx, c, p.go_up, true)},
         resolve(ctx, "hrpp_resolve", embedded_spirv("hrpp_resolve"), kStageBindingTypes,
                 sizeof(gpu::StagePushConstants)),
         insert(ctx, "hrpp_insert", embedded_spirv("hrpp_insert"), HRPP_TABLE_BINDING_COUNT,
@@ -65,8 +83,16 @@ struct Table {
     clear();
     upload_params();
     bind_table(insert, 0);
-    for (ComputePipeline* k : {&predict, &resolve}) bind_table(*k, HRPP_STAGE_BINDING_TABLE);
+    for (ComputePipeline* k : stage_kernels()) {
+      bind_table(*k, HRPP_STAGE_BINDING_TABLE);
+      k->bind(HRPP_STAGE_BINDING_TAG_TEXELS, tag_view);
+      k->bind(HRPP_STAGE_BINDING_SLOT_TEXELS, slot_view);
+    }
   }
+
+  // The kernels with the stage's bindings.
+  std::array<ComputePipeline*, 3> stage_kernels() { return {&predicts[0], &predicts[1], &resolve}; }
+  ComputePipeline& predict() { return predicts[params.count_baseline]; }
 
   static std::string name(RayClass c, const char* what) {
     return std::string(ray_class_name(c)) + " " + what;
@@ -96,7 +122,7 @@ struct Queue {
   StorageBuffer state;           // gpu::PredictQueue
   StorageBuffer trace_counters;  // gpu::TraceCounters of the trace over the queue
   StorageBuffer rays, entries, hits;
-  TexelView ray_view;
+  TexelView ray_view, entry_view, hit_view;
   ComputePipeline trace;
   std::size_t capacity = 0;
 
@@ -135,9 +161,47 @@ struct GpuPredictor::State {
     t.upload_params();
   }
 
-  gpu::StagePushConstants stage_push(const gpu::TracePushConstants& trace_pc) const {
+  gpu::StagePushConstants stage_push(const gpu::TracePushConstants& trace_pc,
+                                     std::uint32_t pilot_pass = 0) const {
     return {trace_pc.rays_per_invocation, trace_pc.canary_iterations,
-            rays_per_workgroup(trace_pc.rays_per_invocation), 0};
+            rays_per_workgroup(trace_pc.rays_per_invocation), config.pilot, pilot_pass, 0};
+  }
+
+  // One round of predict → trace of the queue → resolve over the rays of `pilot_pass`
+  // (0: all; 1, 2: the pilot schedule's passes).
+  void record_pass(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                   const gpu::TracePushConstants& trace_pc, std::uint32_t pilot_pass,
+                   KernelTimer* timer) {
+    const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass);
+    const std::string label = std::string("hrpp_predict:") + ray_class_name(c);
+    if (count.host) {
+      const std::uint32_t per_group = spc.trace_group_rays;
+      record_dispatch(cmd, table(c).predict(), &spc, (*count.host + per_group - 1) / per_group,
+                      timer, label);
+    } else {
+      record_dispatch_indirect(cmd, table(c).predict(), &spc, *count.buffer, count.args_offset,
+                               timer, label);
+    }
+    record_queue_trace(cmd, c, trace_pc, timer);
+  }
+
+  // Empties the queue (its cursors and indirect arguments) for another round over the same
+  // rays; the answer counts go on adding up.
+  void restart_queue(VkCommandBuffer cmd, RayClass c) {
+    Queue& q = queue(c);
+    const gpu::PredictQueue empty = empty_queue(0, 0);
+    const std::uint32_t zero = 0;
+    transfer_compute_barrier(cmd);
+    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, next_ray), sizeof zero,
+                      &zero);
+    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, queued), sizeof zero,
+                      &zero);
+    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, trace_groups),
+                      sizeof empty.trace_groups + sizeof empty.resolve_groups,
+                      &empty.trace_groups);
+    vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), offsetof(gpu::TraceCounters, next_ray),
+                      sizeof zero, &zero);
+    transfer_compute_barrier(cmd);
   }
 
   std::uint32_t rays_per_workgroup(std::uint32_t rays_per_invocation) const {
@@ -192,7 +256,7 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     s_->tables[c] = std::make_unique<Table>(ctx, params, c);
-    for (ComputePipeline* k : {&s_->tables[c]->predict, &s_->tables[c]->resolve}) {
+    for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       s_->bind_bvh(*k, nodes, leaves, triangles);
       k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queues[is_any_hit(c)]->state);
       k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim);
@@ -206,12 +270,14 @@ GpuPredictor& GpuPredictor::operator=(GpuPredictor&&) noexcept = default;
 
 const PredictorConfig& GpuPredictor::config() const { return s_->config; }
 
-void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const StorageBuffer& hits,
+void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const TexelView& hits,
                              std::size_t capacity) {
   Queue& q = *s_->queues[any_hit];
   capacity = std::max<std::size_t>(capacity, 1);
   if (q.capacity < capacity) {
     q.ray_view = TexelView();
+    q.entry_view = TexelView();
+    q.hit_view = TexelView();
     q.rays = StorageBuffer();  // free first: one at a time in the heap
     q.entries = StorageBuffer();
     q.hits = StorageBuffer();
@@ -219,6 +285,8 @@ void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const StorageB
     q.entries = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::QueueEntry), "HRPP queue entries");
     q.hits = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::Hit), "HRPP queue hits");
     q.ray_view = TexelView(*s_->ctx, q.rays);
+    q.entry_view = TexelView(*s_->ctx, q.entries);
+    q.hit_view = TexelView(*s_->ctx, q.hits);
     q.capacity = capacity;
     q.trace.bind(HRPP_TRACE_BINDING_RAYS, q.ray_view);
     q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hits);
@@ -230,16 +298,16 @@ void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const StorageB
     if (t.requests.size() < request_bytes) {
       t.requests = StorageBuffer();
       t.requests = StorageBuffer(*s_->ctx, request_bytes, "insert requests");
-      for (ComputePipeline* k : {&t.predict, &t.resolve, &t.insert})
-        k->bind((k == &t.insert ? 0 : HRPP_STAGE_BINDING_TABLE) + HRPP_TABLE_REQUESTS,
-                t.requests);
+      t.insert.bind(HRPP_TABLE_REQUESTS, t.requests);
+      for (ComputePipeline* k : t.stage_kernels())
+        k->bind(HRPP_STAGE_BINDING_TABLE + HRPP_TABLE_REQUESTS, t.requests);
     }
-    for (ComputePipeline* k : {&t.predict, &t.resolve}) {
+    for (ComputePipeline* k : t.stage_kernels()) {
       k->bind(HRPP_TRACE_BINDING_RAYS, rays);
       k->bind(HRPP_STAGE_BINDING_HITS, hits);
-      k->bind(HRPP_STAGE_BINDING_QUEUE_RAYS, q.rays);
-      k->bind(HRPP_STAGE_BINDING_QUEUE_ENTRIES, q.entries);
-      k->bind(HRPP_STAGE_BINDING_QUEUE_HITS, q.hits);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_RAYS, q.ray_view);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_ENTRIES, q.entry_view);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_HITS, q.hit_view);
     }
   }
 }
@@ -267,17 +335,11 @@ void GpuPredictor::record(VkCommandBuffer cmd, RayClass c, const RayCountSource&
                 offsetof(gpu::PredictQueue, ray_count), sizeof(std::uint32_t));
   }
   transfer_compute_barrier(cmd);
-  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);
-  const std::string label = std::string("hrpp_predict:") + ray_class_name(c);
-  if (count.host) {
-    const std::uint32_t per_group = spc.trace_group_rays;
-    record_dispatch(cmd, s_->table(c).predict, &spc, (*count.host + per_group - 1) / per_group,
-                    timer, label);
-  } else {
-    record_dispatch_indirect(cmd, s_->table(c).predict, &spc, *count.buffer, count.args_offset,
-                             timer, label);
-  }
-  s_->record_queue_trace(cmd, c, trace_pc, timer);
+  const std::uint32_t k = s_->config.pilot;
+  if (k < 2) return s_->record_pass(cmd, c, count, trace_pc, 0, timer);
+  s_->record_pass(cmd, c, count, trace_pc, 1, timer);  // the pilot rays, then the others
+  s_->restart_queue(cmd, c);
+  s_->record_pass(cmd, c, count, trace_pc, 2, timer);
 }
 
 void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
@@ -285,7 +347,7 @@ void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t
   Queue& q = s_->queue(c);
   Table& t = s_->table(c);
   s_->set_clock(c, clock);
-  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);
+  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);  // no pilot: batch order
   const gpu::PredictQueue zero = empty_queue(0, 0);
   const gpu::TraceCounters trace_zero{};
   vkCmdUpdateBuffer(cmd, q.state.handle(), 0, sizeof zero, &zero);
@@ -304,7 +366,7 @@ void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t
     vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), offsetof(gpu::TraceCounters, next_ray),
                       sizeof cursor, &cursor);
     transfer_compute_barrier(cmd);
-    record_dispatch(cmd, t.predict, &spc, (n + spc.trace_group_rays - 1) / spc.trace_group_rays,
+    record_dispatch(cmd, t.predict(), &spc, (n + spc.trace_group_rays - 1) / spc.trace_group_rays,
                     nullptr);
     s_->record_queue_trace(cmd, c, trace_pc, nullptr);
     const gpu::InsertPushConstants ipc{first, n, clock + first, 0};

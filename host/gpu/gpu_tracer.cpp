@@ -54,6 +54,7 @@ void to_occlusion_records(std::span<gpu::Hit> hits) {
 struct QueryArrays {
   StorageBuffer rays, hits;  // grown on demand
   TexelView ray_view;        // how the kernels read the rays
+  TexelView hit_view;        // how the HRPP stage reads and writes the hits
   StorageBuffer counters;    // TraceCounters of the plain trace
   ComputePipeline kernel;
   bool predicted = false;    // the last recorded trace ran the HRPP stage
@@ -90,7 +91,7 @@ struct GpuTracer::State {
         node_view(c, nodes),
         leaf_view(c, leaves),
         triangle_view(c, triangles),
-        timer(c, 4) {
+        timer(c, 8) {  // HRPP with the pilot schedule: two rounds of three dispatches
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
     nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
@@ -142,15 +143,17 @@ struct GpuTracer::State {
     QueryArrays& a = query(c);
     if (a.rays.size() >= n * sizeof(gpu::Ray)) return;
     a.ray_view = TexelView();
+    a.hit_view = TexelView();
     a.rays = StorageBuffer();  // free first: one at a time in the heap
     a.hits = StorageBuffer();
     const std::string which = is_any_hit(c) ? "hit-any" : "hit-all";
     a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), which + " ray array");
     a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
     a.ray_view = TexelView(*ctx, a.rays);
+    a.hit_view = TexelView(*ctx, a.hits);
     a.kernel.bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
     a.kernel.bind(HRPP_TRACE_BINDING_HITS, a.hits);
-    if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hits, n);
+    if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hit_view, n);
   }
 
   gpu::TracePushConstants push_constants() const {

@@ -1,6 +1,7 @@
 // Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h) and of the
 // HRPP stage's (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel
-// buffers (bindings 0..3), everything else storage buffers.
+// buffers (bindings 0..3); the stage also reads and writes its per-ray arrays as texel buffers
+// (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer.
 #pragma once
 
 #include <array>
@@ -25,7 +26,16 @@ constexpr std::array<VkDescriptorType, N> texel_then_storage_bindings() {
 }
 
 inline constexpr auto kTraceBindingTypes = texel_then_storage_bindings<HRPP_TRACE_BINDING_COUNT>();
-inline constexpr auto kStageBindingTypes = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
+inline constexpr auto kStageBindingTypes = [] {
+  auto t = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
+  t[HRPP_STAGE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_QUEUE_RAYS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_QUEUE_ENTRIES] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_QUEUE_HITS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_TAG_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_SLOT_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}();
 static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
 
 }  // namespace hrpp

@@ -50,6 +50,7 @@ StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string 
   bci.size = alloc;
   // Texel-buffer use too: kernels may read an array through a TexelView (gpu/texel_view.h).
   bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+              VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;

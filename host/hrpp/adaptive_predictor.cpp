@@ -33,7 +33,8 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   d.probed = cost.probed;
   // Nearly every ray traced (off, or a probing frame whose predictions missed): the trace time
   // per ray is what a trace without prediction costs.
-  if (cost.traced > 0 && cost.traced >= kTracedForOffCost * static_cast<double>(cost.rays))
+  if (cost.traced > 0 &&
+      static_cast<double>(cost.traced) >= kTracedForOffCost * static_cast<double>(cost.rays))
     s.off_ms_per_ray = cost.trace_ms / static_cast<double>(cost.traced);
   if (!s.enabled) {
     d.reason = "disabled";

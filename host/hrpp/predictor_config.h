@@ -63,6 +63,11 @@ struct PredictorConfig {
   // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):
   // doubles the traversal work, so timings are taken with it off.
   bool count_baseline = false;
+  // The pilot schedule (--hrpp-pilot K): a trace first predicts and traces every K-th ray and
+  // inserts their hits, then predicts the others, which find the pilots' entries (a wavefront
+  // probes all at once: without it, rays of one trace never see each other's inserts). 0 or 1:
+  // one round. Not with batches (their order is the deterministic one).
+  std::uint32_t pilot = 16;
   // Ray classes that predict (--hrpp-rays); the others trace as with HRPP off.
   PerClass<bool> classes{{true, true, true}};
   // Per frame, per class: stop probing a class whose prediction costs more time than it saves,

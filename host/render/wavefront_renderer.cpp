@@ -168,7 +168,7 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 16),
+        timer(c, 32),
         adaptive(config.predictor) {
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {
       p->bind(HRPP_RENDER_BINDING_PARAMS, params);

@@ -21,6 +21,8 @@
 
 layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 layout(push_constant) uniform PushConstants { StagePushConstants pc; };
+layout(constant_id = HRPP_SPEC_VERIFY_INTERIOR) const bool kVerifyInterior = true;
+layout(constant_id = HRPP_SPEC_COUNT_BASELINE) const bool kCountBaseline = true;
 
 #include "hrpp_stage.glsl"
 #include "hrpp_hash.glsl"
@@ -51,12 +53,12 @@ Hit verify_entry(RaySetup r, int entry, inout bool finished) {
   float tmax = r.tmax;
   bool done = false;  // hit-any answered (no break out of the loop: see hrpp_table.glsl)
   for (uint s = 0u; s < hrpp.nodes && !done; ++s) {
-    const int node = int(hrpp_slots[first + s]);
+    const int node = int(hrpp_fetch_slot(first + s));
     if (node == HRPP_EMPTY_NODE) {
       done = true;
     } else if (node < 0) {
       done = test_leaf(r, node, predicted, tmax);
-    } else {
+    } else if (kVerifyInterior) {
       RaySetup sub = r;
       sub.tmax = tmax;
       finished = traverse_from(sub, node, predicted) && finished;
@@ -102,8 +104,8 @@ void enqueue(bool wanted, Ray ray, QueueEntry entry) {
   base = subgroupBroadcastFirst(base);
   if (wanted) {
     const uint slot = base + subgroupBallotExclusiveBitCount(lanes);
-    queue_rays[slot] = ray;
-    queue_entries[slot] = entry;
+    store_queue_ray(slot, ray);
+    store_queue_entry(slot, entry);
   }
 }
 
@@ -123,14 +125,14 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
       const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, hrpp.hash);
       entry = QueueEntry(index, HRPP_QUEUE_PROBED, uint(key), uint(key >> 32));
       const Hit predicted = predict(index, r, key, finished);
-      if (hrpp.count_baseline != 0u) {
+      if (kCountBaseline && hrpp.count_baseline != 0u) {
         const Hit truth = baseline_traversal(r);
         if (HRPP_ANY_HIT == 0 && hrpp.mode == HRPP_MODE_SPECULATIVE && predicted.prim >= 0 &&
             (truth.prim != predicted.prim || truth.t != predicted.t))
           ++h_wrong;
       }
       if (predicted.prim >= 0) {
-        hits[index] = predicted;
+        store_hit(index, predicted);
         resolved = HRPP_ANY_HIT != 0 || hrpp.mode == HRPP_MODE_SPECULATIVE;
         entry.flags |= HRPP_QUEUE_BOUNDED;
         ray.tmax = predicted.t;
@@ -163,20 +165,37 @@ void flush_counters() {
   }
 }
 
+// The rays of this dispatch: all of the queue's ray_count, or one pass of the pilot schedule
+// (PredictorConfig::pilot): first the rays whose index is a multiple of K, so that the rest find
+// their entries. Returns the count; ray_index() maps the j-th ray of the pass to its index.
+uint pass_ray_count(uint total) {
+  if (pc.pilot_pass == 0u) return total;
+  const uint pilots = (total + pc.pilot_stride - 1u) / pc.pilot_stride;
+  return pc.pilot_pass == 1u ? pilots : total - pilots;
+}
+
+uint ray_index(uint j) {
+  if (pc.pilot_pass == 0u) return j;
+  if (pc.pilot_pass == 1u) return j * pc.pilot_stride;
+  const uint others = pc.pilot_stride - 1u;  // rays between two pilots
+  return (j / others) * pc.pilot_stride + j % others + 1u;
+}
+
 void main() {
   if (hrpp.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup
+  const uint count = pass_ray_count(queue.ray_count);
   uint resolved_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
-    // One atomicAdd per subgroup for all its in_range lanes (any subgroup size).
+    // One atomicAdd per subgroup for all its active lanes (any subgroup size).
     const uvec4 lanes = subgroupBallot(true);
     uint base = 0u;
     if (subgroupElect()) base = atomicAdd(queue.next_ray, subgroupBallotBitCount(lanes));
     base = subgroupBroadcastFirst(base);
-    if (base >= queue.ray_count) break;  // uniform across the subgroup
-    const uint index = base + subgroupBallotExclusiveBitCount(lanes);
-    const bool in_range = index < queue.ray_count;
+    if (base >= count) break;  // uniform across the subgroup
+    const uint j = base + subgroupBallotExclusiveBitCount(lanes);
+    const bool in_range = j < count;
     bool resolved;
-    const bool finished = predict_ray(index, in_range, resolved);
+    const bool finished = predict_ray(ray_index(j), in_range, resolved);
     if (in_range && !finished) ++aborted;
     if (in_range && finished && resolved) ++resolved_count;
   }

@@ -66,12 +66,18 @@ uint hrpp_set_of(uint64_t key) {
 // in divergent control flow gave wrong answers (measured: most probes of keys in the table
 // missed with 8 lanes active, none with one); loops carry a state variable instead.
 
+// How lookups read a tag: the includer may name a faster read (HRPP_TABLE_FETCH_TAG: the
+// stage's texel view); inserts always use the storage buffer they update.
+#ifndef HRPP_TABLE_FETCH_TAG
+#define HRPP_TABLE_FETCH_TAG hrpp_load_tag
+#endif
+
 // Entry index holding `key`, or -1. A hit renews the entry's stamp (LRU).
 int hrpp_table_lookup(uint64_t key, uint clock) {
   const uint base = hrpp_set_of(key) * hrpp.ways;
   int found = -1;
   for (uint w = 0u; w < hrpp.ways; ++w)
-    if (found < 0 && hrpp_load_tag(base + w) == key) found = int(base + w);
+    if (found < 0 && HRPP_TABLE_FETCH_TAG(base + w) == key) found = int(base + w);
   if (found >= 0 && hrpp.policy == HRPP_POLICY_LRU) atomicMax(hrpp_stamps[found], clock);
   return found;
 }

@@ -24,8 +24,16 @@
 #define HRPP_STAGE_BINDING_QUEUE_HITS 8
 #define HRPP_STAGE_BINDING_TABLE 9  // the table's buffers: 9 + HRPP_TABLE_*
 #define HRPP_STAGE_BINDING_NODE_OF_PRIM 15
-#define HRPP_STAGE_BINDING_COUNT 16
+// The table's tags and node slots again, as uniform texel buffers (R32G32B32A32_UINT views): how
+// hrpp_predict reads them (texel gathers; scattered storage loads are slow on lavapipe).
+#define HRPP_STAGE_BINDING_TAG_TEXELS 16
+#define HRPP_STAGE_BINDING_SLOT_TEXELS 17
+#define HRPP_STAGE_BINDING_COUNT 18
 #define HRPP_RESOLVE_WORKGROUP_SIZE 64
+// hrpp_predict's specialization constants: what a configuration does not use is compiled out
+// (an inlined traversal costs even where no lane runs it, measured on lavapipe).
+#define HRPP_SPEC_VERIFY_INTERIOR 0  // go-up > 0: predicted nodes may be interior nodes
+#define HRPP_SPEC_COUNT_BASELINE 1   // count what a full traversal of each probed ray visits
 
 // The table's buffers at base + these offsets (the stage: base HRPP_STAGE_BINDING_TABLE;
 // hrpp_insert: base 0): params, 64-bit tags, use stamps, node slots, requests, counters.
@@ -45,6 +53,8 @@ struct StagePushConstants {
   uint rays_per_invocation;  // hrpp_predict: cap on the rays one invocation takes (loop limiter)
   uint canary_iterations;    // always 2 (shaders/lib/trace_kernel.glsl, loop_budget_left)
   uint trace_group_rays;     // rays per workgroup of the trace kernel over the queue
+  uint pilot_stride;         // K > 1: the pilot schedule, rays i with i % K == 0 first
+  uint pilot_pass;           // 0: every ray; 1: the pilot rays; 2: the others
   uint pad;
 };
 
