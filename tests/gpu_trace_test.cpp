@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <random>
@@ -38,15 +37,15 @@ VulkanContext& context() {
 
 bool is_lavapipe() { return context().info().driver.find("llvmpipe") != std::string::npos; }
 
-// Pinhole camera rays through a side × side grid.
-std::vector<gpu::Ray> primary_rays(const Camera& cam, int side = kSide) {
+// Pinhole camera rays through a kSide × kSide grid.
+std::vector<gpu::Ray> primary_rays(const Camera& cam) {
   const glm::vec3 right = glm::normalize(glm::cross(cam.forward, cam.up));
   const float h = std::tan(0.5f * cam.yfov);
   const float w = h * (cam.aspect > 0.0f ? cam.aspect : 1.0f);
   std::vector<gpu::Ray> rays;
-  const float n = static_cast<float>(side);
-  for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x) {
+  const float n = static_cast<float>(kSide);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
       const float sx = (2.0f * (static_cast<float>(x) + 0.5f) / n - 1.0f) * w;
       const float sy = (1.0f - 2.0f * (static_cast<float>(y) + 0.5f) / n) * h;
       gpu::Ray r;
@@ -64,7 +63,7 @@ std::vector<gpu::Ray> primary_rays(const Camera& cam, int side = kSide) {
 // scene diagonal), otherwise unbounded diffuse bounces.
 std::vector<gpu::Ray> bounce_rays(const Scene& scene, const GpuBvh& bvh,
                                   const std::vector<gpu::Ray>& primary, bool ao,
-                                  std::uint32_t seed, int count = kRaysPerKind) {
+                                  std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   const float diag = glm::length(bvh.bounds.hi - bvh.bounds.lo);
@@ -89,7 +88,7 @@ std::vector<gpu::Ray> bounce_rays(const Scene& scene, const GpuBvh& bvh,
     points.push_back({t.v0 + a * (t.v1 - t.v0) + b * (t.v2 - t.v0), glm::normalize(c)});
   }
   std::vector<gpu::Ray> rays;
-  for (int i = 0; i < count; ++i) {
+  for (int i = 0; i < kRaysPerKind; ++i) {
     const Point& pt = points[static_cast<std::size_t>(i) % points.size()];
     const glm::vec3 n = pt.n;
     const glm::vec3 t = glm::normalize(std::abs(n.x) > 0.5f ? glm::cross(n, glm::vec3(0, 1, 0))
@@ -251,42 +250,6 @@ INSTANTIATE_TEST_SUITE_P(Scenes, GpuTrace,
                          testing::Values("builtin:cornell", "meshes/utah_teapot.glb",
                                          "meshes/mcguire_bunny.glb"),
                          test::scene_param_name);
-
-// Throughput of both kernels on the bunny after warm-up (device timestamps), printed, not
-// asserted. HRPP_GPU_RAYS_PER_INVOCATION overrides the tracer's default for experiments.
-TEST(GpuTracer, BunnyThroughput) {
-  const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
-  GpuTracerConfig config;
-  if (const char* rpi = std::getenv("HRPP_GPU_RAYS_PER_INVOCATION"))
-    config.rays_per_invocation = static_cast<std::uint32_t>(std::atoi(rpi));
-  GpuTracer tracer(context(), bvh, config);
-  tracer.warm_up();
-  constexpr int kSideLarge = 256;  // 65,536 rays per kind
-  const std::vector<gpu::Ray> primary = primary_rays(scene.cameras.at(0), kSideLarge);
-  const std::vector<Batch> batches = {
-      {"primary", primary},
-      {"ao", bounce_rays(scene, bvh, primary, true, 5, kSideLarge * kSideLarge)},
-      {"diffuse", bounce_rays(scene, bvh, primary, false, 9, kSideLarge * kSideLarge)}};
-  for (const Batch& b : batches)
-    for (bool any_hit : {false, true}) {
-      double best = 1e30;
-      GpuTraceResult r;
-      for (int i = 0; i < 3; ++i) {
-        r = tracer.trace(b.rays, any_hit);
-        best = std::min(best, r.kernel_ms);
-      }
-      const double n = static_cast<double>(b.rays.size());
-      std::printf("bunny %-7s %-7s %6.2f Mrays/s  (%.1f ms; per ray %.1f interior, %.1f leaves, "
-                  "%.1f triangles; %u rays/invocation)\n",
-                  b.kind.c_str(), any_hit ? "any" : "closest", n / (best * 1e3), best,
-                  static_cast<double>(r.counters.interior_visited) / n,
-                  static_cast<double>(r.counters.leaves_visited) / n,
-                  static_cast<double>(r.counters.triangles_tested) / n, config.rays_per_invocation);
-      EXPECT_EQ(r.counters.rays, b.rays.size());
-    }
-  EXPECT_EQ(context().validation_messages(), 0u);
-}
 
 TEST(GpuTracer, ChunksAndEmptyBatches) {
   const Scene scene = builtin_cornell();

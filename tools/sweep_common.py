@@ -35,10 +35,3 @@ def rows(data, grid, **eq):
         out = [r for r in out if r.get(k) == v]
     return out
 
-
-def pct(x):
-    return "" if x is None else f"{100 * x:.1f}%"
-
-
-def mib(x):
-    return "" if x is None else f"{x / 2**20:.1f}"

@@ -1,5 +1,5 @@
 // hrpp trace SCENE --rays R.bin --hits H.bin [--any-hit] [--device D] [--validate]: trace a file
-// of rays on the GPU and write one hit record per ray (formats: README, DESIGN.md).
+// of rays on the GPU and write one hit record per ray (formats: docs/FORMATS.md).
 #include <algorithm>
 #include <bit>
 #include <cstdio>

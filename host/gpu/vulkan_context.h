@@ -29,7 +29,7 @@ struct DeviceInfo {
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   std::uint32_t api_version = 0;
   std::string driver;               // driver name and info, e.g. "llvmpipe Mesa 22.3.6"
-  std::uint32_t subgroup_size = 0;  // never assumed by the kernels, reported only
+  std::uint32_t subgroup_size = 0;  // never assumed by the kernels; HRPP serial mode sizes by it
   bool float64 = false;             // shaderFloat64 (required: watertight double fallback)
   bool int64 = false;               // shaderInt64
   bool int64_atomics = false;       // shaderBufferInt64Atomics

@@ -2,7 +2,7 @@
 // formats as the CPU reference (trace/cpu_traversal.h) and the GPU tracer.
 //
 //   - one triangle geometry over the scene's non-degenerate triangles (the BVH's set); Embree's
-//     primID is mapped back to the triangle id of DESIGN.md;
+//     primID is mapped back to the scene's triangle id (docs/FORMATS.md);
 //   - closest hit: rtcIntersect1, one ray at a time (Embree's single-ray path, the like-for-like
 //     baseline for one-ray-per-invocation traversal; the stream API would add ray packing that
 //     neither the CPU reference nor the kernels do); any hit: rtcOccluded1;

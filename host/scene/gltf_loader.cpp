@@ -1,8 +1,8 @@
 // glTF 2.0 loader (.gltf / .glb) on top of tinygltf. tinygltf parses the JSON and the buffers; this
 // file validates everything it reads itself (indices, byte ranges, component types, node graph,
-// finite positions) and flattens the default scene into world-space triangles in the id order of
-// DESIGN.md: root nodes in listed order, each node depth-first (its own mesh, then its children),
-// primitives in order, triangles in index order.
+// finite positions) and flattens the default scene into world-space triangles in triangle-id
+// order (docs/FORMATS.md): root nodes in listed order, each node depth-first (its own mesh,
+// then its children), primitives in order, triangles in index order.
 #include <algorithm>
 #include <cctype>
 #include <cmath>

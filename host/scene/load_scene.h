@@ -26,7 +26,8 @@ Scene builtin_cornell();
 // their ids but never enter the BVH.
 bool is_degenerate(const Triangle& t);
 
-// DESIGN.md triangle dump: 9 × float32 per triangle (v0, v1, v2), little-endian, id order.
+// Triangle dump (docs/FORMATS.md): 9 × float32 per triangle (v0, v1, v2), little-endian,
+// triangle-id order.
 void write_triangle_dump(const Scene& scene, const std::filesystem::path& file);
 
 }  // namespace hrpp

@@ -1,4 +1,4 @@
-// A scene as the renderer sees it: world-space triangles in the flattened id order of DESIGN.md,
+// A scene as the renderer sees it: world-space triangles in triangle-id order (docs/FORMATS.md),
 // their shading data, materials, textures, lights and cameras. Loaders (glTF, manifest, built-in)
 // produce it; the BVH and the GPU upload consume it.
 #pragma once

@@ -1,4 +1,5 @@
-// DESIGN.md triangle dump: 9 × float32 per triangle (v0, v1, v2), little-endian, id order.
+// Triangle dump (docs/FORMATS.md): 9 × float32 per triangle (v0, v1, v2), little-endian,
+// triangle-id order.
 #include <bit>
 #include <cerrno>
 #include <cstdint>

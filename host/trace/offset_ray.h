@@ -46,7 +46,7 @@ inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
   return out;
 }
 
-// Point on triangle tri at barycentrics (u, v) of v1 and v2 (the hits format of DESIGN.md).
+// Point on triangle tri at barycentrics (u, v) of v1 and v2 (the hit record of docs/FORMATS.md).
 inline glm::vec3 barycentric_point(const Triangle& tri, float u, float v) {
   return (1.0f - u - v) * tri.v0 + u * tri.v1 + v * tri.v2;
 }

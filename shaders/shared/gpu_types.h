@@ -42,7 +42,7 @@ struct BvhLeaf {
 // 2013): the vertices plus the triangle's id in the scene's flattened order.
 struct TriangleRecord {
   vec3 v0;
-  uint prim;  // triangle id (DESIGN.md: flattened order)
+  uint prim;  // triangle id (docs/FORMATS.md)
   vec3 v1;
   uint pad0;
   vec3 v2;
