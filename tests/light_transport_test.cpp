@@ -220,8 +220,8 @@ double cornell_ceiling_closed_form(const Scene& s, float gap) {
 }
 
 // The ceiling above the light as the gap shrinks, in the box as is and moved up by 99 units.
-// Before the fix it was dark below 3.05 cm (0.1% of the gap under the receiver's offset of
-// 256 ULPs at y ≈ 1.1) and at every gap here 99 units up.
+// Before the fix it was dark wherever the receiver's offset (256 ULPs: 3.05e-5 at y ≈ 1.1,
+// 1.95e-3 at y ≈ 100) exceeded 0.1% of the gap: below 3.05 cm, and at every gap 99 units up.
 TEST(LightTransport, CornellCeilingAboveHangingLightFadesInSmoothly) {
   for (float gap : {0.1f, 0.05f, 0.032f, 0.03f, 0.028f, 0.02f, 0.01f, 0.005f}) {
     for (float shift : {0.0f, 99.0f}) {
