@@ -85,6 +85,57 @@ uint pick_light(float u, out float prob) {
   return lo;
 }
 
+struct LightSample {
+  vec3 wi;    // unit direction from the surface point to the light
+  vec3 li;    // incident radiance × 1/pdf of the sample (zero: nothing to add)
+  Ray shadow;  // from the surface point to the light, offset at both ends (offset_ray.glsl)
+};
+
+// A point uniformly on emissive triangle l (radiance l.color, two-sided) seen from s: the
+// shadow ray ends just short of it, moved off the triangle towards s.
+LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1, float u2) {
+  const float r = sqrt(u1);
+  const vec3 q = l.position + r * (1.0 - u2) * l.dir + r * u2 * l.edge2;
+  const vec3 c = cross(l.dir, l.edge2);
+  const float area2 = length(c);
+  const vec3 to = q - s.p;
+  const float d2 = dot(to, to);
+  LightSample ls;
+  ls.wi = to / sqrt(d2);
+  const float cos_l = dot(c, ls.wi) / area2;  // > 0: s sees the side c points away from
+  ls.li = l.color * (abs(cos_l) * 0.5 * area2 / d2);
+  ls.shadow = shadow_ray_to(s.p, s.ng, q, (cos_l > 0.0 ? -c : c) / area2);
+  return ls;
+}
+
+// Point and spot lights (intensity l.color, spot cones from l.dir): the shadow ray ends just
+// short of the light's position.
+LightSample sample_point_light(GpuLight l, SurfaceHit s) {
+  const vec3 to = l.position - s.p;
+  const float d2 = dot(to, to);
+  LightSample ls;
+  ls.wi = to / sqrt(d2);
+  ls.li = l.color / d2;
+  if (l.type == HRPP_LIGHT_SPOT)
+    ls.li *= smoothstep(l.cos_outer, l.cos_inner, dot(-ls.wi, l.dir));
+  ls.shadow = shadow_ray_to(s.p, s.ng, l.position, vec3(0.0));
+  return ls;
+}
+
+// One sample of light l for next-event estimation from s. Directional lights (irradiance
+// l.color, travelling along l.dir): a shadow ray to infinity.
+LightSample sample_light(GpuLight l, SurfaceHit s, float u1, float u2) {
+  if (kEmissiveTriangles && l.type == HRPP_LIGHT_TRIANGLE)
+    return sample_triangle_light(l, s, u1, u2);
+  if ((kPointLights && l.type == HRPP_LIGHT_POINT) || (kSpotLights && l.type == HRPP_LIGHT_SPOT))
+    return sample_point_light(l, s);
+  LightSample ls;
+  ls.wi = -l.dir;
+  ls.li = kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL ? l.color : vec3(0.0);
+  ls.shadow = Ray(offset_ray_origin(s.p, s.ng), 0.0, ls.wi, 3.0e38);
+  return ls;
+}
+
 const uint kLobeDiffuse = 0u;
 const uint kLobeMetal = 1u;
 const uint kLobeGlass = 2u;
@@ -141,42 +192,15 @@ void main() {
       const float u_light = rng_next(rng), u_l1 = rng_next(rng), u_l2 = rng_next(rng);
       if (!delta && params.light_count > 0u) {
         float prob;
-        const GpuLight l = load_light(pick_light(u_light, prob));
-        vec3 wi = vec3(0.0);
-        float dist = 3.0e38;
-        vec3 li = vec3(0.0);  // incident radiance × 1/pdf of the sample
-        if (kEmissiveTriangles && l.type == HRPP_LIGHT_TRIANGLE) {
-          const float r = sqrt(u_l1);
-          const vec3 q = l.position + r * (1.0 - u_l2) * l.dir + r * u_l2 * l.edge2;
-          const vec3 c = cross(l.dir, l.edge2);
-          const float area2 = length(c);
-          const vec3 to = q - s.p;
-          const float d2 = dot(to, to);
-          dist = sqrt(d2);
-          wi = to / dist;
-          const float cos_l = abs(dot(c, wi)) / area2;
-          li = l.color * (cos_l * 0.5 * area2 / d2);
-        } else if ((kPointLights && l.type == HRPP_LIGHT_POINT) ||
-                   (kSpotLights && l.type == HRPP_LIGHT_SPOT)) {
-          const vec3 to = l.position - s.p;
-          const float d2 = dot(to, to);
-          dist = sqrt(d2);
-          wi = to / dist;
-          li = l.color / d2;
-          if (l.type == HRPP_LIGHT_SPOT)
-            li *= smoothstep(l.cos_outer, l.cos_inner, dot(-wi, l.dir));
-        } else if (kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL) {
-          wi = -l.dir;
-          li = l.color;
-        }
+        const LightSample ls = sample_light(load_light(pick_light(u_light, prob)), s, u_l1, u_l2);
         const vec3 contribution =
-            path.throughput * eval_lobe_cos(lobe, s, wo, wi, albedo, alpha) * li / prob;
-        if (max(contribution.r, max(contribution.g, contribution.b)) > 0.0 && dist > 0.0) {
+            path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi, albedo, alpha) * ls.li / prob;
+        // A shadow ray turned away from the light (offsets crossed, or p on the light): none.
+        if (max(contribution.r, max(contribution.g, contribution.b)) > 0.0 &&
+            dot(ls.shadow.dir, ls.wi) > 0.0) {
           const uint slot = atomicAdd(queues.shadow_rays, 1u);
           shadow_end = slot + 1u;
-          // Stop short of the light's own surface (triangles) by a relative margin.
-          const float tmax = dist < 3.0e38 ? dist * 0.999 : 3.0e38;
-          shadow_rays[slot] = Ray(offset_ray_origin(s.p, s.ng), 0.0, wi, tmax);
+          shadow_rays[slot] = ls.shadow;
           shadows[slot] = ShadowRecord(contribution, path.pixel);
         }
       }

@@ -60,6 +60,7 @@ const std::map<std::string, std::string>& expected_errors() {
       {"gltf/missing_texture.gltf", "image 0: file missing.png not found or unreadable"},
       {"gltf/corrupt_texture.gltf", "image 0: Unknown image format"},
       {"gltf/huge_texture.gltf", "image 0: PNG of 100000 x 100000 pixels, larger than 16384"},
+      {"gltf/huge_jpeg_texture.gltf", "image 0: JPEG of 60000 x 40000 pixels, larger than 16384"},
       // primitives and values
       {"gltf/mode_points.gltf", "mode 0 (POINTS) is not supported"},
       {"gltf/mode_lines.gltf", "mode 1 (LINES) is not supported"},

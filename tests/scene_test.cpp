@@ -1,9 +1,12 @@
 // Scene stage: glTF loader, manifests, builtin Cornell box, load_scene dispatch, triangle dump.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,7 @@
 
 #include "common/error.h"
 #include "gltf_writer.h"
+#include "scene/image_header.h"
 #include "scene/load_scene.h"
 
 namespace fs = std::filesystem;
@@ -870,6 +874,91 @@ TEST(RealMeshes, CommittedManifestsLoad) {
       }
     }
   }
+}
+
+// ---- image headers (the texture size guard) ----------------------------------------------------
+
+std::vector<std::uint8_t> bytes_of(std::initializer_list<int> v) {
+  return std::vector<std::uint8_t>(v.begin(), v.end());
+}
+
+std::vector<std::uint8_t> operator+(std::vector<std::uint8_t> a,
+                                    const std::vector<std::uint8_t>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// SOI, then segments before the frame header: APP0 (JFIF, 16 bytes), fill bytes, a standalone
+// RST0, a DHT (C4: in the SOF range, but not a frame) and a DQT.
+std::vector<std::uint8_t> jpeg_prefix() {
+  return bytes_of({0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 'J', 'F', 'I', 'F', 0, 1, 1, 0, 0, 1, 0, 1,
+                   0, 0, 0xFF, 0xFF, 0xFF, 0xD0, 0xFF, 0xC4, 0x00, 0x04, 0x00, 0x00, 0xFF, 0xDB,
+                   0x00, 0x03, 0x00});
+}
+
+// A frame header (marker, length 17, precision 8, height, width, 3 components).
+std::vector<std::uint8_t> sof(int marker, int width, int height) {
+  return bytes_of({0xFF, marker, 0x00, 0x11, 8, height >> 8, height & 0xFF, width >> 8,
+                   width & 0xFF, 3, 1, 0x22, 0, 2, 0x11, 1, 3, 0x11, 1});
+}
+
+TEST(ImageHeader, JpegFrameHeaderAfterOtherSegments) {
+  for (int marker : {0xC0, 0xC1, 0xC2, 0xC3, 0xC5, 0xC7, 0xC9, 0xCB, 0xCD, 0xCF}) {
+    const auto h = hrpp::read_image_header(jpeg_prefix() + sof(marker, 60000, 300));
+    ASSERT_TRUE(h.has_value()) << marker;
+    EXPECT_EQ(h->format, "JPEG");
+    EXPECT_EQ(h->width, 60000u);
+    EXPECT_EQ(h->height, 300u);
+  }
+  const auto full = jpeg_prefix() + sof(0xC0, 65535, 65535);
+  EXPECT_EQ(hrpp::read_image_header(full)->width, 65535u);
+  // Cut anywhere before the end of the width: nothing to say (stb_image reports it).
+  for (std::size_t n = 0; n < jpeg_prefix().size() + 9; ++n)
+    EXPECT_FALSE(hrpp::read_image_header(std::span(full.data(), n)).has_value()) << n;
+  // A scan before any frame header, a non-marker byte, not a JPEG.
+  EXPECT_FALSE(hrpp::read_image_header(jpeg_prefix() + bytes_of({0xFF, 0xDA, 0, 2}) +
+                                       sof(0xC0, 9, 9)).has_value());
+  EXPECT_FALSE(hrpp::read_image_header(jpeg_prefix() + bytes_of({0x12}) + sof(0xC0, 9, 9))
+                   .has_value());
+  EXPECT_FALSE(hrpp::read_image_header(bytes_of({0xFF, 0xD9, 0xFF, 0xC0, 0, 0, 0, 0, 0, 0}))
+                   .has_value());
+}
+
+TEST(ImageHeader, PngIhdr) {
+  std::vector<std::uint8_t> rgba(3 * 2 * 4, 255);
+  const auto h = hrpp::read_image_header(hrpp::test::make_png(3, 2, rgba));
+  ASSERT_TRUE(h.has_value());
+  EXPECT_EQ(h->format, "PNG");
+  EXPECT_EQ(h->width, 3u);
+  EXPECT_EQ(h->height, 2u);
+}
+
+// The lamborghini's textures (6 JPEGs, 2 PNGs): the headers give the sizes stb_image decodes.
+TEST(ImageHeader, CommittedTexturesMatchTheDecoder) {
+  const fs::path glb = fs::path(HRPP_TEST_SCENES_DIR) / "meshes" / "lamborghini_huracan.glb";
+  std::ifstream in(glb, std::ios::binary);
+  const std::vector<std::uint8_t> file((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_GT(file.size(), 20u);
+  std::uint32_t json_length;
+  std::memcpy(&json_length, file.data() + 12, 4);
+  const json doc = json::parse(file.begin() + 20, file.begin() + 20 + json_length);
+  const std::size_t bin = 20 + json_length + 8;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> from_headers, decoded;
+  int jpegs = 0;
+  for (const json& image : doc["images"]) {
+    const json& view = doc["bufferViews"][image["bufferView"].get<int>()];
+    const auto h = hrpp::read_image_header(
+        std::span(file.data() + bin + view.value("byteOffset", 0), view["byteLength"]));
+    ASSERT_TRUE(h.has_value());
+    jpegs += h->format == "JPEG";
+    from_headers.emplace_back(h->width, h->height);
+  }
+  for (const hrpp::Texture& t : hrpp::load_scene(glb.string()).textures)
+    decoded.emplace_back(t.width, t.height);
+  std::sort(from_headers.begin(), from_headers.end());
+  std::sort(decoded.begin(), decoded.end());
+  EXPECT_EQ(jpegs, 6);
+  EXPECT_EQ(from_headers, decoded);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@ static_assert(sizeof(gpu::GpuMaterial) == 48);
 static_assert(sizeof(gpu::GpuLight) == 64);
 static_assert(offsetof(gpu::GpuLight, cdf) == 28);  // light_cdf(): texel 1, .w
 static_assert(sizeof(gpu::GpuTexture) == 16);
+static_assert(sizeof(gpu::OffsetRayCase) == 64 && sizeof(gpu::OffsetRayResult) == 48);
 
 namespace {
 

@@ -22,6 +22,7 @@
 #include <tiny_gltf.h>
 
 #include "common/error.h"
+#include "scene/image_header.h"
 #include "scene/load_scene.h"
 
 namespace hrpp {
@@ -344,20 +345,13 @@ class GltfLoader {
     if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       fail("image " + std::to_string(img) + " has an invalid size");
     }
-    // A PNG's size is in its header: refuse a decompression bomb (a few MB of zeros that
-    // inflate to gigabytes) before stb_image allocates it.
-    if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0) {
-      auto be32 = [&](std::size_t o) {  // IHDR width at byte 16, height at 20, big-endian
-        std::uint32_t v = 0;
-        for (std::size_t k = 0; k < 4; ++k) v = v << 8 | bytes[o + k];
-        return v;
-      };
-      const std::uint32_t w = be32(16), h = be32(20);
-      if (w > kMaxTextureSide || h > kMaxTextureSide) {
-        fail("image " + std::to_string(img) + ": PNG of " + std::to_string(w) + " x " +
-             std::to_string(h) + " pixels, larger than " + std::to_string(kMaxTextureSide) +
-             " on a side");
-      }
+    // A PNG's or JPEG's size is in its header: refuse a decompression bomb (a few MB that
+    // decode to gigabytes) before stb_image allocates it.
+    const auto header = read_image_header({bytes, size});
+    if (header && (header->width > kMaxTextureSide || header->height > kMaxTextureSide)) {
+      fail("image " + std::to_string(img) + ": " + header->format + " of " +
+           std::to_string(header->width) + " x " + std::to_string(header->height) +
+           " pixels, larger than " + std::to_string(kMaxTextureSide) + " on a side");
     }
     tinygltf::Image decoded;
     decoded.name = gi.name;

@@ -8,7 +8,8 @@
 // a small fixed distance is added instead. Use it with tmin = 0 on the new ray.
 //
 // Reused by every stage that spawns secondary rays (AO, diffuse, shadow, path continuation).
-// The GLSL side must mirror it operation for operation.
+// Shadow rays toward a point on a light move both ends (shadow_ray_to). The GLSL side
+// (shaders/lib/offset_ray.glsl) mirrors it operation for operation.
 #pragma once
 
 #include <bit>
@@ -44,6 +45,23 @@ inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
     out[i] = std::fabs(p[i]) < kOffsetOrigin ? p[i] + kOffsetFloatScale * n[i] : p_i;
   }
   return out;
+}
+
+// Shadow rays are 1/8192 of their length short of the (moved) light point: exact in float.
+inline constexpr float kShadowRayLength = 1.0f - 1.0f / 8192.0f;
+
+// Shadow ray from p (on a surface; n: the side the ray leaves into) to q on a light (nq: the
+// light surface's unit normal on p's side; zero for a point light, which leaves q in place).
+// As pbrt's SpawnRayTo: both ends are moved off their surfaces and the direction and tmax come
+// from the moved points, so the ray stops short of the light's own surface however close p is
+// to it (as long as the two offsets do not cross). Zero length: NaN direction, a ray that misses.
+inline gpu::Ray shadow_ray_to(const glm::vec3& p, const glm::vec3& n, const glm::vec3& q,
+                              const glm::vec3& nq) {
+  const glm::vec3 o = offset_ray_origin(p, n);
+  const glm::vec3 d = offset_ray_origin(q, nq) - o;
+  const float len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  const glm::vec3 dir(d.x / len, d.y / len, d.z / len);
+  return gpu::Ray{o, 0.0f, dir, len * kShadowRayLength};
 }
 
 // Point on triangle tri at barycentrics (u, v) of v1 and v2 (the hit record of docs/FORMATS.md).

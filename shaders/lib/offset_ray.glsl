@@ -1,7 +1,11 @@
 // Wächter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing
-// Gems (2019), ch. 6: the GLSL mirror of host/trace/offset_ray.h, operation for operation.
+// Gems (2019), ch. 6, and shadow rays offset at both ends (pbrt's SpawnRayTo): the GLSL mirror
+// of host/trace/offset_ray.h, operation for operation (`precise` where a fused multiply-add
+// could round differently).
 #ifndef HRPP_OFFSET_RAY_GLSL
 #define HRPP_OFFSET_RAY_GLSL
+
+#include "gpu_types.h"
 
 const float kOffsetOrigin = 1.0 / 32.0;
 const float kOffsetFloatScale = 1.0 / 65536.0;
@@ -17,6 +21,22 @@ vec3 offset_ray_origin(vec3 p, vec3 n) {
   return vec3(abs(p.x) < kOffsetOrigin ? p.x + kOffsetFloatScale * n.x : p_i.x,
               abs(p.y) < kOffsetOrigin ? p.y + kOffsetFloatScale * n.y : p_i.y,
               abs(p.z) < kOffsetOrigin ? p.z + kOffsetFloatScale * n.z : p_i.z);
+}
+
+const float kShadowRayLength = 1.0 - 1.0 / 8192.0;
+
+// Shadow ray from p (on a surface, n on the side the ray leaves into) to q on a light (nq: the
+// light surface's unit normal on p's side; zero for a point light, which leaves q in place).
+// Both ends are moved off their surfaces, and the direction and tmax come from the moved
+// points, tmax 1/8192 of the length short of the moved q: the ray cannot reach the light's own
+// surface, however close p is to it. Zero length: the direction is NaN and the ray misses.
+Ray shadow_ray_to(vec3 p, vec3 n, vec3 q, vec3 nq) {
+  const vec3 o = offset_ray_origin(p, n);
+  precise vec3 d = offset_ray_origin(q, nq) - o;
+  precise float len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  precise vec3 dir = vec3(d.x / len, d.y / len, d.z / len);
+  precise float tmax = len * kShadowRayLength;
+  return Ray(o, 0.0, dir, tmax);
 }
 
 #endif  // HRPP_OFFSET_RAY_GLSL

@@ -168,6 +168,24 @@ struct GpuTexture {
   uint pad;
 };
 
+// render_offset_rays, a check kernel: the ray offsets of shaders/lib/offset_ray.glsl on arrays,
+// one case per invocation, compared with the C++ mirror (host/trace/offset_ray.h) bit for bit.
+#define HRPP_OFFSET_RAYS_BINDING_CASES 0    // OffsetRayCase per invocation
+#define HRPP_OFFSET_RAYS_BINDING_RESULTS 1  // OffsetRayResult per invocation
+#define HRPP_OFFSET_RAYS_BINDING_COUNT 2
+
+struct OffsetRayCase {
+  vec4 p;   // xyz: surface point
+  vec4 n;   // xyz: its normal on the side the ray leaves into
+  vec4 q;   // xyz: point on a light
+  vec4 nq;  // xyz: the light's normal on p's side (zero: a point light)
+};
+
+struct OffsetRayResult {
+  vec4 origin;  // xyz: offset_ray_origin(p, n)
+  Ray shadow;   // shadow_ray_to(p, n, q, nq)
+};
+
 #ifdef __cplusplus
 }  // namespace hrpp::gpu
 #endif

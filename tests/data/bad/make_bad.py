@@ -139,6 +139,14 @@ def main():
            struct.pack(">I", zlib.crc32(b"IEND")))
     d["images"] = [{"uri": uri(png)}]
     put(G, "huge_texture.gltf", js(d))
+    # A progressive JPEG (SOF2 after JFIF and quantisation segments) claiming 60000 x 40000
+    # pixels (9.6 GB decoded), no scan.
+    jfif = b"\xff\xe0" + struct.pack(">H", 16) + b"JFIF\0\x01\x01\0\0\x01\0\x01\0\0"
+    dqt = b"\xff\xdb" + struct.pack(">HB", 67, 0) + bytes(range(1, 65))
+    sof2 = b"\xff\xc2" + struct.pack(">HBHHB", 17, 8, 40000, 60000, 3) + bytes(
+        [1, 0x22, 0, 2, 0x11, 1, 3, 0x11, 1])
+    d["images"] = [{"uri": uri(b"\xff\xd8" + jfif + dqt + sof2 + b"\xff\xd9")}]
+    put(G, "huge_jpeg_texture.gltf", js(d))
 
     # ---- primitives and values -------------------------------------------------------------
     put(G, "mode_points.gltf", js(doc(mode=0)))
