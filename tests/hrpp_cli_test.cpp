@@ -78,7 +78,7 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   EXPECT_EQ(h.at("enabled"), true);
   EXPECT_EQ(h.at("hash"), "hrpp");
   EXPECT_EQ(h.at("mode"), "speculative");
-  EXPECT_EQ(h.at("table_bytes"), 1024u * 8 * (8 + 4 + 4 * 8));
+  EXPECT_EQ(h.at("table_bytes"), 16384u * 2 * (8 + 4 + 4 * 1));  // the tuned preset
   const nlohmann::json& s = h.at("summary");
   EXPECT_EQ(s.at("probes"), 2u * 64 * 64);
   EXPECT_EQ(s.at("predictor_hits").get<std::uint64_t>() + s.at("negatives").get<std::uint64_t>(),

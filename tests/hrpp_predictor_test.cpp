@@ -128,7 +128,8 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       GpuTracer* tracer = nullptr;
       PredictorConfig p = config(PredictorMode::kExact, t);
       p.hash.bits = c.bits;
-      const GpuTraceResult on = trace_gpu(p, *c.rays, c.any, &tracer);
+      trace_gpu(p, *c.rays, c.any, &tracer);  // a trace's inserts serve the next traces
+      const GpuTraceResult on = tracer->trace(*c.rays, c.any);
       expect_same_hits(on.hits, reference.hits, what);
       expect_counters_add_up(on.predictor, c.rays->size(), what);
       const auto& pc = on.predictor.c;
@@ -148,7 +149,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
         EXPECT_GT(pc[HRPP_PC_TRUE_POSITIVES], 0u) << what;
         // Nothing evicted or dropped: every inserted node is in the table.
         EXPECT_EQ(pc[HRPP_PC_EVICTIONS] + pc[HRPP_PC_INSERT_DROPS], 0u) << what;
-        EXPECT_EQ(occ.nodes, pc[HRPP_PC_INSERTS]) << what;
+        EXPECT_GE(occ.nodes, pc[HRPP_PC_INSERTS]) << what;  // + the first trace's
       }
     }
   }
@@ -225,7 +226,7 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
         for (const gpu::Hit& h : r.hits) hits += h.prim >= 0;
         EXPECT_EQ(r.counters.hits, hits) << what;
         if (mode == PredictorMode::kExact) expect_same_hits(r.hits, off.trace(rays, false).hits, what);
-        if (n == 1500) {
+        if (n == 1500 && t.entries() > 8) {
           EXPECT_GT(tp, 0u) << what;
         }
       }

@@ -71,7 +71,9 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
     EXPECT_GT(exact.stats.closest().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
     // Hit-any true positives on the roomy table: the 8-entry ones (evictions, drops) meet the
     // box's few occluded shadow rays (~10%) by chance, 0 to 2 times at this size.
-    if (t.sets > 4) EXPECT_GT(exact.stats.shadow().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    if (t.sets > 4) {
+      EXPECT_GT(exact.stats.shadow().predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+    }
     EXPECT_EQ(exact.stats.closest().predictor.c[HRPP_PC_WRONG_CLOSEST], 0u) << what;
     if (t.sets == 4) {
       const int full = t.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;

@@ -422,7 +422,7 @@ TEST(LightTransport, FurnaceConvexBodyInEnvironment) {
     }
     EXPECT_EQ(other, 0u) << "shift " << shift << ": pixels neither L nor the body's ρ L";
     EXPECT_GT(body, r.rgb.size() / 4) << "shift " << shift;  // the body fills the view's middle
-    EXPECT_EQ(r.stats.shadow.counters.rays, 0u);
+    EXPECT_EQ(r.stats.shadow().counters.rays, 0u);
   }
   expect_no_validation_messages();
 }

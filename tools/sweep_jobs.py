@@ -83,7 +83,8 @@ class Jobs:
 
 def hrpp_flags(mode="speculative", preset="unbounded", count=True, bits=6, goup=0, hash_="hrpp",
                sets=None, ways=None, nodes=None, policy=None):
-    f = ["--hrpp", "on", "--hrpp-rays", "both", "--hrpp-mode", mode, "--hash", hash_,
+    f = ["--hrpp", "on", "--hrpp-rays", "both", "--hrpp-adaptive", "off", "--hrpp-mode", mode,
+         "--hash", hash_,
          "--hash-bits", str(bits), "--go-up", str(goup), "--table-preset", preset]
     if sets is not None:
         f += ["--table-sets", str(sets), "--table-ways", str(ways), "--table-nodes", str(nodes),

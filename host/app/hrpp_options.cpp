@@ -87,8 +87,9 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->capture_default_str()
       ->group(g);
   cmd->add_option("--table-preset", o.preset,
-                  "Table size per ray class: small (1024x8x8 lru, 352 KiB), unbounded "
-                  "(131072x16x16, none, 152 MiB: the paper's limit study), tiny (4x2x2 lru)")
+                  "Table size per ray class: tuned (16384x2x1 lru, 512 KiB), small (1024x8x8 "
+                  "lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
+                  "study), tiny (4x2x2 lru)")
       ->capture_default_str()
       ->group(g);
   cmd->add_option("--table-sets", o.sets, "Sets (a power of two; overrides the preset)")->group(g);

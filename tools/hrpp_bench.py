@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Is HRPP faster? HRPP on against HRPP off, per ray class and per frame, on the Table 1 stand-ins.
+
+For each scene the same binary renders the same image (same size, spp and seed) with --hrpp off
+and with --hrpp on (plus --flags), alternating off/on --repeat times; the fastest run of each
+side counts. Printed per scene: on/off device-time ratios of each ray class's kernels (camera,
+bounce, shadow: hrpp_predict + trace + hrpp_resolve against the trace alone), of the whole frame
+(all kernels) and of the wall time; the classes' true-positive rates, the interior-node visits
+saved (counted by the kernels: visits with HRPP on against off, verification included), the
+frames each class probed (the adaptive predictor), and the image error of on against off: relMSE
+and the fraction of pixels that differ. --json writes every figure.
+
+Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
+                           [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
+STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "dragon"]
+CLASSES = ["camera", "bounce", "shadow"]
+EPS = 1e-2  # relMSE's guard, as tools/sweep_collect.py
+
+
+def read_exr(path):
+    import numpy as np
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RuntimeError(f"cannot read {path}")
+    px = inp.read_image("float")
+    inp.close()
+    return np.asarray(px, dtype=np.float64)[..., :3]
+
+
+def image_error(on, off):
+    import numpy as np
+    d = on - off
+    relmse = float(np.mean(d * d / (off * off + EPS)))
+    differ = float(np.mean(np.any(d != 0, axis=-1)))
+    return relmse, differ
+
+
+def render(binary, scene, a, flags, out_dir, tag):
+    exr = os.path.join(out_dir, f"{scene}_{tag}.exr")
+    stats = os.path.join(out_dir, f"{scene}_{tag}.json")
+    cmd = [binary, "render", scene, "--size", a.size, "--spp", str(a.spp), "--seed",
+           str(a.seed), "--out", exr, "--stats", stats] + flags
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"hrpp_bench: {' '.join(cmd)} failed:\n{r.stderr.strip()}")
+    with open(stats) as f:
+        return json.load(f), exr
+
+
+def class_ms(stats, c):
+    return sum(stats["classes"][c]["kernels_ms"].values())
+
+
+def fastest(runs):
+    """Per figure, the fastest of the runs (kernel times and wall time)."""
+    best = {"frame": min(s["kernels_ms_total"] for s in runs),
+            "wall": min(s["wall_s"] for s in runs)}
+    for c in CLASSES:
+        best[c] = min(class_ms(s, c) for s in runs)
+    return best
+
+
+def ratio(a, b):
+    return a / b if b > 0 else float("nan")
+
+
+def bench_scene(binary, scene, a, tmp):
+    offs, ons = [], []
+    exr_off = exr_on = None
+    for i in range(a.repeat):
+        s, exr_off = render(binary, scene, a, ["--hrpp", "off"], tmp, f"off{i}")
+        offs.append(s)
+        s, exr_on = render(binary, scene, a, ["--hrpp", "on"] + a.flags.split(), tmp, f"on{i}")
+        ons.append(s)
+    off, on = fastest(offs), fastest(ons)
+    row = {"scene": scene, "off": off, "on": on,
+           "ratio": {k: ratio(on[k], off[k]) for k in off}}
+    last_on, last_off = ons[-1], offs[-1]
+    for c in CLASSES:
+        h = last_on["classes"][c].get("hrpp", {})
+        rays = max(1, last_on["classes"][c]["rays"])
+        frames = last_on.get("frames", [])
+        probed = sum(1 for f in frames if f.get("hrpp_decisions", {}).get(c, {}).get("probed"))
+        visits_on = last_on["classes"][c]["interior_nodes"]
+        visits_off = last_off["classes"][c]["interior_nodes"]
+        row[c] = {"tp_rate": h.get("true_positives", 0) / rays,
+                  "interior_saved": 1 - ratio(visits_on, visits_off) if visits_off else 0.0,
+                  "wrong_closest": h.get("wrong_closest", 0),
+                  "frames_probed": probed, "frames": len(frames)}
+    row["relmse"], row["pixels_differ"] = image_error(read_exr(exr_on), read_exr(exr_off))
+    return row
+
+
+def print_row(r):
+    q = r["ratio"]
+    cls = "  ".join(f"{c} {q[c]:.2f} (tp {r[c]['tp_rate']:.2f}, saved {100 * r[c]['interior_saved']:.0f}%,"
+                    f" {r[c]['frames_probed']}/{r[c]['frames']} frames)" for c in CLASSES)
+    print(f"{r['scene']:14s} frame {q['frame']:.3f}  wall {q['wall']:.3f}  | {cls}  | "
+          f"relMSE {r['relmse']:.2e}, {100 * r['pixels_differ']:.1f}% pixels differ", flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--hrpp", default=DEFAULT_BIN, help="the hrpp binary")
+    ap.add_argument("--scenes", default=",".join(STAND_INS), help="comma-separated scene names")
+    ap.add_argument("--size", default="1024x1024")
+    ap.add_argument("--spp", type=int, default=8)
+    ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=2, help="off/on pairs per scene (fastest counts)")
+    ap.add_argument("--flags", default="", help="extra flags of the HRPP-on renders")
+    ap.add_argument("--quick", action="store_true", help="256x256, 2 spp, one pair")
+    ap.add_argument("--json", help="write every figure here")
+    a = ap.parse_args()
+    if a.quick:
+        a.size, a.spp, a.repeat = "256x256", 2, 1
+    if not os.access(a.hrpp, os.X_OK):
+        sys.exit(f"hrpp_bench: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    print(f"hrpp_bench: {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on pairs, "
+          f"on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); load {os.getloadavg()[0]:.2f}",
+          flush=True)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="hrpp_bench_") as tmp:
+        for scene in a.scenes.split(","):
+            rows.append(bench_scene(a.hrpp, scene, a, tmp))
+            print_row(rows[-1])
+    if a.json:
+        with open(a.json + ".partial", "w") as f:
+            json.dump({"size": a.size, "spp": a.spp, "seed": a.seed, "flags": a.flags,
+                       "rows": rows}, f, indent=1)
+        os.replace(a.json + ".partial", a.json)
+
+
+if __name__ == "__main__":
+    main()
