@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Is HRPP faster? HRPP on against HRPP off, per ray class and per frame, on the Table 1 stand-ins.
 
 For each scene the same binary renders the same image (same size, spp and seed) with --hrpp off
@@ -10,6 +10,7 @@ saved (counted by the kernels: visits with HRPP on against off, verification inc
 frames each class probed (the adaptive predictor), and the image error of on against off: relMSE
 and the fraction of pixels that differ. --json writes every figure.
 
+Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
 """

@@ -21,7 +21,7 @@ struct HrppOptions {
   std::string adaptive = "on";      // on | off
   std::string mode = "speculative";
   std::string hash = "hrpp";
-  std::uint32_t hash_bits = 4;
+  std::uint32_t hash_bits = 6;
   std::uint32_t go_up = 0;
   std::string preset = "tuned";
   std::uint32_t sets = 0, ways = 0, nodes = 0;  // 0: the preset's
