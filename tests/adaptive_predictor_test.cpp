@@ -1,7 +1,8 @@
 // The adaptive predictor (host/hrpp/adaptive_predictor.h) on forced costs: a class whose
 // prediction saves time keeps probing, one that loses stops after its warming frame and one
-// judged loss, is retried every kRetryEvery frames, and comes back when a trial gains; a class
-// that does not predict never probes; adaptive off probes every frame.
+// judged loss, is retried after kRetryEvery frames (twice as long after each losing trial), and
+// comes back when a trial gains; a class that does not predict never probes; adaptive off
+// probes every frame.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -75,11 +76,11 @@ TEST(AdaptivePredictor, StopsALosingClassAndRetriesIt) {
   EXPECT_EQ(frames_off, AdaptivePredictor::kRetryEvery);
   EXPECT_STREQ(d.reason, "retry");
   EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.01);
-  // A losing trial: off again for kRetryEvery frames.
+  // A losing trial: off again, twice as long.
   d = a.end_frame(RayClass::kShadow, probing_frame(12.0, 950));
   EXPECT_STREQ(d.reason, "loss");
   EXPECT_FALSE(d.probe_next);
-  for (int f = 1; f < AdaptivePredictor::kRetryEvery; ++f)
+  for (int f = 1; f < 2 * AdaptivePredictor::kRetryEvery; ++f)
     EXPECT_FALSE(a.end_frame(RayClass::kShadow, off_frame()).probe_next);
   EXPECT_TRUE(a.end_frame(RayClass::kShadow, off_frame()).probe_next);
   // The costs change: a trial that gains turns the class back on.

@@ -24,6 +24,7 @@ void AdaptivePredictor::judge(State& s, const ClassFrameCost& cost, ClassDecisio
     d.reason = gain ? "gain" : "loss";
     s.confidence = std::clamp(s.confidence + (gain ? 1 : -1), 0, kConfidenceMax);
     if (trial && gain) s.confidence = kConfidenceOn;
+    if (trial) s.retry_after = gain ? kRetryEvery : std::min(2 * s.retry_after, kRetryMax);
   }
 }
 
@@ -48,7 +49,7 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
     ++s.frames_off;
   }
   if (s.enabled && adaptive_) {
-    s.probing = s.confidence >= kConfidenceOn || s.frames_off >= kRetryEvery;
+    s.probing = s.confidence >= kConfidenceOn || s.frames_off >= s.retry_after;
     if (s.probing && s.confidence < kConfidenceOn) d.reason = "retry";
   }
   d.off_ms_per_ray = s.off_ms_per_ray;

@@ -8,7 +8,8 @@
 //     2-bit confidence, a loss lowers it; the class probes while the confidence is >= 2.
 //   - The first probing frame fills an empty table: it is not judged (warming).
 //   - A class that stopped probing traces as with HRPP off (which measures the trace cost per
-//     ray) and is tried again every `retry_every` frames; a trial with a gain turns it back on.
+//     ray) and is tried again after kRetryEvery frames; a trial with a gain turns it back on,
+//     each losing trial doubles the wait (up to kRetryMax frames).
 // The decisions are reported per frame in the render stats.
 #pragma once
 
@@ -41,7 +42,8 @@ struct ClassDecision {
 
 class AdaptivePredictor {
  public:
-  static constexpr int kRetryEvery = 4;  // frames off between trials
+  static constexpr int kRetryEvery = 4;  // frames off before the first trial
+  static constexpr int kRetryMax = 64;   // the longest wait after losing trials
   static constexpr int kConfidenceMax = 3;
   static constexpr int kConfidenceOn = 2;
   // Nearly every ray traced: the trace time then stands for a trace without prediction.
@@ -61,6 +63,7 @@ class AdaptivePredictor {
     int confidence = kConfidenceOn;
     int frames_probed = 0;
     int frames_off = 0;
+    int retry_after = kRetryEvery;  // frames off before the next trial
     double off_ms_per_ray = 0.0;
   };
   void judge(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
