@@ -17,13 +17,14 @@ echo
 echo "== $hrpp bench --hrpp on   (HRPP off vs on, side by side: gpu and gpu-hrpp rows)"
 "$hrpp" bench --rays 65536 --no-embree --repeat 1 --hrpp on --hrpp-mode exact --kinds primary,ao
 echo
-echo "== $hrpp render --hrpp on   (HRPP off | exact | speculative, side by side, same seed)"
-"$hrpp" render --hrpp on --hrpp-mode exact --hrpp-count --out build/demo/cornell_exact.png \
-  --stats build/demo/cornell_exact.json | grep -E '^(kernel +trace|hrpp)|savings'
-"$hrpp" render --hrpp on --hrpp-mode speculative --hrpp-count --out build/demo/cornell_spec.png \
-  --stats build/demo/cornell_spec.json | grep -E '^(kernel +trace|hrpp)|savings'
-oiiotool build/demo/cornell.png build/demo/cornell_exact.png build/demo/cornell_spec.png \
-  --mosaic 3x1 -o build/demo/hrpp_off_exact_speculative.png
-echo "exact vs off:       $(idiff build/demo/cornell.png build/demo/cornell_exact.png | tail -1)"
-echo "speculative vs off: $(idiff build/demo/cornell.png build/demo/cornell_spec.png | tail -1 || true)"
-echo "(side by side: build/demo/hrpp_off_exact_speculative.png)"
+echo "== HRPP on against off (tools/hrpp_bench.py: same binary, seed and image, off/on"
+echo "   interleaved; ratios of device time per ray class and frame, < 1: HRPP faster)"
+/usr/bin/python3 tools/hrpp_bench.py --scenes builtin:cornell --size 256x256 --spp 8 --repeat 1 \
+  --images build/demo/default
+/usr/bin/python3 tools/hrpp_bench.py --scenes builtin:cornell --size 256x256 --spp 8 --repeat 1 \
+  --flags "--hrpp-mode exact" --images build/demo/exact
+oiiotool build/demo/default/builtin_cornell_off0.exr build/demo/exact/builtin_cornell_on0.exr \
+  build/demo/default/builtin_cornell_on0.exr --mosaic 3x1 --colorconvert linear sRGB \
+  -o build/demo/hrpp_off_exact_speculative.png
+echo "(HRPP off | exact | speculative (the default), side by side:"
+echo " build/demo/hrpp_off_exact_speculative.png; exact renders HRPP off's image bit for bit)"

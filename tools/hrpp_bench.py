@@ -13,6 +13,7 @@ and the fraction of pixels that differ. --json writes every figure.
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
+                           [--images DIR]
 """
 import argparse
 import json
@@ -48,8 +49,9 @@ def image_error(on, off):
 
 
 def render(binary, scene, a, flags, out_dir, tag):
-    exr = os.path.join(out_dir, f"{scene}_{tag}.exr")
-    stats = os.path.join(out_dir, f"{scene}_{tag}.json")
+    name = os.path.basename(scene).replace(":", "_")
+    exr = os.path.join(out_dir, f"{name}_{tag}.exr")
+    stats = os.path.join(out_dir, f"{name}_{tag}.json")
     cmd = [binary, "render", scene, "--size", a.size, "--spp", str(a.spp), "--seed",
            str(a.seed), "--out", exr, "--stats", stats] + flags
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -122,6 +124,7 @@ def main():
     ap.add_argument("--flags", default="", help="extra flags of the HRPP-on renders")
     ap.add_argument("--quick", action="store_true", help="256x256, 2 spp, one pair")
     ap.add_argument("--json", help="write every figure here")
+    ap.add_argument("--images", help="keep the renders (SCENE_offN.exr, SCENE_onN.exr, stats) here")
     a = ap.parse_args()
     if a.quick:
         a.size, a.spp, a.repeat = "256x256", 2, 1
@@ -132,8 +135,10 @@ def main():
           flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="hrpp_bench_") as tmp:
+        out = a.images or tmp
+        os.makedirs(out, exist_ok=True)
         for scene in a.scenes.split(","):
-            rows.append(bench_scene(a.hrpp, scene, a, tmp))
+            rows.append(bench_scene(a.hrpp, scene, a, out))
             print_row(rows[-1])
     if a.json:
         with open(a.json + ".partial", "w") as f:
