@@ -14,7 +14,8 @@ from sweep_common import rows  # noqa: E402
 
 VARIANTS = (("off", "HRPP off", "k", "o-"), ("exact-small", "exact, small table", "tab:green", "s--"),
             ("spec-small", "speculative, small table", "tab:red", "^-"),
-            ("spec-unbounded", "speculative, unbounded", "tab:purple", "v-"))
+            ("spec-unbounded", "speculative, unbounded", "tab:purple", "v-"),
+            ("default", "--hrpp on (tuned, adaptive)", "tab:orange", "D-"))
 
 
 def errtime(data, out, w):

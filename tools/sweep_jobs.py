@@ -160,6 +160,8 @@ def grid_errtime(J, m):
                   variant="exact-small")
             J.add("errtime", sc, s, n, hrpp_flags(count=False, preset="unbounded"),
                   variant="spec-unbounded")
+            # What --hrpp on gives with no other flag: the tuned table, the adaptive predictor.
+            J.add("errtime", sc, s, n, ["--hrpp", "on"], variant="default")
 
 
 def grid_test(J, m):
