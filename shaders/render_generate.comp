@@ -23,7 +23,7 @@ void main() {
     const vec3 d = params.cam_forward.xyz +
                    (2.0 * sx - 1.0) * tan_half * aspect * params.cam_right.xyz +
                    (1.0 - 2.0 * sy) * tan_half * params.cam_up.xyz;  // image rows top down
-    rays[i] = Ray(params.cam_position.xyz, 0.0, normalize(d), 3.0e38);
+    rays[i] = Ray(params.cam_position.xyz, 0.0, normalize(d), HRPP_RAY_TMAX_FAR);
     paths[i] = PathState(vec3(1.0), pixel, pc.sample_index, 0u, 0u, 0u);
     finished = 1u;
   }

@@ -132,7 +132,7 @@ LightSample sample_light(GpuLight l, SurfaceHit s, float u1, float u2) {
   LightSample ls;
   ls.wi = -l.dir;
   ls.li = kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL ? l.color : vec3(0.0);
-  ls.shadow = Ray(offset_ray_origin(s.p, s.ng), 0.0, ls.wi, 3.0e38);
+  ls.shadow = Ray(offset_ray_origin(s.p, s.ng), 0.0, ls.wi, HRPP_RAY_TMAX_FAR);
   return ls;
 }
 
@@ -245,7 +245,7 @@ void main() {
         }
         if (alive) {
           const uint slot = atomicAdd(queues.next_rays, 1u);
-          next_rays[slot] = Ray(offset_ray_origin(s.p, leave_normal), 0.0, wi, 3.0e38);
+          next_rays[slot] = Ray(offset_ray_origin(s.p, leave_normal), 0.0, wi, HRPP_RAY_TMAX_FAR);
           next_paths[slot] = PathState(throughput, path.pixel, path.sample_index, path.depth + 1u,
                                        delta ? 1u : 0u, 0u);
         }

@@ -95,8 +95,8 @@ def bench_scene(binary, scene, a, tmp):
         rays = max(1, last_on["classes"][c]["rays"])
         frames = last_on.get("frames", [])
         probed = sum(1 for f in frames if f.get("hrpp_decisions", {}).get(c, {}).get("probed"))
-        visits_on = last_on["classes"][c]["interior_nodes"]
-        visits_off = last_off["classes"][c]["interior_nodes"]
+        visits_on = last_on["classes"][c]["interior_visited"]
+        visits_off = last_off["classes"][c]["interior_visited"]
         row[c] = {"tp_rate": h.get("true_positives", 0) / rays,
                   "interior_saved": 1 - ratio(visits_on, visits_off) if visits_off else 0.0,
                   "wrong_closest": h.get("wrong_closest", 0),

@@ -74,10 +74,10 @@ def flatten(meta, stats):
     for cls, src, pc in (("all", "closest", "hit_all"), ("any", "shadow", "hit_any")):
         c = stats.get(src, {})
         r[f"{cls}_rays"] = c.get("rays")
-        r[f"{cls}_interior_per_ray"] = c.get("interior_nodes", 0) / max(1, c.get("rays", 0))
+        r[f"{cls}_interior_per_ray"] = c.get("interior_visited", c.get("interior_nodes", 0)) / max(1, c.get("rays", 0))
         p = h.get(pc) if on else None
         if p is None:
-            r[f"{cls}_interior_visited"] = c.get("interior_nodes")
+            r[f"{cls}_interior_visited"] = c.get("interior_visited", c.get("interior_nodes"))
             continue
         for k in CLASS_KEYS:
             r[f"{cls}_{k}"] = p.get(k)

@@ -38,8 +38,9 @@ void parse_size(const std::string& s, RenderConfig& c) {
   unsigned w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(s.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-      w == 0 || h == 0 || w > 16384 || h > 16384)
-    throw Error("--size \"" + s + "\": expected WxH with 1..16384 each, e.g. 256x256");
+      w == 0 || h == 0 || w > RenderConfig::kMaxSide || h > RenderConfig::kMaxSide)
+    throw Error("--size \"" + s + "\": expected WxH with 1.." +
+                std::to_string(RenderConfig::kMaxSide) + " each, e.g. 256x256");
   c.width = w;
   c.height = h;
 }
@@ -83,7 +84,7 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
   check_range("--spp", o.render.spp, 1, 1u << 20);
-  check_range("--max-depth", o.render.max_depth, 1, 1024);
+  check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
   check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);

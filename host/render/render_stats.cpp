@@ -19,9 +19,9 @@ static_assert(std::size(kPredictorCounterNames) == HRPP_PC_EVICTIONS + 1);
 
 json counters_json(const TraversalCounters& c) {
   return json{{"rays", c.rays},
-              {"interior_nodes", c.interior_visited},
-              {"leaves", c.leaves_visited},
-              {"triangles", c.triangles_tested},
+              {"interior_visited", c.interior_visited},
+              {"leaves_visited", c.leaves_visited},
+              {"triangles_tested", c.triangles_tested},
               {"hits", c.hits}};
 }
 

@@ -32,11 +32,14 @@ constexpr auto kBindingTypes = [] {
 }();
 
 void check_config(const RenderConfig& c, const Scene& scene) {
-  if (c.width == 0 || c.height == 0 || c.width > 16384 || c.height > 16384)
+  const std::string side = std::to_string(RenderConfig::kMaxSide);
+  if (c.width == 0 || c.height == 0 || c.width > RenderConfig::kMaxSide ||
+      c.height > RenderConfig::kMaxSide)
     throw Error("render size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
-                " is outside 1x1..16384x16384");
+                " is outside 1x1.." + side + "x" + side);
   if (c.spp == 0) throw Error("spp (--spp) must be at least 1");
-  if (c.max_depth == 0 || c.max_depth > 1024) throw Error("max depth (--max-depth) must be 1..1024");
+  if (c.max_depth == 0 || c.max_depth > RenderConfig::kMaxDepth)
+    throw Error("max depth (--max-depth) must be 1.." + std::to_string(RenderConfig::kMaxDepth));
   if (c.wavefront_paths == 0) throw Error("wavefront paths (--wavefront) must be at least 1");
   if (c.camera >= scene.cameras.size())
     throw Error("camera " + std::to_string(c.camera) + " (--camera) does not exist: the scene has " +

@@ -32,6 +32,9 @@ namespace hrpp {
 class VulkanContext;
 
 struct RenderConfig {
+  static constexpr std::uint32_t kMaxSide = 16384;   // image width and height
+  static constexpr std::uint32_t kMaxDepth = 1024;   // max_depth
+
   std::uint32_t width = 256;
   std::uint32_t height = 256;
   std::uint32_t spp = 8;

@@ -6,6 +6,10 @@
 #ifndef HRPP_GPU_TYPES_H
 #define HRPP_GPU_TYPES_H
 
+// The tmax of a ray without an end (camera, continuation and directional-light shadow rays):
+// finite, so tmax arithmetic never meets infinity.
+#define HRPP_RAY_TMAX_FAR 3.0e38
+
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
