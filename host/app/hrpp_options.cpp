@@ -1,6 +1,7 @@
 #include "app/hrpp_options.h"
 
 #include <algorithm>
+#include <map>
 #include <string>
 
 #include "common/error.h"
@@ -32,13 +33,10 @@ PerClass<bool> parse_ray_classes(const std::string& list) {
 }  // namespace
 
 PredictorConfig HrppOptions::config() const {
-  if (hrpp != "off" && hrpp != "on") throw Error("--hrpp: '" + hrpp + "' is not off or on");
-  if (adaptive != "off" && adaptive != "on")
-    throw Error("--hrpp-adaptive: '" + adaptive + "' is not off or on");
   PredictorConfig c;
-  c.enabled = hrpp == "on";
-  c.mode = parse_predictor_mode(mode);
-  c.hash = {parse_hash_kind(hash), hash_bits};
+  c.enabled = enabled;
+  c.mode = mode;
+  c.hash = {hash, hash_bits};
   c.go_up = go_up;
   c.table = table_preset(preset);
   if (sets) c.table.sets = sets;
@@ -50,15 +48,17 @@ PredictorConfig HrppOptions::config() const {
   c.serial = serial;
   c.count_baseline = count_baseline;
   c.classes = parse_ray_classes(rays);
-  c.adaptive = adaptive == "on";
+  c.adaptive = adaptive;
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
 }
 
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
   const std::string g = "HRPP (hash-based ray path prediction)";
-  cmd->add_option("--hrpp", o.hrpp, "Probe a predictor table before traversal: off | on")
-      ->capture_default_str()
+  const std::map<std::string, bool> on_off{{"off", false}, {"on", true}};
+  cmd->add_option("--hrpp", o.enabled, "Probe a predictor table before traversal: off | on")
+      ->transform(CLI::CheckedTransformer(on_off))
+      ->default_str("off")
       ->group(g);
   cmd->add_option("--hrpp-rays", o.rays,
                   "Ray classes that predict: a comma-separated subset of camera, bounce, shadow")
@@ -68,16 +68,23 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
                   "render: per frame and ray class, stop probing a class whose prediction costs "
                   "more time than it saves, retrying now and then: on | off (every named class "
                   "probes every frame)")
-      ->capture_default_str()
+      ->transform(CLI::CheckedTransformer(on_off))
+      ->default_str("on")
       ->group(g);
   cmd->add_option("--hrpp-mode", o.mode,
                   "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
                   "(its t bounds a full traversal: same answers as --hrpp off)")
-      ->capture_default_str()
+      ->transform(CLI::CheckedTransformer(std::map<std::string, PredictorMode>{
+          {"speculative", PredictorMode::kSpeculative}, {"exact", PredictorMode::kExact}}))
+      ->default_str("speculative")
       ->group(g);
   cmd->add_option("--hash", o.hash, "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
                                     "two-point")
-      ->capture_default_str()
+      ->transform(CLI::CheckedTransformer(std::map<std::string, HashKind>{
+          {"hrpp", HashKind::kIeee},
+          {"grid-spherical", HashKind::kGridSpherical},
+          {"two-point", HashKind::kTwoPoint}}))
+      ->default_str("hrpp")
       ->group(g);
   cmd->add_option("--hash-bits", o.hash_bits, "Hash precision N (1..8)")
       ->capture_default_str()

@@ -15,12 +15,15 @@
 
 namespace hrpp::app {
 
+// Flags are parsed once, by CLI11 transformers, into the enums and flags they stand for; only
+// the ray-class list and the table preset and policy (which default to the preset's) are
+// resolved in config().
 struct HrppOptions {
-  std::string hrpp = "off";         // off | on
+  bool enabled = false;             // --hrpp off | on
   std::string rays = "camera,bounce,shadow";  // ray classes that predict (or all | any | both)
-  std::string adaptive = "on";      // on | off
-  std::string mode = "speculative";
-  std::string hash = "hrpp";
+  bool adaptive = true;             // --hrpp-adaptive on | off
+  PredictorMode mode = PredictorMode::kSpeculative;
+  HashKind hash = HashKind::kIeee;
   std::uint32_t hash_bits = 6;
   std::uint32_t go_up = 0;
   std::string preset = "tuned";
