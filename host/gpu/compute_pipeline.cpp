@@ -268,6 +268,11 @@ void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeli
   compute_to_compute_barrier(cmd);
 }
 
+void record_update(VkCommandBuffer cmd, const StorageBuffer& dst, VkDeviceSize offset,
+                   VkDeviceSize bytes, const void* data) {
+  vkCmdUpdateBuffer(cmd, dst.handle(), offset, bytes, data);
+}
+
 void record_copy(VkCommandBuffer cmd, const StorageBuffer& src, VkDeviceSize src_offset,
                  const StorageBuffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes) {
   const VkBufferCopy region{src_offset, dst_offset, bytes};

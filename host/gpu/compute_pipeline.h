@@ -95,6 +95,10 @@ void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeli
                               KernelTimer* timer, std::string_view label = {});
 // Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
 void indirect_args_barrier(VkCommandBuffer cmd);
+// Writes `bytes` (at most 65536, a multiple of 4) of `data` into `dst` at `offset` (record a
+// barrier after).
+void record_update(VkCommandBuffer cmd, const StorageBuffer& dst, VkDeviceSize offset,
+                   VkDeviceSize bytes, const void* data);
 // Copies `bytes` from `src` at `src_offset` to `dst` at `dst_offset` (record a barrier after).
 void record_copy(VkCommandBuffer cmd, const StorageBuffer& src, VkDeviceSize src_offset,
                  const StorageBuffer& dst, VkDeviceSize dst_offset, VkDeviceSize bytes);

@@ -288,14 +288,11 @@ struct WavefrontRenderer::State {
       tracer.begin(RayClass::kShadow);
       const gpu::RenderQueues q = submit(
           [&](VkCommandBuffer cmd) {
-            vkCmdUpdateBuffer(cmd, queues.handle(), 0, sizeof kRenderQueuesStart,
-                              &kRenderQueuesStart);
+            record_update(cmd, queues, 0, sizeof kRenderQueuesStart, &kRenderQueuesStart);
             if (depth > 0) {
-              const VkBufferCopy rays{0, 0, std::size_t{n} * sizeof(gpu::Ray)};
-              vkCmdCopyBuffer(cmd, next_rays.handle(),
-                              tracer.ray_buffer(RayClass::kCamera, wave).handle(), 1, &rays);
-              const VkBufferCopy states{0, 0, std::size_t{n} * sizeof(gpu::PathState)};
-              vkCmdCopyBuffer(cmd, next_paths.handle(), paths.handle(), 1, &states);
+              record_copy(cmd, next_rays, 0, tracer.ray_buffer(RayClass::kCamera, wave), 0,
+                          std::size_t{n} * sizeof(gpu::Ray));
+              record_copy(cmd, next_paths, 0, paths, 0, std::size_t{n} * sizeof(gpu::PathState));
             }
             transfer_compute_barrier(cmd);
             if (depth == 0) {
