@@ -7,117 +7,133 @@
 #include "trace/ray_setup.h"
 
 namespace hrpp {
-namespace {
-
-struct Insert {
-  std::uint64_t key;
-  int node;
-};
-
-}  // namespace
-
 ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig& config)
     : bvh_(&bvh),
       config_(config),
       params_(make_predictor_params(config, bvh.bounds)),
       leaf_of_prim_(leaf_of_prim(bvh)) {}
 
-PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
-  const bool any_hit = is_any_hit(cls);
-  PredictorTraceResult out;
-  out.hits.resize(rays.size());
-  auto& pc = out.predictor.c;
-  TraversalCounters& c = out.counters;
-  Table& table = tables_[cls];
-  const bool exact = config_.mode == PredictorMode::kExact;
-  const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
+// One class's trace: the stage's steps for one ray at a time (shaders/lib/hrpp_predict.glsl,
+// the trace kernel, shaders/hrpp_resolve.comp), counting what the kernels count.
+struct ReferencePredictor::Trace {
+  const ReferencePredictor& p;
+  const bool any_hit;
+  const bool exact;
+  PredictorTraceResult& out;
+  std::vector<Insert> inserts;  // of the current batch, applied after it in ray order
+
+  std::uint64_t& counter(int i) { return out.predictor.c[i]; }
 
   // A traversal from the root with the ray's [tmin, tmax]; adds its work to `into`.
-  const auto full_trace = [&](const gpu::Ray& r, TraversalCounters& into) {
+  gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into) const {
     TraversalCounters f;
-    const gpu::Hit h = any_hit ? trace_any_hit(*bvh_, r, &f) : trace_closest(*bvh_, r, &f);
+    const gpu::Hit h = any_hit ? trace_any_hit(*p.bvh_, r, &f) : trace_closest(*p.bvh_, r, &f);
     f.rays = 0;
     f.hits = 0;
     into += f;
     return h;
-  };
+  }
 
-  for (std::size_t first = 0; first < rays.size(); first += batch) {
-    const std::size_t end = std::min(rays.size(), first + batch);
-    std::vector<Insert> inserts;  // applied after the batch, in ray order
-    for (std::size_t i = first; i < end; ++i) {
-      const gpu::Ray& ray = rays[i];
-      gpu::Hit best = kMiss;
-      if (!setup_ray(ray).valid) {  // misses without probing
-        best = full_trace(ray, c);
-      } else {
-        ++pc[HRPP_PC_PROBES];
-        const std::uint64_t key = hash_ray(ray.origin, ray.dir, params_.hash);
-        const auto entry = table.find(key);
-        gpu::Hit predicted = kMiss;
-        if (entry == table.end()) {
-          ++pc[HRPP_PC_NEGATIVES];
-        } else {
-          ++pc[HRPP_PC_PREDICTOR_HITS];
-          TraversalCounters v;
-          for (const int node : entry->second) {
-            gpu::Ray r = ray;
-            if (predicted.prim >= 0) r.tmax = predicted.t;
-            if (trace_subtree(*bvh_, r, node, any_hit, predicted, &v)) break;
-          }
-          pc[HRPP_PC_VERIFY_INTERIOR] += v.interior_visited;
-          pc[HRPP_PC_VERIFY_LEAVES] += v.leaves_visited;
-          pc[HRPP_PC_VERIFY_TRIANGLES] += v.triangles_tested;
-          c += v;
-          ++pc[predicted.prim >= 0 ? HRPP_PC_TRUE_POSITIVES : HRPP_PC_FALSE_POSITIVES];
-        }
-        bool traced = true;  // a traversal from the root ran (and may insert)
-        if (predicted.prim < 0) {  // negative or false positive: full traversal
-          TraversalCounters f;
-          best = full_trace(ray, f);
-          c += f;
-          if (config_.count_baseline) pc[HRPP_PC_BASELINE_INTERIOR] += f.interior_visited;
-        } else {
-          if (config_.count_baseline) {  // what HRPP off would have visited (not in c)
-            TraversalCounters b;
-            const gpu::Hit truth = full_trace(ray, b);
-            pc[HRPP_PC_BASELINE_INTERIOR] += b.interior_visited;
-            if (!any_hit && !exact && (truth.prim != predicted.prim || truth.t != predicted.t))
-              ++pc[HRPP_PC_WRONG_CLOSEST];
-          }
-          if (any_hit || !exact) {
-            best = predicted;
-            traced = false;
-          } else {  // exact: the predicted t bounds a full traversal
-            gpu::Ray r = ray;
-            r.tmax = predicted.t;
-            best = full_trace(r, c);
-            // The predicted triangle's own box may be culled at tmax = its t (the slab test's
-            // near distance rounds too): the closer of the two, ties to the lower id.
-            if (best.prim < 0 || predicted.t < best.t ||
-                (predicted.t == best.t && predicted.prim < best.prim))
-              best = predicted;
-          }
-        }
-        if (traced && best.prim >= 0) {
-          ++pc[HRPP_PC_INSERT_REQUESTS];
-          const std::uint32_t leaf = leaf_of_prim_[static_cast<std::size_t>(best.prim)];
-          inserts.push_back({key, prediction_node(*bvh_, leaf, config_.go_up)});
-        }
-      }
-      ++c.rays;
-      if (best.prim >= 0) ++c.hits;
-      out.hits[i] = any_hit ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss) : best;
+  // The entry's nodes in list order: the closest hit among them (hit-any: the first).
+  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& nodes) {
+    gpu::Hit predicted = kMiss;
+    TraversalCounters v;
+    for (const int node : nodes) {
+      gpu::Ray r = ray;
+      if (predicted.prim >= 0) r.tmax = predicted.t;
+      if (trace_subtree(*p.bvh_, r, node, any_hit, predicted, &v)) break;
     }
+    counter(HRPP_PC_VERIFY_INTERIOR) += v.interior_visited;
+    counter(HRPP_PC_VERIFY_LEAVES) += v.leaves_visited;
+    counter(HRPP_PC_VERIFY_TRIANGLES) += v.triangles_tested;
+    out.counters += v;
+    ++counter(predicted.prim >= 0 ? HRPP_PC_TRUE_POSITIVES : HRPP_PC_FALSE_POSITIVES);
+    return predicted;
+  }
+
+  // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none).
+  gpu::Hit predict(const gpu::Ray& ray, const Table& table, std::uint64_t key) {
+    ++counter(HRPP_PC_PROBES);
+    const auto entry = table.find(key);
+    if (entry == table.end()) {
+      ++counter(HRPP_PC_NEGATIVES);
+      return kMiss;
+    }
+    ++counter(HRPP_PC_PREDICTOR_HITS);
+    return verify(ray, entry->second);
+  }
+
+  // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,
+  // whether the accepted hit was the closest.
+  void count_baseline(const gpu::Ray& ray, const gpu::Hit& predicted) {
+    TraversalCounters b;
+    const gpu::Hit truth = full_trace(ray, b);
+    counter(HRPP_PC_BASELINE_INTERIOR) += b.interior_visited;
+    if (predicted.prim >= 0 && !any_hit && !exact &&
+        (truth.prim != predicted.prim || truth.t != predicted.t))
+      ++counter(HRPP_PC_WRONG_CLOSEST);
+  }
+
+  // The answer of a probed ray: the prediction, or the trace of the queue (exact mode: bounded
+  // by the predicted t, the closer of the two, ties to the lower id). `traced`: the ray was
+  // queued (then a hit inserts).
+  gpu::Hit answer(const gpu::Ray& ray, const gpu::Hit& predicted, bool& traced) {
+    traced = predicted.prim < 0 || (exact && !any_hit);
+    if (!traced) return predicted;
+    gpu::Ray r = ray;
+    if (predicted.prim >= 0) r.tmax = predicted.t;
+    const gpu::Hit best = full_trace(r, out.counters);
+    if (predicted.prim >= 0 && (best.prim < 0 || predicted.t < best.t ||
+                                (predicted.t == best.t && predicted.prim < best.prim)))
+      return predicted;
+    return best;
+  }
+
+  gpu::Hit trace_ray(const gpu::Ray& ray, const Table& table) {
+    if (!setup_ray(ray).valid) return full_trace(ray, out.counters);  // misses unprobed
+    const std::uint64_t key = hash_ray(ray.origin, ray.dir, p.params_.hash);
+    const gpu::Hit predicted = predict(ray, table, key);
+    if (p.config_.count_baseline) count_baseline(ray, predicted);
+    bool traced = false;
+    const gpu::Hit best = answer(ray, predicted, traced);
+    if (traced && best.prim >= 0) {
+      ++counter(HRPP_PC_INSERT_REQUESTS);
+      const std::uint32_t leaf = p.leaf_of_prim_[static_cast<std::size_t>(best.prim)];
+      inserts.push_back({key, prediction_node(*p.bvh_, leaf, p.config_.go_up)});
+    }
+    return best;
+  }
+
+  // hrpp_insert: the batch's inserts in ray order (appended when not present).
+  void apply_inserts(Table& table) {
     for (const Insert& in : inserts) {
       std::vector<int>& nodes = table[in.key];
       if (std::find(nodes.begin(), nodes.end(), in.node) != nodes.end()) {
-        ++pc[HRPP_PC_INSERT_PRESENT];
+        ++counter(HRPP_PC_INSERT_PRESENT);
       } else {
         nodes.push_back(in.node);
-        ++pc[HRPP_PC_INSERTS];
+        ++counter(HRPP_PC_INSERTS);
       }
     }
+    inserts.clear();
+  }
+};
+
+PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
+  PredictorTraceResult out;
+  out.hits.resize(rays.size());
+  Trace t{*this, is_any_hit(cls), config_.mode == PredictorMode::kExact, out, {}};
+  Table& table = tables_[cls];
+  const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
+  for (std::size_t first = 0; first < rays.size(); first += batch) {
+    const std::size_t end = std::min(rays.size(), first + batch);
+    for (std::size_t i = first; i < end; ++i) {
+      const gpu::Hit best = t.trace_ray(rays[i], table);
+      ++out.counters.rays;
+      if (best.prim >= 0) ++out.counters.hits;
+      out.hits[i] = t.any_hit ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss) : best;
+    }
+    t.apply_inserts(table);
   }
   return out;
 }

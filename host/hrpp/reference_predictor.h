@@ -46,6 +46,11 @@ class ReferencePredictor {
 
  private:
   using Table = std::unordered_map<std::uint64_t, std::vector<int>>;
+  struct Insert {
+    std::uint64_t key;
+    int node;
+  };
+  struct Trace;
 
   const GpuBvh* bvh_;
   PredictorConfig config_;
