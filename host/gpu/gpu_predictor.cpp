@@ -289,7 +289,7 @@ void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const TexelVie
     q.hit_view = TexelView(*s_->ctx, q.hits);
     q.capacity = capacity;
     q.trace.bind(HRPP_TRACE_BINDING_RAYS, q.ray_view);
-    q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hits);
+    q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hit_view);
   }
   for (RayClass c : kRayClasses) {
     if (is_any_hit(c) != any_hit || !s_->tables[c]) continue;

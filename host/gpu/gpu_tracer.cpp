@@ -152,7 +152,7 @@ struct GpuTracer::State {
     a.ray_view = TexelView(*ctx, a.rays);
     a.hit_view = TexelView(*ctx, a.hits);
     a.kernel.bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
-    a.kernel.bind(HRPP_TRACE_BINDING_HITS, a.hits);
+    a.kernel.bind(HRPP_TRACE_BINDING_HITS, a.hit_view);
     if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hit_view, n);
   }
 

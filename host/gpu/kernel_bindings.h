@@ -25,7 +25,11 @@ constexpr std::array<VkDescriptorType, N> texel_then_storage_bindings() {
   return t;
 }
 
-inline constexpr auto kTraceBindingTypes = texel_then_storage_bindings<HRPP_TRACE_BINDING_COUNT>();
+inline constexpr auto kTraceBindingTypes = [] {
+  auto t = texel_then_storage_bindings<HRPP_TRACE_BINDING_COUNT>();
+  t[HRPP_TRACE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  return t;
+}();
 inline constexpr auto kStageBindingTypes = [] {
   auto t = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
   t[HRPP_STAGE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;

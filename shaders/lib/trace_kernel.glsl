@@ -17,9 +17,10 @@
 
 layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_HITS) writeonly restrict buffer HitBuffer {
-  Hit hits[];
-};
+// The hit array as a storage texel buffer: one vec4 store per lane (a Hit is one texel), where a
+// storage-buffer store costs one per 32-bit word on lavapipe.
+layout(set = 0, binding = HRPP_TRACE_BINDING_HITS, rgba32ui) uniform writeonly restrict
+    uimageBuffer hit_texels;
 layout(std430, set = 0, binding = HRPP_TRACE_BINDING_COUNTERS) restrict buffer CounterBuffer {
   TraceCounters counters;
 };
@@ -50,7 +51,8 @@ void main() {
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
     const bool finished = traverse_from(r, 0, best);
     if (loop_budget_left() && finished) {
-      hits[index] = best;
+      imageStore(hit_texels, int(index), uvec4(uint(best.prim), floatBitsToUint(best.t),
+                                               floatBitsToUint(best.u), floatBitsToUint(best.v)));
       ++done;
       if (best.prim >= 0) ++hit_count;
     } else {
