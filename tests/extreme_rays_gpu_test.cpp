@@ -86,6 +86,51 @@ INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysGpu, testing::ValuesIn(test::extreme
                            return n;
                          });
 
+// Leak suite (tests/extreme_cases.h) on the device: every answer equals the CPU reference's
+// (same triangle, same t), and no ray from inside a closed mesh escapes it.
+class LeakRaysGpu : public testing::TestWithParam<test::LeakFrame> {};
+
+TEST_P(LeakRaysGpu, EqualsCpuReferenceAndNothingEscapes) {
+  const test::LeakScene x = test::make_leak_scene(GetParam());
+  const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  GpuTracer tracer(context(), bvh);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  const GpuTraceResult any = tracer.trace(rays, true);
+  ASSERT_EQ(closest.hits.size(), rays.size());
+  ASSERT_EQ(any.hits.size(), rays.size());
+  std::size_t i = 0;
+  for (const RayGroup& g : x.groups) {
+    int differs = 0, escapes = 0, any_escapes = 0;
+    for (const gpu::Ray& ray : g.rays) {
+      const gpu::Hit& h = closest.hits[i];
+      const gpu::Hit ref = trace_closest(bvh, ray);
+      if (h.prim != ref.prim || (ref.prim >= 0 && h.t != ref.t) ||
+          (any.hits[i].prim >= 0) != trace_any(bvh, ray)) {
+        if (++differs <= 3)
+          ADD_FAILURE() << g.name << " ray " << i << ": gpu " << h.prim << " t " << h.t << ", cpu "
+                        << ref.prim << " t " << ref.t;
+      }
+      escapes += h.prim < g.first || h.prim >= g.last;
+      any_escapes += any.hits[i].prim < 0;
+      ++i;
+    }
+    EXPECT_EQ(differs, 0) << GetParam().name << " " << g.name;
+    EXPECT_EQ(escapes, 0) << GetParam().name << " " << g.name;
+    EXPECT_EQ(any_escapes, 0) << GetParam().name << " " << g.name << " (any hit)";
+    std::printf("%-15s %-20s %6zu rays: gpu != cpu %d, escapes %d (any hit %d)\n",
+                GetParam().name.c_str(), g.name.c_str(), g.rays.size(), differs, escapes,
+                any_escapes);
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysGpu, testing::ValuesIn(test::leak_frames()),
+                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
+                           return f.param.name;
+                         });
+
 // HRPP on (exact closest, any hit): invalid rays still miss and never hang the probe or the
 // insert; valid rays keep the reference's answers.
 TEST(ExtremeRaysGpuHrpp, InvalidRaysMissWithThePredictorOn) {
