@@ -169,9 +169,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
   // Huge triangle behind everything (z = -20), 2e14 across: its own variant, since rays nearly
   // parallel to it get t errors beyond 100% in float (the oracle's bound allows them) and would
   // then count as leaks of the closed meshes.
-  // 1e14 absolute at most: at 1e18 (1e14 × the 1e4 frame) the float edge functions reach 1e36
-  // and t = (U·az + V·bz + W·cz)/det overflows to +Inf, reported as a hit at t = Inf (a float32
-  // limit of the watertight test, CPU and GPU alike).
+  // 1e14 absolute at most, so the scaled frames keep it behind the other geometry; triangles
+  // 1e17..4e18 across have their own test (extreme_rays_test.cpp, HugeTriangles).
   if (huge) {
     const double h = 1e14 / std::max(1.0, frame.scale);
     b.add({-h, -h, -20}, {h, -h, -20}, {0, h, -20});
