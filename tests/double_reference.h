@@ -14,7 +14,7 @@
 // Tolerances, and why: an edge function is a difference of products of sheared coordinates
 // a = v − o (each off by ≤ 4ε(|a_x| + |a_y| + |a_z|), ε = 2^-24, from the subtraction and the
 // shear), so |U − U_float| ≤ 16ε·|b|₁·|c|₁ (×2 margin: 32ε); t = (U·a_z + V·b_z + W·c_z)/det
-// inherits those errors plus 8ε of its own. At translated or scaled scenes these bounds scale
+// (computed as Σ (U/det)·a_z) inherits those errors plus 8ε of its own. At translated or scaled scenes these bounds scale
 // with |v − o|, not with |v|: the watertight test subtracts the origin first.
 #pragma once
 

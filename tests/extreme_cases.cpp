@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
+#include <tuple>
 #include <utility>
 
 #include "trace/offset_ray.h"
@@ -57,6 +59,36 @@ void icosphere(int levels, std::vector<glm::dvec3>& verts, std::vector<glm::ivec
     }
     faces = std::move(next);
   }
+}
+
+// Surface of the cube [-1, 1]^3 cut into n × n quads a face, diagonals alternating.
+void box_grid(int n, std::vector<glm::dvec3>& verts, std::vector<glm::ivec3>& faces) {
+  std::map<std::tuple<int, int, int>, int> index;  // by integer grid position 0..n
+  auto vertex = [&](const glm::ivec3& g) {
+    const auto [it, fresh] = index.try_emplace({g.x, g.y, g.z}, static_cast<int>(verts.size()));
+    if (fresh) verts.push_back(glm::dvec3(g) * (2.0 / n) - 1.0);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (const int side : {0, n})
+      for (int i = 0; i < n; ++i)
+        for (int k = 0; k < n; ++k) {
+          auto at = [&](int di, int dk) {
+            glm::ivec3 g;
+            g[axis] = side;
+            g[(axis + 1) % 3] = i + di;
+            g[(axis + 2) % 3] = k + dk;
+            return vertex(g);
+          };
+          const int a = at(0, 0), b = at(1, 0), c = at(1, 1), d = at(0, 1);
+          if ((i + k) % 2) {
+            faces.push_back({a, b, c});
+            faces.push_back({a, c, d});
+          } else {
+            faces.push_back({a, b, d});
+            faces.push_back({b, c, d});
+          }
+        }
 }
 
 gpu::Ray ray_between(const glm::vec3& from, const glm::vec3& to, float tmin = 0.0f) {
@@ -137,9 +169,8 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
   // Huge triangle behind everything (z = -20), 2e14 across: its own variant, since rays nearly
   // parallel to it get t errors beyond 100% in float (the oracle's bound allows them) and would
   // then count as leaks of the closed meshes.
-  // 1e14 absolute at most: at 1e18 (1e14 × the 1e4 frame) the float edge functions reach 1e36
-  // and t = (U·az + V·bz + W·cz)/det overflows to +Inf, reported as a hit at t = Inf (a float32
-  // limit of the watertight test, CPU and GPU alike).
+  // 1e14 absolute at most, so the scaled frames keep it behind the other geometry; triangles
+  // 1e17..4e18 across have their own test (extreme_rays_test.cpp, HugeTriangles).
   if (huge) {
     const double h = 1e14 / std::max(1.0, frame.scale);
     b.add({-h, -h, -20}, {h, -h, -20}, {0, h, -20});
@@ -352,6 +383,124 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
     }
     x.groups.push_back(std::move(g));
   }
+  return x;
+}
+
+namespace {
+
+// A closed mesh in unit coordinates (centre at `centre`); `sag`: how far its surface lies
+// inside the smooth shape it approximates at most (0 for flat faces), in units of the radius.
+struct ClosedMesh {
+  std::string name;
+  std::vector<glm::dvec3> verts;
+  std::vector<glm::ivec3> faces;
+  glm::dvec3 centre{0.0};
+  double sag = 0.0;
+};
+
+// Largest distance of a face centroid inside the unit sphere: the icosphere's chord sag.
+double sphere_sag(const std::vector<glm::dvec3>& verts, const std::vector<glm::ivec3>& faces) {
+  double sag = 0.0;
+  for (const auto& f : faces)
+    sag = std::max(sag, 1.0 - glm::length((verts[f.x] + verts[f.y] + verts[f.z]) / 3.0));
+  return sag;
+}
+
+// Float spacing (one ulp) at the largest coordinate magnitude of the frame's meshes.
+double float_spacing(const LeakFrame& frame) {
+  const double m = std::max({std::abs(frame.offset.x), std::abs(frame.offset.y),
+                             std::abs(frame.offset.z)}) + 4.0 * frame.radius;
+  const float f = static_cast<float>(m);
+  return static_cast<double>(std::nextafter(f, kInf)) - f;
+}
+
+// box_on_face (extreme_cases.h): from every edge midpoint (on the face plane: both ends share
+// the face's coordinate) to the neighbours of the edge's first end.
+RayGroup on_face_rays(const ClosedMesh& m, const std::vector<std::pair<int, int>>& edges,
+                      const std::vector<std::vector<int>>& neighbours,
+                      const std::vector<glm::vec3>& v) {
+  RayGroup g{m.name + "_on_face", {}, RayGroup::Rule::kOracleOnly, 0, 0};
+  for (const auto& e : edges) {
+    const glm::vec3 o = 0.5f * (v[e.first] + v[e.second]);
+    for (const int k : neighbours[e.first]) push_valid(g.rays, ray_between(o, v[k]));
+  }
+  return g;
+}
+
+// Adds the mesh's triangles and its ray groups (see extreme_cases.h).
+void add_leak_mesh(const LeakFrame& frame, const ClosedMesh& m, LeakScene& x) {
+  const Frame place{frame.name, frame.radius, frame.offset};
+  Builder b{place, x.scene};
+  const int first = static_cast<int>(x.scene.triangles.size());
+  std::set<std::pair<int, int>> edge_set;
+  for (const auto& f : m.faces) {
+    b.add(m.centre + m.verts[f.x], m.centre + m.verts[f.y], m.centre + m.verts[f.z]);
+    for (const auto& e : {std::minmax(f.x, f.y), std::minmax(f.y, f.z), std::minmax(f.z, f.x)})
+      edge_set.insert(e);
+  }
+  const int last = static_cast<int>(x.scene.triangles.size());
+  std::vector<glm::vec3> v;
+  for (const auto& p : m.verts) v.push_back(b.place(m.centre + p));
+  const std::vector<std::pair<int, int>> edges(edge_set.begin(), edge_set.end());
+  auto mid = [&](const std::pair<int, int>& e) { return 0.5f * (v[e.first] + v[e.second]); };
+
+  auto group = [&](const std::string& what) {
+    return RayGroup{m.name + "_" + what, {}, RayGroup::Rule::kHitRange, first, last};
+  };
+  auto from_point = [&](const glm::dvec3& unit_origin) {
+    RayGroup g = group(unit_origin == glm::dvec3(0.0) ? "centre" : "off_centre");
+    const glm::vec3 o = b.place(m.centre + unit_origin);
+    for (const glm::vec3& p : v) g.rays.push_back(ray_between(o, p));
+    for (const auto& e : edges) g.rays.push_back(ray_between(o, mid(e)));
+    return g;
+  };
+  x.groups.push_back(from_point(glm::dvec3(0.0)));
+  x.groups.push_back(from_point(glm::dvec3(0.3, -0.2, 0.1)));
+
+  // Near the surface: `inset` towards the centre from a float surface point.
+  const double inset = 1.5 * m.sag * frame.radius + 8.0 * float_spacing(frame);
+  const glm::dvec3 centre = glm::dvec3(b.place(m.centre));
+  auto under = [&](const glm::vec3& p) {
+    const glm::dvec3 q(p);
+    return glm::vec3(q + glm::normalize(centre - q) * inset);
+  };
+  RayGroup g = group("near_surface");
+  std::vector<std::vector<int>> neighbours(v.size());
+  for (const auto& e : edges) {
+    neighbours[e.first].push_back(e.second);
+    neighbours[e.second].push_back(e.first);
+    g.rays.push_back(ray_between(under(mid(e)), mid(e)));
+  }
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const glm::vec3 o = under(v[i]);
+    g.rays.push_back(ray_between(o, v[i]));
+    for (const int k : neighbours[i]) g.rays.push_back(ray_between(o, v[k]));
+  }
+  x.groups.push_back(std::move(g));
+  if (m.sag == 0.0) x.groups.push_back(on_face_rays(m, edges, neighbours, v));
+}
+
+}  // namespace
+
+std::vector<LeakFrame> leak_frames() {
+  return {{"at_origin", 1.0, {0, 0, 0}},
+          {"translated_1e2", 1.0, {1e2, -1e2, 1e2}},
+          {"translated_1e4", 1.0, {1e4, -1e4, 1e4}},
+          {"translated_1e6", 100.0, {1e6, 1e6, -1e6}}};
+}
+
+LeakScene make_leak_scene(const LeakFrame& frame) {
+  LeakScene x;
+  x.frame = frame;
+  x.scene.name = "leak-" + frame.name;
+  x.scene.materials.emplace_back();
+  ClosedMesh sphere{"sphere", {}, {}, glm::dvec3(0.0), 0.0};
+  icosphere(4, sphere.verts, sphere.faces);
+  sphere.sag = sphere_sag(sphere.verts, sphere.faces);
+  add_leak_mesh(frame, sphere, x);
+  ClosedMesh box{"box", {}, {}, glm::dvec3(3, 0, 0), 0.0};
+  box_grid(16, box.verts, box.faces);
+  add_leak_mesh(frame, box, x);
   return x;
 }
 

@@ -67,4 +67,42 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge);
 // Rays with NaN / Inf / zero parts: each must miss (closest) and be free (any hit).
 std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside);
 
+// Leak suite: two closed meshes of thousands of triangles, a subdivided icosphere (radius R,
+// 5120 triangles) and the surface of a cube of side 2R cut into 16 × 16 quads a face (3072
+// triangles), centred at `offset` and at offset + (3R, 0, 0). Rays, every one of which must
+// hit its own mesh (Rule::kHitRange; a miss or a hit elsewhere is an escape):
+//   <mesh>_centre       from the centre to every vertex and every edge midpoint;
+//   <mesh>_off_centre   the same from an interior point off the centre;
+//   <mesh>_near_surface from points slightly inside the surface (under every vertex and edge
+//                       midpoint, deeper than the mesh's chord sag plus 8 float spacings so the
+//                       float point is inside) to that vertex, to its neighbours (rays nearly
+//                       along the surface) and to that midpoint.
+// and one group whose origins lie on the surface, where either answer is right (Rule::
+// kOracleOnly; what it checks is that no box hides a hit of the triangle test, see
+// tests/extreme_rays_test.cpp):
+//   box_on_face         from every edge midpoint of the cube (a point "just inside" by less than
+//                       the float spacing rounds onto the face plane like this) to the
+//                       neighbours of the edge's first end: rays in the face's plane (one zero
+//                       direction component, origin in the plane of the boxes of that face) and
+//                       rays into the cube.
+struct LeakFrame {
+  std::string name;
+  double radius = 1.0;
+  glm::dvec3 offset{0.0};
+};
+
+inline void PrintTo(const LeakFrame& f, std::ostream* os) { *os << f.name; }
+
+// Translated by 0, 1e2, 1e4 (R = 1: 70 float spacings or more along every edge) and 1e6
+// (R = 100, ~110 spacings an edge; R = 1 would leave ~1).
+std::vector<LeakFrame> leak_frames();
+
+struct LeakScene {
+  LeakFrame frame;
+  Scene scene;
+  std::vector<RayGroup> groups;
+};
+
+LeakScene make_leak_scene(const LeakFrame& frame);
+
 }  // namespace hrpp::test

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,8 @@ namespace hrpp {
 namespace {
 
 using test::RayGroup;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 VulkanContext& context() {
   static auto* ctx = new VulkanContext(VulkanOptions{"", true});
@@ -85,6 +88,79 @@ INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysGpu, testing::ValuesIn(test::extreme
                              if (c == '-') c = 'm';
                            return n;
                          });
+
+// Leak suite (tests/extreme_cases.h) on the device: every answer equals the CPU reference's
+// (same triangle, same t), and no ray from inside a closed mesh escapes it (box_on_face starts
+// on the surface: there the CPU reference's answer is the rule).
+class LeakRaysGpu : public testing::TestWithParam<test::LeakFrame> {};
+
+TEST_P(LeakRaysGpu, EqualsCpuReferenceAndNothingEscapes) {
+  const test::LeakScene x = test::make_leak_scene(GetParam());
+  const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  GpuTracer tracer(context(), bvh);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  const GpuTraceResult any = tracer.trace(rays, true);
+  ASSERT_EQ(closest.hits.size(), rays.size());
+  ASSERT_EQ(any.hits.size(), rays.size());
+  std::size_t i = 0;
+  for (const RayGroup& g : x.groups) {
+    const bool inside = g.rule == RayGroup::Rule::kHitRange;
+    int differs = 0, escapes = 0, any_escapes = 0;
+    for (const gpu::Ray& ray : g.rays) {
+      const gpu::Hit& h = closest.hits[i];
+      const gpu::Hit ref = trace_closest(bvh, ray);
+      if (h.prim != ref.prim || (ref.prim >= 0 && h.t != ref.t) ||
+          (any.hits[i].prim >= 0) != trace_any(bvh, ray)) {
+        if (++differs <= 3)
+          ADD_FAILURE() << g.name << " ray " << i << ": gpu " << h.prim << " t " << h.t << ", cpu "
+                        << ref.prim << " t " << ref.t;
+      }
+      escapes += inside && (h.prim < g.first || h.prim >= g.last);
+      any_escapes += inside && any.hits[i].prim < 0;
+      ++i;
+    }
+    EXPECT_EQ(differs, 0) << GetParam().name << " " << g.name;
+    EXPECT_EQ(escapes, 0) << GetParam().name << " " << g.name;
+    EXPECT_EQ(any_escapes, 0) << GetParam().name << " " << g.name << " (any hit)";
+    std::printf("%-15s %-20s %6zu rays: gpu != cpu %d, escapes %d (any hit %d)\n",
+                GetParam().name.c_str(), g.name.c_str(), g.rays.size(), differs, escapes,
+                any_escapes);
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysGpu, testing::ValuesIn(test::leak_frames()),
+                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
+                           return f.param.name;
+                         });
+
+// Triangles 1e17..4e18 across (extreme_rays_test.cpp, HugeTriangles): the device's t is the
+// CPU reference's, finite, bit for bit.
+TEST(HugeTrianglesGpu, SameFiniteTAsTheCpuReference) {
+  for (const float h : {1e17f, 1e18f, 4e18f}) {
+    Scene scene;
+    scene.name = "huge";
+    scene.materials.emplace_back();
+    scene.triangles = {{{-h, -h, -1e4f}, {h, -h, -1e4f}, {0.0f, h, -1e4f}}};
+    scene.shading.emplace_back();
+    const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+    std::vector<gpu::Ray> rays;
+    for (const float z : {-9980.0f, 0.0f, 1e4f})
+      rays.push_back({{0.3f, 0.2f, z}, 0.0f, {0.01f, -0.02f, -1.0f}, kInfinity});
+    GpuTracer tracer(context(), bvh);
+    const GpuTraceResult r = tracer.trace(rays, false);
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+      const gpu::Hit ref = trace_closest(bvh, rays[k]);
+      ASSERT_EQ(ref.prim, 0) << h;
+      EXPECT_TRUE(std::isfinite(ref.t)) << h;
+      EXPECT_EQ(r.hits[k].prim, 0) << h;
+      EXPECT_EQ(r.hits[k].t, ref.t) << h << " ray " << k;
+    }
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
 
 // HRPP on (exact closest, any hit): invalid rays still miss and never hang the probe or the
 // insert; valid rays keep the reference's answers.

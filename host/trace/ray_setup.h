@@ -13,10 +13,12 @@ namespace hrpp {
 // Finite reciprocal: a zero (or vanishing) direction component becomes ±2^80 with the zero's
 // sign instead of ±Inf, so (plane − origin) × reciprocal is never 0 × Inf = NaN for an origin
 // lying on a slab plane (Ize 2013, "Robust BVH Ray Traversal").
+// The slab test (slab_test.h) takes |reciprocal| ≥ kParallelReciprocal as "parallel to the axis".
+inline constexpr float kParallelReciprocal = 0x1p80f;
+
 inline float safe_reciprocal(float d) {
   constexpr float kTiny = 0x1p-80f;
-  constexpr float kHuge = 0x1p80f;
-  return std::fabs(d) < kTiny ? std::copysign(kHuge, d) : 1.0f / d;
+  return std::fabs(d) < kTiny ? std::copysign(kParallelReciprocal, d) : 1.0f / d;
 }
 
 struct RaySetup {

@@ -37,12 +37,18 @@ inline bool intersect_triangle(const RaySetup& r, const glm::vec3& v0, const glm
   const float az = r.sz * a[r.kz];
   const float bz = r.sz * b[r.kz];
   const float cz = r.sz * c[r.kz];
+  // t from the normalised barycentrics (in [0, 1] on a hit), not (u·az + v·bz + w·cz)/det: the
+  // edge functions grow with the square of the triangle's size, and that sum overflows to +Inf
+  // once |edge function × z| passes FLT_MAX (a triangle 1e17 across at distance 1e4).
   const float inv_det = 1.0f / det;
-  const float t = (u * az + v * bz + w * cz) * inv_det;
+  const float b0 = u * inv_det;
+  const float b1 = v * inv_det;
+  const float b2 = w * inv_det;
+  const float t = b0 * az + b1 * bz + b2 * cz;
   if (!(t >= r.tmin && t <= tmax)) return false;
   hit->t = t;
-  hit->u = v * inv_det;
-  hit->v = w * inv_det;
+  hit->u = b1;
+  hit->v = b2;
   return true;
 }
 

@@ -38,14 +38,17 @@ bool intersect_triangle(RaySetup r, vec3 v0, vec3 v1, vec3 v2, float tmax, out f
   precise float az = r.sz * a[r.kz];
   precise float bz = r.sz * b[r.kz];
   precise float cz = r.sz * c[r.kz];
+  // t from the normalised barycentrics, which stay in [0, 1] on a hit: the sum of edge
+  // functions × z overflows for triangles ~1e17 across at distance 1e4.
   precise float inv_det = 1.0 / det;
-  precise float t = (u * az + v * bz + w * cz) * inv_det;
+  precise float b0 = u * inv_det;
+  precise float b1 = v * inv_det;
+  precise float b2 = w * inv_det;
+  precise float t = b0 * az + b1 * bz + b2 * cz;
   if (!(t >= r.tmin && t <= tmax)) return false;
-  precise float hu = v * inv_det;
-  precise float hv = w * inv_det;
   t_hit = t;
-  u_hit = hu;
-  v_hit = hv;
+  u_hit = b1;
+  v_hit = b2;
   return true;
 }
 

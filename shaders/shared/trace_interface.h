@@ -32,7 +32,8 @@ namespace hrpp::gpu {
 // Float bits of the slab test's far-distance scale 1 + 2γ(3) (host/trace/slab_test.h); GLSL has
 // no hex floats, the host static_asserts that the bits match kSlabFarScale.
 #define HRPP_SLAB_FAR_SCALE_BITS 0x3F800003u
-// Safe reciprocal (host/trace/ray_setup.h): |d| < 2^-80 becomes ±2^80.
+// Safe reciprocal (host/trace/ray_setup.h): |d| < 2^-80 becomes ±2^80; the slab test takes a
+// reciprocal of magnitude 2^80 or more as "parallel to that axis".
 #define HRPP_TWO_POW_M80_BITS 0x17800000u
 #define HRPP_TWO_POW_80_BITS 0x67800000u
 
