@@ -90,6 +90,22 @@ TEST(AdaptivePredictor, StopsALosingClassAndRetriesIt) {
   EXPECT_TRUE(a.probing(RayClass::kShadow));
 }
 
+// A warming frame whose true positives left too few rays to the trace measures no cost without
+// prediction: the next frame runs without it, then probing resumes and is judged.
+TEST(AdaptivePredictor, MeasuresTheCostWithoutPredictionFirst) {
+  AdaptivePredictor a(on());
+  EXPECT_STREQ(a.end_frame(RayClass::kCamera, probing_frame(8.0, 600)).reason, "warming");
+  ClassDecision d = a.end_frame(RayClass::kCamera, probing_frame(8.0, 500));
+  EXPECT_STREQ(d.reason, "unmeasured");
+  EXPECT_FALSE(d.probe_next);
+  d = a.end_frame(RayClass::kCamera, off_frame());
+  EXPECT_STREQ(d.reason, "off");
+  EXPECT_TRUE(d.probe_next);  // confidence unchanged: back on
+  d = a.end_frame(RayClass::kCamera, probing_frame(14.0, 500));
+  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_FALSE(d.probe_next);
+}
+
 TEST(AdaptivePredictor, ClassesAreIndependent) {
   AdaptivePredictor a(on());
   for (int f = 0; f < 3; ++f) {

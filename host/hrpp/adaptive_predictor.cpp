@@ -1,6 +1,7 @@
 #include "hrpp/adaptive_predictor.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace hrpp {
 
@@ -17,7 +18,8 @@ void AdaptivePredictor::judge(State& s, const ClassFrameCost& cost, ClassDecisio
   if (s.frames_probed++ == 0) {
     d.reason = "warming";
   } else if (s.off_ms_per_ray <= 0.0) {
-    d.reason = "unmeasured";
+    d.reason = "unmeasured";  // the next frame traces without prediction to measure it
+    s.measure_next = true;
   } else {
     d.gain_ms = s.off_ms_per_ray * static_cast<double>(cost.rays) - cost.cost_ms();
     const bool gain = d.gain_ms > 0.0;
@@ -51,6 +53,7 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   if (s.enabled && adaptive_) {
     s.probing = s.confidence >= kConfidenceOn || s.frames_off >= s.retry_after;
     if (s.probing && s.confidence < kConfidenceOn) d.reason = "retry";
+    if (std::exchange(s.measure_next, false)) s.probing = false;
   }
   d.off_ms_per_ray = s.off_ms_per_ray;
   d.confidence = s.confidence;

@@ -6,7 +6,10 @@
 //     trace time per ray with nearly every ray traced: a frame with prediction off, or a
 //     probing frame whose predictions almost all missed) minus that cost. A gain raises the
 //     2-bit confidence, a loss lowers it; the class probes while the confidence is >= 2.
-//   - The first probing frame fills an empty table: it is not judged (warming).
+//   - The first probing frame fills an empty table: it is not judged (warming). When no frame
+//     has measured the trace cost without prediction yet (the warming frame's true positives
+//     left less than kTracedForOffCost of the rays to the trace), the next frame runs without
+//     prediction to measure it ("unmeasured"), and probing resumes after it.
 //   - A class that stopped probing traces as with HRPP off (which measures the trace cost per
 //     ray) and is tried again after kRetryEvery frames; a trial with a gain turns it back on,
 //     each losing trial doubles the wait (up to kRetryMax frames).
@@ -64,6 +67,7 @@ class AdaptivePredictor {
     int frames_probed = 0;
     int frames_off = 0;
     int retry_after = kRetryEvery;  // frames off before the next trial
+    bool measure_next = false;      // a frame without prediction to measure the trace cost
     double off_ms_per_ray = 0.0;
   };
   void judge(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
