@@ -1,0 +1,116 @@
+// The binned SAH builder's data (Wald 2007, "On fast Construction of SAH-based Bounding Volume
+// Hierarchies"): 32-byte primitive references, boxes as SIMD lanes, centroid bins per axis kept
+// as separate arrays of lower corners, upper corners and counts, and the SAH sweep over them.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "bvh/aabb.h"
+#include "bvh/bvh.h"
+#include "bvh/simd4.h"
+
+namespace hrpp::bvh_build {
+
+constexpr int kMaxBins = 64;
+
+// A triangle while the tree is built: its box and id. Partitioned in place, so 32 bytes.
+struct PrimRef {
+  float lo[3];
+  std::uint32_t id;  // read as the box's fourth lane by load3, which zeroes it
+  float hi[3];
+  std::uint32_t pad;
+  simd::Float4 lo4() const { return simd::load3(lo); }
+  simd::Float4 hi4() const { return simd::load3(hi); }
+  // The centroid as Aabb::center() computes it: 0.5 (lo + hi).
+  simd::Float4 centroid() const { return simd::splat3(0.5f) * (lo4() + hi4()); }
+};
+static_assert(sizeof(PrimRef) == 32);
+
+struct Box4 {
+  simd::Float4 lo = simd::splat3(std::numeric_limits<float>::infinity());
+  simd::Float4 hi = simd::splat3(-std::numeric_limits<float>::infinity());
+  void grow(simd::Float4 p) {
+    lo = simd::min(lo, p);
+    hi = simd::max(hi, p);
+  }
+  void grow(const Box4& b) {
+    lo = simd::min(lo, b.lo);
+    hi = simd::max(hi, b.hi);
+  }
+  float area() const { return simd::area(lo, hi); }  // of a non-empty box
+  float extent(int axis) const { return simd::lane(hi, axis) - simd::lane(lo, axis); }
+  Aabb aabb() const {
+    Aabb b;
+    b.lo = {simd::lane(lo, 0), simd::lane(lo, 1), simd::lane(lo, 2)};
+    b.hi = {simd::lane(hi, 0), simd::lane(hi, 1), simd::lane(hi, 2)};
+    return b;
+  }
+};
+
+// Centroid → bin per axis over a node's centroid bounds: trunc(clamp((c - lo) scale, 0, n - 1))
+// with scale = n / extent (0 on an axis without extent, where every centroid is in bin 0).
+class BinMap {
+ public:
+  BinMap(const Box4& centroids, int bins);
+  int bins() const { return bins_; }
+  void map(simd::Float4 c, std::int32_t out[4]) const {
+    simd::truncate(simd::min(simd::max((c - lo_) * scale_, simd::splat3(0.0f)), top_), out);
+  }
+
+ private:
+  simd::Float4 lo_, scale_, top_;
+  int bins_;
+};
+
+// Bins of one node (or of one thread's share of it) on the three axes: per axis and bin the
+// box's corners as vectors (one min and one max per reference), the counts with the axes as
+// lanes (loaded as one vector in the sweep).
+struct SahBins {
+  simd::Float4 lo[3][kMaxBins];
+  simd::Float4 hi[3][kMaxBins];
+  alignas(16) std::uint32_t count[kMaxBins][4];
+
+  void clear(int bins);
+  void add(const PrimRef* refs, std::uint32_t n, const BinMap& map);
+  // The same, with every other reference binned into `odd` and merged after: two independent
+  // chains of updates where consecutive references fall in the same bins.
+  void add(const PrimRef* refs, std::uint32_t n, const BinMap& map, SahBins& odd);
+  void add(const PrimRef& r, const BinMap& map) {
+    const simd::Float4 l = r.lo4(), h = r.hi4();
+    alignas(16) std::int32_t b[4];
+    map.map(simd::splat3(0.5f) * (l + h), b);
+    grow(0, b[0], l, h);
+    grow(1, b[1], l, h);
+    grow(2, b[2], l, h);
+  }
+  void merge(const SahBins& other, int bins);  // exact: min, max and sums
+  Box4 box(int axis, int first, int last) const;  // union of bins [first, last]
+  void grow(int axis, int bin, simd::Float4 l, simd::Float4 h) {
+    lo[axis][bin] = simd::min(lo[axis][bin], l);
+    hi[axis][bin] = simd::max(hi[axis][bin], h);
+    ++count[bin][axis];
+  }
+};
+
+struct Split {
+  int axis = -1;  // -1: no plane separates the centroids
+  int bin = 0;    // the left side takes bins [0, bin]
+  float cost = 0.0f;  // Ct + Ci (A_l N_l + A_r N_r) / A_parent
+  Box4 left, right;
+};
+
+// The cheapest plane by the SAH, scanning axes x, y, z and bins left to right (the first of
+// equal costs wins). Axes whose centroid extent is 0 are skipped.
+Split best_split(const SahBins& bins, const BinMap& map, const Box4& centroids,
+                 float parent_area, const BvhConfig& config);
+
+// The same split as binning the references and calling best_split (the same axis, cost and
+// boxes; the bin may differ only among boundaries with empty bins between them, which put the
+// same references on each side), evaluated over the references themselves: for small nodes,
+// where most bins are empty. n <= kMaxSmallNode.
+constexpr std::uint32_t kMaxSmallNode = 8;
+Split best_split_small(const PrimRef* refs, std::uint32_t n, const BinMap& map,
+                       const Box4& centroids, float parent_area, const BvhConfig& config);
+
+}  // namespace hrpp::bvh_build
