@@ -6,30 +6,79 @@
 namespace hrpp::bvh_build {
 namespace {
 
-// Two-sided sweep (Hoare): each reference is classified once; its centroid grows the bounds of
-// its side.
-PartitionResult sweep(PrimRef* refs, std::uint32_t begin, std::uint32_t end, const Plane& p) {
-  PartitionResult r;
-  auto goes_left = [&](const PrimRef& ref) {
+// Says which side a reference goes to, growing that side's centroid bounds without a branch.
+class Classifier {
+ public:
+  explicit Classifier(const Plane& p) : p_(p) {}
+  bool operator()(const PrimRef& ref) {
     const simd::Float4 c = ref.centroid();
     alignas(16) std::int32_t bin[4];
-    p.map->map(c, bin);
-    const bool left = bin[p.axis] <= p.bin;
-    (left ? r.left_centroids : r.right_centroids).grow(c);
+    p_.map->map(c, bin);
+    const bool left = bin[p_.axis] <= p_.bin;
+    const simd::Float4 m = simd::mask(left), lo = empty_.lo, hi = empty_.hi;
+    result.left_centroids.lo = simd::min(result.left_centroids.lo, simd::select(m, c, lo));
+    result.left_centroids.hi = simd::max(result.left_centroids.hi, simd::select(m, c, hi));
+    result.right_centroids.lo = simd::min(result.right_centroids.lo, simd::select(m, lo, c));
+    result.right_centroids.hi = simd::max(result.right_centroids.hi, simd::select(m, hi, c));
     return left;
-  };
+  }
+  PartitionResult result;
+
+ private:
+  const Plane& p_;
+  const Box4 empty_;
+};
+
+// Two-sided sweep (Hoare): swaps the first right-going reference from the left with the first
+// left-going one from the right. Returns the split.
+std::uint32_t sweep(PrimRef* refs, std::uint32_t begin, std::uint32_t end, Classifier& goes_left) {
   std::uint32_t i = begin, j = end;
   for (;;) {
     while (i < j && goes_left(refs[i])) ++i;
-    if (i == j) break;
+    if (i == j) return i;
     do --j;
     while (i < j && !goes_left(refs[j]));
-    if (i == j) break;
+    if (i == j) return i;
     std::swap(refs[i], refs[j]);
     ++i;
   }
-  r.mid = i;
-  return r;
+}
+
+// Block partition (Edelkamp and Weiss 2016, BlockQuicksort): classifies blocks of kBlock
+// references at both ends without branches, noting the offsets of misplaced ones, then swaps
+// them pairwise; what is left in the middle (under two blocks) goes through the sweep. Elements
+// classified twice grow the same bounds twice, which changes nothing.
+PartitionResult partition_range(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
+                                const Plane& plane) {
+  constexpr std::uint32_t kBlock = 64;
+  Classifier goes_left(plane);
+  std::uint8_t wrong_left[kBlock], wrong_right[kBlock];  // right-goers of the left block, ...
+  std::uint32_t nl = 0, nr = 0, sl = 0, sr = 0;
+  std::uint32_t i = begin, j = end;  // [begin, i) left, [j, end) right
+  while (j - i >= 2 * kBlock) {
+    if (nl == 0) {
+      sl = 0;
+      for (std::uint32_t k = 0; k < kBlock; ++k) {
+        wrong_left[nl] = static_cast<std::uint8_t>(k);
+        nl += !goes_left(refs[i + k]);
+      }
+    }
+    if (nr == 0) {
+      sr = 0;
+      for (std::uint32_t k = 0; k < kBlock; ++k) {
+        wrong_right[nr] = static_cast<std::uint8_t>(k);
+        nr += goes_left(refs[j - 1 - k]);
+      }
+    }
+    const std::uint32_t m = std::min(nl, nr);
+    for (std::uint32_t k = 0; k < m; ++k)
+      std::swap(refs[i + wrong_left[sl + k]], refs[j - 1 - wrong_right[sr + k]]);
+    nl -= m, nr -= m, sl += m, sr += m;
+    if (nl == 0) i += kBlock;
+    if (nr == 0) j -= kBlock;
+  }
+  goes_left.result.mid = sweep(refs, i, j, goes_left);
+  return goes_left.result;
 }
 
 // Walks the references of a list of runs in order, from the `skip`-th on.
@@ -57,12 +106,12 @@ class RunCursor {
 
 PartitionResult RefPartitioner::run(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
                                     const Plane& plane, TaskPool* pool) {
-  if (end - begin <= kChunk) return sweep(refs, begin, end, plane);
+  if (end - begin <= kChunk) return partition_range(refs, begin, end, plane);
   chunks_.clear();
   for (std::uint32_t b = begin; b < end; b += std::min(kChunk, end - b))
     chunks_.push_back({{}, b, b + std::min(kChunk, end - b)});
   auto part = [&](std::size_t k, int) {
-    chunks_[k].result = sweep(refs, chunks_[k].begin, chunks_[k].end, plane);
+    chunks_[k].result = partition_range(refs, chunks_[k].begin, chunks_[k].end, plane);
   };
   if (pool)
     pool->parallel_for(chunks_.size(), part);

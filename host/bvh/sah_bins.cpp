@@ -123,22 +123,32 @@ LaneBest sah_sweep(const SahBins& bins, int n, Float4 valid) {
 
 namespace {
 
-// References of a small node: their boxes and bins.
+// References of a small node: their boxes, bins and, per axis, their order by bin.
 struct SmallNode {
   std::uint32_t n;
   Box4 box[kMaxSmallNode];
   alignas(16) std::int32_t bin[kMaxSmallNode][4];
+  std::uint8_t order[3][kMaxSmallNode];
+
+  // Stable order by bin on the three axes at once: reference i goes to position
+  // #{j : bin_j < bin_i, or bin_j == bin_i and j < i}, counted without branches.
+  void sort() {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Int4 bi = simd::load(bin[i]);
+      Int4 rank = simd::zero_int();
+      for (std::uint32_t j = 0; j < i; ++j) rank = rank - simd::less_equal(simd::load(bin[j]), bi);
+      for (std::uint32_t j = i + 1; j < n; ++j) rank = rank - simd::less(simd::load(bin[j]), bi);
+      alignas(16) std::int32_t r[4];
+      simd::store(r, rank);
+      for (int a = 0; a < 3; ++a) order[a][r[a]] = static_cast<std::uint8_t>(i);
+    }
+  }
 };
 
 // Cheapest boundary on one axis between references sorted by bin: only where the bin changes,
 // in ascending bin order, strictly cheaper than best_cost (as sweep_axis over the bins).
 void small_axis(const SmallNode& s, int axis, float& best_cost, Split& best) {
-  std::uint8_t order[kMaxSmallNode];
-  for (std::uint32_t i = 0; i < s.n; ++i) {  // insertion sort by bin, stable
-    std::uint32_t j = i;
-    for (; j > 0 && s.bin[order[j - 1]][axis] > s.bin[i][axis]; --j) order[j] = order[j - 1];
-    order[j] = static_cast<std::uint8_t>(i);
-  }
+  const std::uint8_t* order = s.order[axis];
   float right_area[kMaxSmallNode];
   Box4 acc;
   for (std::uint32_t j = s.n - 1; j > 0; --j) {
@@ -175,6 +185,7 @@ Split best_split_small(const PrimRef* refs, std::uint32_t n, const BinMap& map,
     s.box[i] = Box4{refs[i].lo4(), refs[i].hi4()};
     map.map(refs[i].centroid(), s.bin[i]);
   }
+  s.sort();
   Split best;
   float best_cost = std::numeric_limits<float>::infinity();
   for (int a = 0; a < 3; ++a)

@@ -64,6 +64,12 @@ inline Int4 select(Float4 mask, Int4 yes, Int4 no) {
   return {_mm_or_si128(_mm_and_si128(m, yes.v), _mm_andnot_si128(m, no.v))};
 }
 inline void store(std::int32_t* p, Int4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), a.v); }
+inline Int4 load(const std::int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }
+inline Float4 mask(bool b) { return {_mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(b)))}; }
+inline Int4 operator-(Int4 a, Int4 b) { return {_mm_sub_epi32(a.v, b.v)}; }
+// Integer lane masks: -1 where true, 0 where false.
+inline Int4 less(Int4 a, Int4 b) { return {_mm_cmplt_epi32(a.v, b.v)}; }
+inline Int4 less_equal(Int4 a, Int4 b) { return {_mm_xor_si128(_mm_cmpgt_epi32(a.v, b.v), _mm_set1_epi32(-1))}; }
 
 #else
 
@@ -132,6 +138,11 @@ inline Int4 select(Float4 mask, Int4 yes, Int4 no) {
 inline void store(std::int32_t* p, Int4 a) {
   for (int i = 0; i < 4; ++i) p[i] = a.v[i];
 }
+inline Int4 load(const std::int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
+inline Float4 mask(bool b) { const float m = b ? 1.0f : 0.0f; return {{m, m, m, m}}; }
+inline Int4 operator-(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x - y; }); }
+inline Int4 less(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x < y ? -1 : 0; }); }
+inline Int4 less_equal(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x <= y ? -1 : 0; }); }
 
 #endif
 
