@@ -140,10 +140,10 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   }
   if (may_be_leaf && config_.intersection_cost * static_cast<float>(count) <= sah.cost)
     return false;
-  const bvh_build::PartitionResult r = s.partitioner.run(
-      refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin}, parallel ? &pool_ : nullptr);
-  left = {t.begin, r.mid, t.depth + 1, sah.left, r.left_centroids};
-  right = {r.mid, t.end, t.depth + 1, sah.right, r.right_centroids};
+  const std::uint32_t mid = s.partitioner.run(refs_.data(), t.begin, t.end,
+                                               {&map, sah.axis, sah.bin}, parallel ? &pool_ : nullptr);
+  left = {t.begin, mid, t.depth + 1, sah.left, sah.left_centroids};
+  right = {mid, t.end, t.depth + 1, sah.right, sah.right_centroids};
   return true;
 }
 

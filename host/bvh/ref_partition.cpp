@@ -6,32 +6,25 @@
 namespace hrpp::bvh_build {
 namespace {
 
-// Says which side a reference goes to, growing that side's centroid bounds without a branch.
+// Says which side a reference goes to, without a branch.
 class Classifier {
  public:
-  explicit Classifier(const Plane& p) : p_(p) {}
-  bool operator()(const PrimRef& ref) {
-    const simd::Float4 c = ref.centroid();
-    alignas(16) std::int32_t bin[4];
-    p_.map->map(c, bin);
-    const bool left = bin[p_.axis] <= p_.bin;
-    const simd::Float4 m = simd::mask(left), lo = empty_.lo, hi = empty_.hi;
-    result.left_centroids.lo = simd::min(result.left_centroids.lo, simd::select(m, c, lo));
-    result.left_centroids.hi = simd::max(result.left_centroids.hi, simd::select(m, c, hi));
-    result.right_centroids.lo = simd::min(result.right_centroids.lo, simd::select(m, lo, c));
-    result.right_centroids.hi = simd::max(result.right_centroids.hi, simd::select(m, hi, c));
-    return left;
+  explicit Classifier(const Plane& p)
+      : map_(*p.map), limit_(simd::splat3(static_cast<float>(p.bin + 1))), axis_(p.axis) {}
+  bool operator()(const PrimRef& ref) const {
+    return (simd::bits(simd::less(map_.position(ref.centroid()), limit_)) >> axis_) & 1;
   }
-  PartitionResult result;
 
  private:
-  const Plane& p_;
-  const Box4 empty_;
+  const BinMap map_;  // a copy: kept in registers while references are swapped
+  const simd::Float4 limit_;
+  const int axis_;
 };
 
 // Two-sided sweep (Hoare): swaps the first right-going reference from the left with the first
 // left-going one from the right. Returns the split.
-std::uint32_t sweep(PrimRef* refs, std::uint32_t begin, std::uint32_t end, Classifier& goes_left) {
+std::uint32_t sweep(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
+                    const Classifier& goes_left) {
   std::uint32_t i = begin, j = end;
   for (;;) {
     while (i < j && goes_left(refs[i])) ++i;
@@ -46,12 +39,11 @@ std::uint32_t sweep(PrimRef* refs, std::uint32_t begin, std::uint32_t end, Class
 
 // Block partition (Edelkamp and Weiss 2016, BlockQuicksort): classifies blocks of kBlock
 // references at both ends without branches, noting the offsets of misplaced ones, then swaps
-// them pairwise; what is left in the middle (under two blocks) goes through the sweep. Elements
-// classified twice grow the same bounds twice, which changes nothing.
-PartitionResult partition_range(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
-                                const Plane& plane) {
+// them pairwise; what is left in the middle (under two blocks) goes through the sweep.
+std::uint32_t partition_range(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
+                              const Plane& plane) {
   constexpr std::uint32_t kBlock = 64;
-  Classifier goes_left(plane);
+  const Classifier goes_left(plane);
   std::uint8_t wrong_left[kBlock], wrong_right[kBlock];  // right-goers of the left block, ...
   std::uint32_t nl = 0, nr = 0, sl = 0, sr = 0;
   std::uint32_t i = begin, j = end;  // [begin, i) left, [j, end) right
@@ -77,8 +69,7 @@ PartitionResult partition_range(PrimRef* refs, std::uint32_t begin, std::uint32_
     if (nl == 0) i += kBlock;
     if (nr == 0) j -= kBlock;
   }
-  goes_left.result.mid = sweep(refs, i, j, goes_left);
-  return goes_left.result;
+  return sweep(refs, i, j, goes_left);
 }
 
 // Walks the references of a list of runs in order, from the `skip`-th on.
@@ -104,37 +95,32 @@ class RunCursor {
 
 }  // namespace
 
-PartitionResult RefPartitioner::run(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
+std::uint32_t RefPartitioner::run(PrimRef* refs, std::uint32_t begin, std::uint32_t end,
                                     const Plane& plane, TaskPool* pool) {
   if (end - begin <= kChunk) return partition_range(refs, begin, end, plane);
   chunks_.clear();
   for (std::uint32_t b = begin; b < end; b += std::min(kChunk, end - b))
-    chunks_.push_back({{}, b, b + std::min(kChunk, end - b)});
+    chunks_.push_back({b, b + std::min(kChunk, end - b), 0});
   auto part = [&](std::size_t k, int) {
-    chunks_[k].result = partition_range(refs, chunks_[k].begin, chunks_[k].end, plane);
+    chunks_[k].mid = partition_range(refs, chunks_[k].begin, chunks_[k].end, plane);
   };
   if (pool)
     pool->parallel_for(chunks_.size(), part);
   else
     for (std::size_t k = 0; k < chunks_.size(); ++k) part(k, 0);
 
-  PartitionResult r;
-  r.mid = begin;
-  for (const Chunk& c : chunks_) {
-    r.mid += c.result.mid - c.begin;
-    r.left_centroids.grow(c.result.left_centroids);
-    r.right_centroids.grow(c.result.right_centroids);
-  }
-  collect_misplaced(r.mid);
+  std::uint32_t mid = begin;
+  for (const Chunk& c : chunks_) mid += c.mid - c.begin;
+  collect_misplaced(mid);
   swap_misplaced(refs, pool);
-  return r;
+  return mid;
 }
 
 void RefPartitioner::collect_misplaced(std::uint32_t mid) {
   wrong_right_.clear();
   wrong_left_.clear();
   for (const Chunk& c : chunks_) {
-    const std::uint32_t split = c.result.mid;  // chunk: [begin, split) left, [split, end) right
+    const std::uint32_t split = c.mid;  // chunk: [begin, split) left, [split, end) right
     if (split < mid && c.end > split) wrong_right_.push_back({split, std::min(c.end, mid)});
     if (split > mid && c.begin < split) wrong_left_.push_back({std::max(c.begin, mid), split});
   }

@@ -19,11 +19,6 @@ struct Plane {
   int bin;
 };
 
-struct PartitionResult {
-  std::uint32_t mid = 0;  // refs[begin, mid) left, refs[mid, end) right
-  Box4 left_centroids, right_centroids;
-};
-
 // Partitions refs[begin, end) in place. Ranges up to kChunk references: one two-sided sweep.
 // Longer ones: each kChunk-sized chunk on its own (on the pool's threads when given one), then
 // the right-going references left of the split swapped with the left-going ones right of it,
@@ -33,7 +28,8 @@ class RefPartitioner {
  public:
   static constexpr std::uint32_t kChunk = 1u << 13;
 
-  PartitionResult run(PrimRef* refs, std::uint32_t begin, std::uint32_t end, const Plane& plane,
+  // Returns mid: refs[begin, mid) go left, refs[mid, end) right.
+  std::uint32_t run(PrimRef* refs, std::uint32_t begin, std::uint32_t end, const Plane& plane,
                       TaskPool* pool = nullptr);
 
   struct Run {  // references [begin, end) on the wrong side
@@ -42,8 +38,7 @@ class RefPartitioner {
 
  private:
   struct Chunk {
-    PartitionResult result;
-    std::uint32_t begin = 0, end = 0;
+    std::uint32_t begin = 0, end = 0, mid = 0;
   };
   void collect_misplaced(std::uint32_t mid);
   void swap_misplaced(PrimRef* refs, TaskPool* pool);

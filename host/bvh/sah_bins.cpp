@@ -21,18 +21,21 @@ void SahBins::clear(int bins) {
   const Box4 empty;
   for (int k = 0; k < bins; ++k) {
     for (int a = 0; a < 3; ++a) {
-      lo[a][k] = empty.lo;
-      hi[a][k] = empty.hi;
+      lo[a][k] = centroid_lo[a][k] = empty.lo;
+      hi[a][k] = centroid_hi[a][k] = empty.hi;
     }
     for (std::uint32_t& c : count[k]) c = 0;
   }
 }
 
-void SahBins::add(const PrimRef* refs, std::uint32_t n, const BinMap& map) {
+// The map is copied in each: the compiler keeps a copy in registers while the bins change.
+void SahBins::add(const PrimRef* refs, std::uint32_t n, const BinMap& map_in) {
+  const BinMap map = map_in;
   for (std::uint32_t i = 0; i < n; ++i) add(refs[i], map);
 }
 
-void SahBins::add(const PrimRef* refs, std::uint32_t n, const BinMap& map, SahBins& odd) {
+void SahBins::add(const PrimRef* refs, std::uint32_t n, const BinMap& map_in, SahBins& odd) {
+  const BinMap map = map_in;
   odd.clear(map.bins());
   std::uint32_t i = 0;
   for (; i + 1 < n; i += 2) {
@@ -48,6 +51,8 @@ void SahBins::merge(const SahBins& other, int bins) {
     for (int a = 0; a < 3; ++a) {
       lo[a][k] = simd::min(lo[a][k], other.lo[a][k]);
       hi[a][k] = simd::max(hi[a][k], other.hi[a][k]);
+      centroid_lo[a][k] = simd::min(centroid_lo[a][k], other.centroid_lo[a][k]);
+      centroid_hi[a][k] = simd::max(centroid_hi[a][k], other.centroid_hi[a][k]);
     }
     for (int a = 0; a < 4; ++a) count[k][a] += other.count[k][a];
   }
@@ -56,6 +61,12 @@ void SahBins::merge(const SahBins& other, int bins) {
 Box4 SahBins::box(int axis, int first, int last) const {
   Box4 b;
   for (int k = first; k <= last; ++k) b.grow(Box4{lo[axis][k], hi[axis][k]});
+  return b;
+}
+
+Box4 SahBins::centroid_box(int axis, int first, int last) const {
+  Box4 b;
+  for (int k = first; k <= last; ++k) b.grow(Box4{centroid_lo[axis][k], centroid_hi[axis][k]});
   return b;
 }
 
@@ -127,6 +138,7 @@ namespace {
 struct SmallNode {
   std::uint32_t n;
   Box4 box[kMaxSmallNode];
+  Float4 centroid[kMaxSmallNode];
   alignas(16) std::int32_t bin[kMaxSmallNode][4];
   std::uint8_t order[3][kMaxSmallNode];
 
@@ -183,7 +195,8 @@ Split best_split_small(const PrimRef* refs, std::uint32_t n, const BinMap& map,
   s.n = n;
   for (std::uint32_t i = 0; i < n; ++i) {
     s.box[i] = Box4{refs[i].lo4(), refs[i].hi4()};
-    map.map(refs[i].centroid(), s.bin[i]);
+    s.centroid[i] = refs[i].centroid();
+    map.map(s.centroid[i], s.bin[i]);
   }
   s.sort();
   Split best;
@@ -192,8 +205,11 @@ Split best_split_small(const PrimRef* refs, std::uint32_t n, const BinMap& map,
     if (centroids.extent(a) > 0.0f) small_axis(s, a, best_cost, best);
   if (best.axis < 0) return best;
   finish(best, best_cost, parent_area, config);
-  for (std::uint32_t i = 0; i < n; ++i)
-    (s.bin[i][best.axis] <= best.bin ? best.left : best.right).grow(s.box[i]);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const bool left = s.bin[i][best.axis] <= best.bin;
+    (left ? best.left : best.right).grow(s.box[i]);
+    (left ? best.left_centroids : best.right_centroids).grow(s.centroid[i]);
+  }
   return best;
 }
 
@@ -221,6 +237,8 @@ Split best_split(const SahBins& bins, const BinMap& map, const Box4& centroids,
   finish(best, best_cost, parent_area, config);
   best.left = bins.box(best.axis, 0, best.bin);
   best.right = bins.box(best.axis, best.bin + 1, map.bins() - 1);
+  best.left_centroids = bins.centroid_box(best.axis, 0, best.bin);
+  best.right_centroids = bins.centroid_box(best.axis, best.bin + 1, map.bins() - 1);
   return best;
 }
 

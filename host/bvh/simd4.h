@@ -66,6 +66,8 @@ inline Int4 select(Float4 mask, Int4 yes, Int4 no) {
 inline void store(std::int32_t* p, Int4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), a.v); }
 inline Int4 load(const std::int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }
 inline Float4 mask(bool b) { return {_mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(b)))}; }
+// Bit i set when lane i of the mask is true.
+inline int bits(Float4 mask) { return _mm_movemask_ps(mask.v); }
 inline Int4 operator-(Int4 a, Int4 b) { return {_mm_sub_epi32(a.v, b.v)}; }
 // Integer lane masks: -1 where true, 0 where false.
 inline Int4 less(Int4 a, Int4 b) { return {_mm_cmplt_epi32(a.v, b.v)}; }
@@ -140,6 +142,11 @@ inline void store(std::int32_t* p, Int4 a) {
 }
 inline Int4 load(const std::int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
 inline Float4 mask(bool b) { const float m = b ? 1.0f : 0.0f; return {{m, m, m, m}}; }
+inline int bits(Float4 mask) {
+  int b = 0;
+  for (int i = 0; i < 4; ++i) b |= (mask.v[i] != 0.0f) << i;
+  return b;
+}
 inline Int4 operator-(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x - y; }); }
 inline Int4 less(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x < y ? -1 : 0; }); }
 inline Int4 less_equal(Int4 a, Int4 b) { return lanes<Int4>(a, b, [](std::int32_t x, std::int32_t y) { return x <= y ? -1 : 0; }); }
