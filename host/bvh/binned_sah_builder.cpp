@@ -8,6 +8,7 @@
 
 #include "bvh/ref_partition.h"
 #include "bvh/sah_bins.h"
+#include "bvh/small_node.h"
 #include "bvh/task_pool.h"
 #include "common/error.h"
 #include "scene/load_scene.h"
@@ -50,6 +51,7 @@ struct NodeTask {
 struct Scratch {
   SahBins bins, odd_bins;
   RefPartitioner partitioner;
+  bvh_build::SmallNode small;
 };
 
 struct References {
@@ -125,10 +127,11 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   if (count <= 1) return false;
   const bool may_be_leaf = t.depth > 0 && count <= static_cast<std::uint32_t>(config_.max_leaf_size);
   const BinMap map(t.centroids, bins_);
+  const bool small = count <= bvh_build::kMaxSmallNode;
   Split sah;
-  if (t.depth < kMedianSplitDepth && count <= bvh_build::kMaxSmallNode) {
-    sah = bvh_build::best_split_small(refs_.data() + t.begin, count, map, t.centroids,
-                                      t.bounds.area(), config_);
+  if (t.depth < kMedianSplitDepth && small) {
+    s.small.load(refs_.data() + t.begin, count, map);
+    sah = s.small.best_split(t.centroids, t.bounds.area(), config_);
   } else if (t.depth < kMedianSplitDepth) {
     bin(t, map, s, parallel);
     sah = bvh_build::best_split(s.bins, map, t.centroids, t.bounds.area(), config_);
@@ -140,8 +143,10 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   }
   if (may_be_leaf && config_.intersection_cost * static_cast<float>(count) <= sah.cost)
     return false;
-  const std::uint32_t mid = s.partitioner.run(refs_.data(), t.begin, t.end,
-                                               {&map, sah.axis, sah.bin}, parallel ? &pool_ : nullptr);
+  const std::uint32_t mid =
+      small ? t.begin + s.small.partition(refs_.data() + t.begin, sah)
+            : s.partitioner.run(refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin},
+                                parallel ? &pool_ : nullptr);
   left = {t.begin, mid, t.depth + 1, sah.left, sah.left_centroids};
   right = {mid, t.end, t.depth + 1, sah.right, sah.right_centroids};
   return true;

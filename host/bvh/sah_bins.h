@@ -41,9 +41,12 @@ struct Box4 {
   float area() const { return simd::area(lo, hi); }  // of a non-empty box
   float extent(int axis) const { return simd::lane(hi, axis) - simd::lane(lo, axis); }
   Aabb aabb() const {
+    alignas(16) float l[4], h[4];
+    simd::store(l, lo);
+    simd::store(h, hi);
     Aabb b;
-    b.lo = {simd::lane(lo, 0), simd::lane(lo, 1), simd::lane(lo, 2)};
-    b.hi = {simd::lane(hi, 0), simd::lane(hi, 1), simd::lane(hi, 2)};
+    b.lo = {l[0], l[1], l[2]};
+    b.hi = {h[0], h[1], h[2]};
     return b;
   }
 };
@@ -81,7 +84,7 @@ struct SahBins {
   // The same, with every other reference binned into `odd` and merged after: two independent
   // chains of updates where consecutive references fall in the same bins.
   void add(const PrimRef* refs, std::uint32_t n, const BinMap& map, SahBins& odd);
-  void add(const PrimRef& r, const BinMap& map) {
+  [[gnu::always_inline]] void add(const PrimRef& r, const BinMap& map) {
     const simd::Float4 l = r.lo4(), h = r.hi4(), c = simd::splat3(0.5f) * (l + h);
     alignas(16) std::int32_t b[4];
     map.map(c, b);
@@ -93,7 +96,8 @@ struct SahBins {
   // Unions of bins [first, last] on `axis`: of the boxes and of the centroids.
   Box4 box(int axis, int first, int last) const;
   Box4 centroid_box(int axis, int first, int last) const;
-  void grow(int axis, int bin, simd::Float4 l, simd::Float4 h, simd::Float4 c) {
+  [[gnu::always_inline]] void grow(int axis, int bin, simd::Float4 l, simd::Float4 h,
+                                   simd::Float4 c) {
     lo[axis][bin] = simd::min(lo[axis][bin], l);
     hi[axis][bin] = simd::max(hi[axis][bin], h);
     centroid_lo[axis][bin] = simd::min(centroid_lo[axis][bin], c);
@@ -115,12 +119,34 @@ struct Split {
 Split best_split(const SahBins& bins, const BinMap& map, const Box4& centroids,
                  float parent_area, const BvhConfig& config);
 
-// The same split as binning the references and calling best_split (the same axis, cost and
-// boxes; the bin may differ only among boundaries with empty bins between them, which put the
-// same references on each side), evaluated over the references themselves: for small nodes,
-// where most bins are empty. n <= kMaxSmallNode.
-constexpr std::uint32_t kMaxSmallNode = 8;
-Split best_split_small(const PrimRef* refs, std::uint32_t n, const BinMap& map,
-                       const Box4& centroids, float parent_area, const BvhConfig& config);
+// From per-axis lanes of the cheapest costs (A_l N_l + A_r N_r) and their bins: the first axis
+// of the cheapest cost (x, y, z), its bin and that cost (axis -1 when every lane is infinite).
+Split pick_axis(simd::Float4 cost, simd::Int4 bin);
+// Sets best.cost = Ct + Ci best_cost / parent_area (best_cost = A_l N_l + A_r N_r).
+void finish_split(Split& best, float best_cost, float parent_area, const BvhConfig& config);
+
+// Boxes of three axes' candidates (bins, or references of a small node) with axis a in lane a:
+// corners by component, so one pass of vector operations sweeps the three axes.
+struct LaneBoxes {
+  simd::Float4 lx, ly, lz, hx, hy, hz;
+
+  static LaneBoxes empty() {
+    const Box4 e;
+    return {e.lo, e.lo, e.lo, e.hi, e.hi, e.hi};
+  }
+  // From the boxes [lo0, hi0] (axis x), [lo1, hi1] (y) and [lo2, hi2] (z).
+  static LaneBoxes of(simd::Float4 lo0, simd::Float4 lo1, simd::Float4 lo2, simd::Float4 hi0,
+                      simd::Float4 hi1, simd::Float4 hi2) {
+    LaneBoxes b;
+    simd::transpose3(lo0, lo1, lo2, b.lx, b.ly, b.lz);
+    simd::transpose3(hi0, hi1, hi2, b.hx, b.hy, b.hz);
+    return b;
+  }
+  void grow(const LaneBoxes& b) {
+    lx = simd::min(lx, b.lx), ly = simd::min(ly, b.ly), lz = simd::min(lz, b.lz);
+    hx = simd::max(hx, b.hx), hy = simd::max(hy, b.hy), hz = simd::max(hz, b.hz);
+  }
+  simd::Float4 area() const { return simd::area(hx - lx, hy - ly, hz - lz); }
+};
 
 }  // namespace hrpp::bvh_build

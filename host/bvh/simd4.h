@@ -32,6 +32,7 @@ inline Float4 set3(float x, float y, float z) { return {_mm_set_ps(0.0f, z, y, x
 inline Float4 operator+(Float4 a, Float4 b) { return {_mm_add_ps(a.v, b.v)}; }
 inline Float4 operator-(Float4 a, Float4 b) { return {_mm_sub_ps(a.v, b.v)}; }
 inline Float4 operator*(Float4 a, Float4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+inline Float4 operator/(Float4 a, Float4 b) { return {_mm_div_ps(a.v, b.v)}; }
 inline Float4 min(Float4 a, Float4 b) { return {_mm_min_ps(a.v, b.v)}; }
 inline Float4 max(Float4 a, Float4 b) { return {_mm_max_ps(a.v, b.v)}; }
 // Truncates toward zero into out[0..3].
@@ -66,6 +67,7 @@ inline Int4 select(Float4 mask, Int4 yes, Int4 no) {
 inline void store(std::int32_t* p, Int4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), a.v); }
 inline Int4 load(const std::int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }
 inline Float4 mask(bool b) { return {_mm_castsi128_ps(_mm_set1_epi32(-static_cast<int>(b)))}; }
+inline Float4 as_float(Int4 mask) { return {_mm_castsi128_ps(mask.v)}; }
 // Bit i set when lane i of the mask is true.
 inline int bits(Float4 mask) { return _mm_movemask_ps(mask.v); }
 inline Int4 operator-(Int4 a, Int4 b) { return {_mm_sub_epi32(a.v, b.v)}; }
@@ -95,6 +97,7 @@ inline Float4 set3(float x, float y, float z) { return {{x, y, z, 0.0f}}; }
 inline Float4 operator+(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x + y; }); }
 inline Float4 operator-(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x - y; }); }
 inline Float4 operator*(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x * y; }); }
+inline Float4 operator/(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x / y; }); }
 // Same operand order as SSE's minps/maxps: the second operand when the comparison fails.
 inline Float4 min(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x < y ? x : y; }); }
 inline Float4 max(Float4 a, Float4 b) { return lanes<Float4>(a, b, [](float x, float y) { return x > y ? x : y; }); }
@@ -142,6 +145,11 @@ inline void store(std::int32_t* p, Int4 a) {
 }
 inline Int4 load(const std::int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
 inline Float4 mask(bool b) { const float m = b ? 1.0f : 0.0f; return {{m, m, m, m}}; }
+inline Float4 as_float(Int4 mask) {
+  Float4 r;
+  for (int i = 0; i < 4; ++i) r.v[i] = mask.v[i] != 0 ? 1.0f : 0.0f;
+  return r;
+}
 inline int bits(Float4 mask) {
   int b = 0;
   for (int i = 0; i < 4; ++i) b |= (mask.v[i] != 0.0f) << i;

@@ -1,7 +1,6 @@
 #include "bvh/task_pool.h"
 
 #include <algorithm>
-#include <utility>
 
 namespace hrpp {
 
@@ -23,45 +22,52 @@ void TaskPool::parallel_for(std::size_t tasks, const Task& fn) {
     for (std::size_t i = 0; i < tasks; ++i) fn(i, 0);
     return;
   }
+  Job job{&fn, tasks, {0}, {0}, 0, nullptr};
   {
     std::lock_guard lock(mutex_);
-    fn_ = &fn;
-    tasks_ = tasks;
-    next_.store(0);
-    running_ = static_cast<int>(workers_.size());
-    error_ = nullptr;
+    job_ = &job;
     ++generation_;
   }
   wake_.notify_all();
-  drain(0);
-  std::unique_lock lock(mutex_);
-  done_.wait(lock, [this] { return running_ == 0; });
-  fn_ = nullptr;
-  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  run(job, 0);
+  {
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [&] { return job.done.load() == tasks && job.users == 0; });
+    job_ = nullptr;
+  }
+  if (job.error) std::rethrow_exception(job.error);
 }
 
-void TaskPool::drain(int thread) {
-  try {
-    for (std::size_t i = next_.fetch_add(1); i < tasks_; i = next_.fetch_add(1)) (*fn_)(i, thread);
-  } catch (...) {
-    std::lock_guard lock(mutex_);
-    if (!error_) error_ = std::current_exception();
-    next_.store(tasks_);  // hand out no more tasks
+void TaskPool::run(Job& job, int thread) {
+  for (std::size_t i = job.next.fetch_add(1); i < job.tasks; i = job.next.fetch_add(1)) {
+    try {
+      (*job.fn)(i, thread);
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      if (!job.error) job.error = std::current_exception();
+    }
+    job.done.fetch_add(1);
   }
 }
 
 void TaskPool::worker_loop(int thread) {
   std::uint64_t seen = 0;
   for (;;) {
+    Job* job = nullptr;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      wake_.wait(lock, [&] { return stop_ || (job_ && generation_ != seen); });
       if (stop_) return;
       seen = generation_;
+      job = job_;
+      ++job->users;
     }
-    drain(thread);
-    std::lock_guard lock(mutex_);
-    if (--running_ == 0) done_.notify_one();
+    run(*job, thread);
+    {
+      std::lock_guard lock(mutex_);
+      --job->users;
+    }
+    done_.notify_all();
   }
 }
 

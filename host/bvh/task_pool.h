@@ -1,6 +1,10 @@
 // A fixed pool of threads for the BVH builder: parallel_for over task indices, the calling
 // thread taking part. Tasks are handed out one at a time from a shared counter, so which thread
 // runs which task varies from run to run; callers keep results independent of that.
+//
+// The caller waits only for tasks, never for a worker to wake up: on a busy machine a worker
+// that the scheduler has not run yet finds no task left when it does run, and the caller has
+// done them all in the meantime.
 #pragma once
 
 #include <atomic>
@@ -31,19 +35,22 @@ class TaskPool {
   void parallel_for(std::size_t tasks, const Task& fn);
 
  private:
+  struct Job {
+    const Task* fn;
+    std::size_t tasks;
+    std::atomic<std::size_t> next{0}, done{0};
+    int users = 0;  // workers inside run(); guarded by mutex_
+    std::exception_ptr error;
+  };
   void worker_loop(int thread);
-  void drain(int thread);
+  void run(Job& job, int thread);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  const Task* fn_ = nullptr;
-  std::size_t tasks_ = 0;
-  std::atomic<std::size_t> next_{0};
+  Job* job_ = nullptr;  // the current parallel_for's, while it has tasks to hand out
   std::uint64_t generation_ = 0;
-  int running_ = 0;  // workers still in the current parallel_for
   bool stop_ = false;
-  std::exception_ptr error_;
 };
 
 }  // namespace hrpp
