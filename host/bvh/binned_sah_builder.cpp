@@ -4,6 +4,8 @@
 #include <chrono>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <span>
 #include <thread>
 
 #include "bvh/ref_partition.h"
@@ -55,7 +57,8 @@ struct Scratch {
 };
 
 struct References {
-  std::vector<PrimRef> refs;
+  std::unique_ptr<PrimRef[]> refs;  // default-initialised: the threads that fill it fault it in
+  std::uint32_t count = 0;
   Box4 bounds, centroids;
   std::uint32_t degenerate = 0;
 };
@@ -69,7 +72,7 @@ struct TopNode {
 class Builder {
  public:
   Builder(const BvhConfig& config, References& refs, TaskPool& pool)
-      : config_(config), refs_(refs.refs), pool_(pool), scratch_(pool.size()) {
+      : config_(config), refs_(refs.refs.get(), refs.count), pool_(pool), scratch_(pool.size()) {
     root_.end = static_cast<std::uint32_t>(refs_.size());
     root_.bounds = refs.bounds;
     root_.centroids = refs.centroids;
@@ -96,6 +99,7 @@ class Builder {
   }
 
  private:
+  Split sah_split(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel);
   bool split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch& s, bool parallel);
   void bin(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel);
   void median_split(const NodeTask& t, NodeTask& left, NodeTask& right);
@@ -106,7 +110,7 @@ class Builder {
   std::uint32_t place(std::uint32_t top, std::uint32_t final_index, std::uint32_t cursor);
 
   const BvhConfig& config_;
-  std::vector<PrimRef>& refs_;
+  std::span<PrimRef> refs_;
   TaskPool& pool_;
   std::vector<Scratch> scratch_;  // one per pool thread
   int bins_ = 16;
@@ -119,6 +123,20 @@ class Builder {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> subtree_place_;  // root index, base
 };
 
+// The SAH split of t (axis -1: none, or t is deep enough for object medians only), by the path
+// for its size: two references, a small node, or bins (parallel: on the whole pool).
+Split Builder::sah_split(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel) {
+  const float area = t.bounds.area();
+  if (t.depth >= kMedianSplitDepth) return {};
+  if (t.count() == 2) return bvh_build::split_pair(refs_.data() + t.begin, t.centroids, area, config_);
+  if (t.count() <= bvh_build::kMaxSmallNode) {
+    s.small.load(refs_.data() + t.begin, t.count(), map);
+    return s.small.best_split(t.centroids, area, config_);
+  }
+  bin(t, map, s, parallel);
+  return bvh_build::best_split(s.bins, map, t.centroids, area, config_);
+}
+
 // Splits node t into two children, or returns false when t is a leaf. With `parallel`, binning
 // and partition run on the whole pool. Either way the outcome depends on t's references only.
 bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch& s,
@@ -127,15 +145,7 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   if (count <= 1) return false;
   const bool may_be_leaf = t.depth > 0 && count <= static_cast<std::uint32_t>(config_.max_leaf_size);
   const BinMap map(t.centroids, bins_);
-  const bool small = count <= bvh_build::kMaxSmallNode;
-  Split sah;
-  if (t.depth < kMedianSplitDepth && small) {
-    s.small.load(refs_.data() + t.begin, count, map);
-    sah = s.small.best_split(t.centroids, t.bounds.area(), config_);
-  } else if (t.depth < kMedianSplitDepth) {
-    bin(t, map, s, parallel);
-    sah = bvh_build::best_split(s.bins, map, t.centroids, t.bounds.area(), config_);
-  }
+  const Split sah = sah_split(t, map, s, parallel);
   if (sah.axis < 0) {  // no plane separates the centroids (or we are deep): object median
     if (may_be_leaf) return false;
     median_split(t, left, right);
@@ -143,10 +153,12 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   }
   if (may_be_leaf && config_.intersection_cost * static_cast<float>(count) <= sah.cost)
     return false;
-  const std::uint32_t mid =
-      small ? t.begin + s.small.partition(refs_.data() + t.begin, sah)
-            : s.partitioner.run(refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin},
-                                parallel ? &pool_ : nullptr);
+  std::uint32_t mid = t.begin + 1;  // split_pair put the left reference first
+  if (count > 2 && count <= bvh_build::kMaxSmallNode)
+    mid = t.begin + s.small.partition(refs_.data() + t.begin, sah);
+  else if (count > bvh_build::kMaxSmallNode)
+    mid = s.partitioner.run(refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin},
+                            parallel ? &pool_ : nullptr);
   left = {t.begin, mid, t.depth + 1, sah.left, sah.left_centroids};
   right = {mid, t.end, t.depth + 1, sah.right, sah.right_centroids};
   return true;
@@ -297,7 +309,8 @@ References make_references(const Scene& scene, TaskPool& pool) {
   });
   for (std::size_t k = 0; k < tasks; ++k) offset[k + 1] += offset[k];
   References out;
-  out.refs.resize(offset[tasks]);
+  out.count = offset[tasks];
+  out.refs.reset(new PrimRef[out.count]);
   out.degenerate = static_cast<std::uint32_t>(tris.size() - offset[tasks]);
   std::vector<Box4> bounds(pool.size()), centroids(pool.size());
   pool.parallel_for(tasks, [&](std::size_t k, int thread) {

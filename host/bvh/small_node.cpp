@@ -1,11 +1,34 @@
 #include "bvh/small_node.h"
 
 #include <limits>
+#include <utility>
 
 namespace hrpp::bvh_build {
 
 using simd::Float4;
 using simd::Int4;
+
+Split split_pair(PrimRef* refs, const Box4& centroids, float parent_area,
+                 const BvhConfig& config) {
+  Split best;
+  int axis = 0;
+  while (axis < 3 && !(centroids.extent(axis) > 0.0f)) ++axis;
+  if (axis == 3) return best;
+  const Box4 a{refs[0].lo4(), refs[0].hi4()}, b{refs[1].lo4(), refs[1].hi4()};
+  const float cost = a.area() * 1.0f + b.area() * 1.0f;
+  if (!(cost < std::numeric_limits<float>::infinity())) return best;
+  const Float4 ca = refs[0].centroid(), cb = refs[1].centroid();
+  const bool swap = simd::lane(cb, axis) < simd::lane(ca, axis);
+  if (swap) std::swap(refs[0], refs[1]);
+  best.axis = axis;
+  best.bin = 0;
+  finish_split(best, cost, parent_area, config);
+  best.left = swap ? b : a;
+  best.right = swap ? a : b;
+  best.left_centroids = Box4{swap ? cb : ca, swap ? cb : ca};
+  best.right_centroids = Box4{swap ? ca : cb, swap ? ca : cb};
+  return best;
+}
 
 void SmallNode::load(const PrimRef* refs, std::uint32_t n, const BinMap& map) {
   n_ = n;

@@ -13,6 +13,12 @@ namespace hrpp::bvh_build {
 
 constexpr std::uint32_t kMaxSmallNode = 8;
 
+// Two references: binning puts the lower centroid in bin 0 and the higher in the last bin on
+// every axis with extent, so the split is the first such axis, at cost A_0 + A_1, the lower
+// one left. Returns the split (axis -1: none) and puts the left reference first.
+Split split_pair(PrimRef* refs, const Box4& centroids, float parent_area,
+                 const BvhConfig& config);
+
 class SmallNode {
  public:
   // Copies refs[0, n), n <= kMaxSmallNode, with their boxes, centroids and bins.
