@@ -84,7 +84,7 @@ class Builder {
     locals_.resize(subtrees_.size());
     pool_.parallel_for(subtrees_.size(), [&](std::size_t k, int thread) {
       const std::size_t s = subtree_order_[k];
-      locals_[s].reserve(std::max<std::size_t>(1, 2 * std::size_t{subtrees_[s].count()} - 1));
+      locals_[s].reserve(2 * std::size_t{std::max(1u, subtrees_[s].count())} - 1);
       locals_[s].emplace_back();
       build_subtree(subtrees_[s], 0, locals_[s], scratch_[thread]);
     });
