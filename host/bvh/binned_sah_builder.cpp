@@ -295,41 +295,50 @@ void Builder::stitch(std::vector<Bvh::Node>& nodes) {
   });
 }
 
-// The references of the non-degenerate triangles in id order, with their bounds. Boxes get
-// +0.0f added, which turns -0 into +0: min and max then give the same bits in any order.
+// Writes the references of the non-degenerate triangles among tris[begin, end) from out[0] on,
+// growing the bounds; returns how many. Boxes get +0.0f added, which turns -0 into +0: min and
+// max then give the same bits in any order.
+std::uint32_t write_references(const std::vector<Triangle>& tris, std::size_t begin,
+                               std::size_t end, PrimRef* out, Box4& bounds, Box4& centroids) {
+  const simd::Float4 zero = simd::splat3(0.0f);
+  PrimRef* r = out;
+  for (std::size_t i = begin; i < end; ++i) {
+    const Triangle& t = tris[i];
+    if (is_degenerate(t)) continue;
+    const simd::Float4 a = simd::set3(t.v0.x, t.v0.y, t.v0.z),
+                       b = simd::set3(t.v1.x, t.v1.y, t.v1.z),
+                       c = simd::set3(t.v2.x, t.v2.y, t.v2.z);
+    simd::store(r->lo, simd::min(simd::min(a, b), c) + zero);  // writes id and pad too
+    simd::store(r->hi, simd::max(simd::max(a, b), c) + zero);
+    r->id = static_cast<std::uint32_t>(i);
+    bounds.grow(Box4{r->lo4(), r->hi4()});
+    centroids.grow(r->centroid());
+    ++r;
+  }
+  return static_cast<std::uint32_t>(r - out);
+}
+
+// The references of the non-degenerate triangles in id order, with their bounds: one pass in
+// parallel chunks, each writing from its own start, then the chunks moved down over the gaps
+// the degenerate triangles left (none to move in a scene without them).
 References make_references(const Scene& scene, TaskPool& pool) {
   const std::vector<Triangle>& tris = scene.triangles;
   const std::size_t tasks = chunks(tris.size(), kRefChunk);
-  std::vector<std::uint8_t> keep(tris.size());
-  std::vector<std::uint32_t> offset(tasks + 1, 0);
-  pool.parallel_for(tasks, [&](std::size_t k, int) {
-    const std::size_t end = std::min(tris.size(), (k + 1) * kRefChunk);
-    for (std::size_t i = k * kRefChunk; i < end; ++i) keep[i] = !is_degenerate(tris[i]);
-    offset[k + 1] = static_cast<std::uint32_t>(std::count(keep.begin() + k * kRefChunk, keep.begin() + end, 1));
-  });
-  for (std::size_t k = 0; k < tasks; ++k) offset[k + 1] += offset[k];
   References out;
-  out.count = offset[tasks];
-  out.refs.reset(new PrimRef[out.count]);
-  out.degenerate = static_cast<std::uint32_t>(tris.size() - offset[tasks]);
+  out.refs.reset(new PrimRef[tris.size()]);
+  std::vector<std::uint32_t> kept(tasks);
   std::vector<Box4> bounds(pool.size()), centroids(pool.size());
   pool.parallel_for(tasks, [&](std::size_t k, int thread) {
-    const std::size_t end = std::min(tris.size(), (k + 1) * kRefChunk);
-    std::uint32_t j = offset[k];
-    for (std::size_t i = k * kRefChunk; i < end; ++i) {
-      if (!keep[i]) continue;
-      const Triangle& t = tris[i];
-      const simd::Float4 a = simd::set3(t.v0.x, t.v0.y, t.v0.z),
-                         b = simd::set3(t.v1.x, t.v1.y, t.v1.z),
-                         c = simd::set3(t.v2.x, t.v2.y, t.v2.z), zero = simd::splat3(0.0f);
-      PrimRef& r = out.refs[j++];
-      simd::store(r.lo, simd::min(simd::min(a, b), c) + zero);  // writes id and pad too
-      simd::store(r.hi, simd::max(simd::max(a, b), c) + zero);
-      r.id = static_cast<std::uint32_t>(i);
-      bounds[thread].grow(Box4{r.lo4(), r.hi4()});
-      centroids[thread].grow(r.centroid());
-    }
+    const std::size_t begin = k * kRefChunk, end = std::min(tris.size(), begin + kRefChunk);
+    kept[k] = write_references(tris, begin, end, out.refs.get() + begin, bounds[thread],
+                               centroids[thread]);
   });
+  for (std::size_t k = 0; k < tasks; ++k) {
+    PrimRef* from = out.refs.get() + k * kRefChunk;
+    if (out.count != k * kRefChunk) std::copy(from, from + kept[k], out.refs.get() + out.count);
+    out.count += kept[k];
+  }
+  out.degenerate = static_cast<std::uint32_t>(tris.size() - out.count);
   for (int t = 0; t < pool.size(); ++t) {
     out.bounds.grow(bounds[t]);
     out.centroids.grow(centroids[t]);
