@@ -45,13 +45,16 @@ constexpr std::size_t chunks(std::size_t n, std::size_t chunk) { return (n + chu
 struct NodeTask {
   std::uint32_t begin = 0, end = 0;
   int depth = 0;
-  Box4 bounds, centroids;
+  Box4 bounds;
+  bool has_centroids = false;  // centroids known (else split() computes them)
+  Box4 centroids;
   std::uint32_t count() const { return end - begin; }
 };
 
 // What each thread keeps between nodes.
 struct Scratch {
   SahBins bins, odd_bins;
+  Box4 centroids;
   RefPartitioner partitioner;
   bvh_build::SmallNode small;
 };
@@ -75,6 +78,7 @@ class Builder {
       : config_(config), refs_(refs.refs.get(), refs.count), pool_(pool), scratch_(pool.size()) {
     root_.end = static_cast<std::uint32_t>(refs_.size());
     root_.bounds = refs.bounds;
+    root_.has_centroids = true;
     root_.centroids = refs.centroids;
     bins_ = std::clamp(config.bin_count, 2, bvh_build::kMaxBins);
   }
@@ -99,10 +103,12 @@ class Builder {
   }
 
  private:
-  Split sah_split(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel);
+  Split sah_split(const NodeTask& t, const Box4& centroids, const BinMap& map, Scratch& s,
+                  bool parallel);
+  Box4 centroid_bounds(const NodeTask& t, bool parallel);
   bool split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch& s, bool parallel);
   void bin(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel);
-  void median_split(const NodeTask& t, NodeTask& left, NodeTask& right);
+  void median_split(const NodeTask& t, const Box4& centroids, NodeTask& left, NodeTask& right);
   void build_top();
   void build_subtree(const NodeTask& t, std::uint32_t index, std::vector<Bvh::Node>& out,
                      Scratch& s);
@@ -125,16 +131,36 @@ class Builder {
 
 // The SAH split of t (axis -1: none, or t is deep enough for object medians only), by the path
 // for its size: two references, a small node, or bins (parallel: on the whole pool).
-Split Builder::sah_split(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel) {
+Split Builder::sah_split(const NodeTask& t, const Box4& centroids, const BinMap& map, Scratch& s,
+                         bool parallel) {
   const float area = t.bounds.area();
   if (t.depth >= kMedianSplitDepth) return {};
-  if (t.count() == 2) return bvh_build::split_pair(refs_.data() + t.begin, t.centroids, area, config_);
+  if (t.count() == 2) return bvh_build::split_pair(refs_.data() + t.begin, centroids, area, config_);
   if (t.count() <= bvh_build::kMaxSmallNode) {
     s.small.load(refs_.data() + t.begin, t.count(), map);
-    return s.small.best_split(t.centroids, area, config_);
+    return s.small.best_split(centroids, area, config_);
   }
   bin(t, map, s, parallel);
-  return bvh_build::best_split(s.bins, map, t.centroids, area, config_);
+  return bvh_build::best_split(s.bins, map, centroids, area, config_);
+}
+
+// Bounds of t's centroids (in parallel: per-thread bounds over chunks, merged).
+Box4 Builder::centroid_bounds(const NodeTask& t, bool parallel) {
+  auto grow = [&](std::uint32_t begin, std::uint32_t end, Box4& b) {
+    for (std::uint32_t i = begin; i < end; ++i) b.grow(refs_[i].centroid());
+  };
+  Box4 all;
+  if (!parallel || t.count() <= kBinChunk) {
+    grow(t.begin, t.end, all);
+    return all;
+  }
+  for (Scratch& x : scratch_) x.centroids = Box4{};
+  pool_.parallel_for(chunks(t.count(), kBinChunk), [&](std::size_t k, int thread) {
+    const std::uint32_t b = t.begin + static_cast<std::uint32_t>(k) * kBinChunk;
+    grow(b, std::min(b + kBinChunk, t.end), scratch_[thread].centroids);
+  });
+  for (const Scratch& x : scratch_) all.grow(x.centroids);
+  return all;
 }
 
 // Splits node t into two children, or returns false when t is a leaf. With `parallel`, binning
@@ -144,11 +170,12 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   const std::uint32_t count = t.count();
   if (count <= 1) return false;
   const bool may_be_leaf = t.depth > 0 && count <= static_cast<std::uint32_t>(config_.max_leaf_size);
-  const BinMap map(t.centroids, bins_);
-  const Split sah = sah_split(t, map, s, parallel);
+  const Box4 centroids = t.has_centroids ? t.centroids : centroid_bounds(t, parallel);
+  const BinMap map(centroids, bins_);
+  const Split sah = sah_split(t, centroids, map, s, parallel);
   if (sah.axis < 0) {  // no plane separates the centroids (or we are deep): object median
     if (may_be_leaf) return false;
-    median_split(t, left, right);
+    median_split(t, centroids, left, right);
     return true;
   }
   if (may_be_leaf && config_.intersection_cost * static_cast<float>(count) <= sah.cost)
@@ -159,8 +186,8 @@ bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch&
   else if (count > bvh_build::kMaxSmallNode)
     mid = s.partitioner.run(refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin},
                             parallel ? &pool_ : nullptr);
-  left = {t.begin, mid, t.depth + 1, sah.left, sah.left_centroids};
-  right = {mid, t.end, t.depth + 1, sah.right, sah.right_centroids};
+  left = {t.begin, mid, t.depth + 1, sah.left, sah.has_centroids, sah.left_centroids};
+  right = {mid, t.end, t.depth + 1, sah.right, sah.has_centroids, sah.right_centroids};
   return true;
 }
 
@@ -187,8 +214,9 @@ void Builder::bin(const NodeTask& t, const BinMap& map, Scratch& s, bool paralle
 
 // Object median on the widest centroid axis; ties in the centroid broken by triangle id, so the
 // halves do not depend on the references' order.
-void Builder::median_split(const NodeTask& t, NodeTask& left, NodeTask& right) {
-  const float ex = t.centroids.extent(0), ey = t.centroids.extent(1), ez = t.centroids.extent(2);
+void Builder::median_split(const NodeTask& t, const Box4& centroids, NodeTask& left,
+                           NodeTask& right) {
+  const float ex = centroids.extent(0), ey = centroids.extent(1), ez = centroids.extent(2);
   const int a = (ex >= ey && ex >= ez) ? 0 : (ey >= ez ? 1 : 2);
   const std::uint32_t mid = t.begin + t.count() / 2;
   std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
@@ -196,8 +224,8 @@ void Builder::median_split(const NodeTask& t, NodeTask& left, NodeTask& right) {
                      const float cx = 0.5f * (x.lo[a] + x.hi[a]), cy = 0.5f * (y.lo[a] + y.hi[a]);
                      return cx < cy || (cx == cy && x.id < y.id);
                    });
-  left = {t.begin, mid, t.depth + 1, {}, {}};
-  right = {mid, t.end, t.depth + 1, {}, {}};
+  left = {t.begin, mid, t.depth + 1, {}, true, {}};
+  right = {mid, t.end, t.depth + 1, {}, true, {}};
   for (NodeTask* c : {&left, &right})
     for (std::uint32_t i = c->begin; i < c->end; ++i) {
       c->bounds.grow(Box4{refs_[i].lo4(), refs_[i].hi4()});

@@ -20,8 +20,8 @@ void SahBins::clear(int bins) {
   const Box4 empty;
   for (int k = 0; k < bins; ++k) {
     for (int a = 0; a < 3; ++a) {
-      lo[a][k] = centroid_lo[a][k] = empty.lo;
-      hi[a][k] = centroid_hi[a][k] = empty.hi;
+      lo[a][k] = empty.lo;
+      hi[a][k] = empty.hi;
     }
     for (std::uint32_t& c : count[k]) c = 0;
   }
@@ -50,8 +50,6 @@ void SahBins::merge(const SahBins& other, int bins) {
     for (int a = 0; a < 3; ++a) {
       lo[a][k] = simd::min(lo[a][k], other.lo[a][k]);
       hi[a][k] = simd::max(hi[a][k], other.hi[a][k]);
-      centroid_lo[a][k] = simd::min(centroid_lo[a][k], other.centroid_lo[a][k]);
-      centroid_hi[a][k] = simd::max(centroid_hi[a][k], other.centroid_hi[a][k]);
     }
     for (int a = 0; a < 4; ++a) count[k][a] += other.count[k][a];
   }
@@ -63,11 +61,6 @@ Box4 SahBins::box(int axis, int first, int last) const {
   return b;
 }
 
-Box4 SahBins::centroid_box(int axis, int first, int last) const {
-  Box4 b;
-  for (int k = first; k <= last; ++k) b.grow(Box4{centroid_lo[axis][k], centroid_hi[axis][k]});
-  return b;
-}
 
 namespace {
 
@@ -147,8 +140,6 @@ Split best_split(const SahBins& bins, const BinMap& map, const Box4& centroids,
   finish_split(best, best_cost, parent_area, config);
   best.left = bins.box(best.axis, 0, best.bin);
   best.right = bins.box(best.axis, best.bin + 1, map.bins() - 1);
-  best.left_centroids = bins.centroid_box(best.axis, 0, best.bin);
-  best.right_centroids = bins.centroid_box(best.axis, best.bin + 1, map.bins() - 1);
   return best;
 }
 

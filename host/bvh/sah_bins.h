@@ -70,13 +70,11 @@ class BinMap {
 };
 
 // Bins of one node (or of one thread's share of it) on the three axes: per axis and bin the
-// bounds of the boxes and of the centroids as vectors (one min and one max each per reference),
-// the counts with the axes as lanes (loaded as one vector in the sweep).
+// box's corners as vectors (one min and one max per reference), the counts with the axes as
+// lanes (loaded as one vector in the sweep).
 struct SahBins {
   simd::Float4 lo[3][kMaxBins];
   simd::Float4 hi[3][kMaxBins];
-  simd::Float4 centroid_lo[3][kMaxBins];
-  simd::Float4 centroid_hi[3][kMaxBins];
   alignas(16) std::uint32_t count[kMaxBins][4];
 
   void clear(int bins);
@@ -85,23 +83,18 @@ struct SahBins {
   // chains of updates where consecutive references fall in the same bins.
   void add(const PrimRef* refs, std::uint32_t n, const BinMap& map, SahBins& odd);
   [[gnu::always_inline]] void add(const PrimRef& r, const BinMap& map) {
-    const simd::Float4 l = r.lo4(), h = r.hi4(), c = simd::splat3(0.5f) * (l + h);
+    const simd::Float4 l = r.lo4(), h = r.hi4();
     alignas(16) std::int32_t b[4];
-    map.map(c, b);
-    grow(0, b[0], l, h, c);
-    grow(1, b[1], l, h, c);
-    grow(2, b[2], l, h, c);
+    map.map(simd::splat3(0.5f) * (l + h), b);
+    grow(0, b[0], l, h);
+    grow(1, b[1], l, h);
+    grow(2, b[2], l, h);
   }
   void merge(const SahBins& other, int bins);  // exact: min, max and sums
-  // Unions of bins [first, last] on `axis`: of the boxes and of the centroids.
-  Box4 box(int axis, int first, int last) const;
-  Box4 centroid_box(int axis, int first, int last) const;
-  [[gnu::always_inline]] void grow(int axis, int bin, simd::Float4 l, simd::Float4 h,
-                                   simd::Float4 c) {
+  Box4 box(int axis, int first, int last) const;  // union of bins [first, last] on `axis`
+  [[gnu::always_inline]] void grow(int axis, int bin, simd::Float4 l, simd::Float4 h) {
     lo[axis][bin] = simd::min(lo[axis][bin], l);
     hi[axis][bin] = simd::max(hi[axis][bin], h);
-    centroid_lo[axis][bin] = simd::min(centroid_lo[axis][bin], c);
-    centroid_hi[axis][bin] = simd::max(centroid_hi[axis][bin], c);
     ++count[bin][axis];
   }
 };
@@ -111,6 +104,8 @@ struct Split {
   int bin = 0;    // the left side takes bins [0, bin]
   float cost = 0.0f;  // Ct + Ci (A_l N_l + A_r N_r) / A_parent
   Box4 left, right;   // the children's bounds
+  // The children's centroid bounds, when the split had them at hand (small nodes, pairs).
+  bool has_centroids = false;
   Box4 left_centroids, right_centroids;
 };
 

@@ -25,6 +25,7 @@ Split split_pair(PrimRef* refs, const Box4& centroids, float parent_area,
   finish_split(best, cost, parent_area, config);
   best.left = swap ? b : a;
   best.right = swap ? a : b;
+  best.has_centroids = true;
   best.left_centroids = Box4{swap ? cb : ca, swap ? cb : ca};
   best.right_centroids = Box4{swap ? ca : cb, swap ? ca : cb};
   return best;
@@ -95,6 +96,7 @@ Split SmallNode::best_split(const Box4& centroids, float parent_area, const BvhC
 
 // The children's boxes and centroid bounds.
 void SmallNode::sides(Split& split) const {
+  split.has_centroids = true;
   for (std::uint32_t i = 0; i < n_; ++i) {
     const bool left = bin_[i][split.axis] <= split.bin;
     (left ? split.left : split.right).grow(box_[i]);
