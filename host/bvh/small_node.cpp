@@ -94,23 +94,27 @@ Split SmallNode::best_split(const Box4& centroids, float parent_area, const BvhC
   return best;
 }
 
-// The children's boxes and centroid bounds.
+// The children's boxes and centroid bounds (side 0 left, 1 right: no branch on the side).
 void SmallNode::sides(Split& split) const {
-  split.has_centroids = true;
+  Box4 box[2], centroid[2];
   for (std::uint32_t i = 0; i < n_; ++i) {
-    const bool left = bin_[i][split.axis] <= split.bin;
-    (left ? split.left : split.right).grow(box_[i]);
-    (left ? split.left_centroids : split.right_centroids).grow(centroid_[i]);
+    const int right = bin_[i][split.axis] > split.bin;
+    box[right].grow(box_[i]);
+    centroid[right].grow(centroid_[i]);
   }
+  split.left = box[0], split.right = box[1];
+  split.has_centroids = true;
+  split.left_centroids = centroid[0], split.right_centroids = centroid[1];
 }
 
 std::uint32_t SmallNode::partition(PrimRef* refs, const Split& split) const {
-  std::uint32_t k = 0;
-  for (std::uint32_t i = 0; i < n_; ++i)
-    if (bin_[i][split.axis] <= split.bin) refs[k++] = ref_[i];
-  const std::uint32_t left = k;
-  for (std::uint32_t i = 0; i < n_; ++i)
-    if (bin_[i][split.axis] > split.bin) refs[k++] = ref_[i];
+  std::uint32_t left = 0;
+  for (std::uint32_t i = 0; i < n_; ++i) left += bin_[i][split.axis] <= split.bin;
+  std::uint32_t next[2] = {0, left};  // where the next left / right reference goes
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    const int right = bin_[i][split.axis] > split.bin;
+    refs[next[right]++] = ref_[i];
+  }
   return left;
 }
 
