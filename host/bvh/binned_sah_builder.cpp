@@ -95,10 +95,7 @@ class Builder {
     Bvh bvh;
     stitch(bvh.nodes);
     bvh.prim_ids.resize(refs_.size());
-    pool_.parallel_for(chunks(refs_.size(), kRefChunk), [&](std::size_t k, int) {
-      const std::size_t end = std::min(refs_.size(), (k + 1) * kRefChunk);
-      for (std::size_t i = k * kRefChunk; i < end; ++i) bvh.prim_ids[i] = refs_[i].id;
-    });
+    for (std::size_t i = 0; i < refs_.size(); ++i) bvh.prim_ids[i] = refs_[i].id;
     return bvh;
   }
 
@@ -301,7 +298,7 @@ std::uint32_t Builder::place(std::uint32_t top, std::uint32_t final_index, std::
   return place(n.node.first + 1, top_final_[n.node.first] + 1, cursor);
 }
 
-// Numbers every node (place), then writes the top nodes and copies the subtrees in parallel.
+// Numbers every node (place), then writes the top nodes and copies the subtrees.
 void Builder::stitch(std::vector<Bvh::Node>& nodes) {
   top_final_.resize(top_.size());
   subtree_place_.resize(subtrees_.size());
@@ -312,7 +309,7 @@ void Builder::stitch(std::vector<Bvh::Node>& nodes) {
     if (!n.is_leaf() && top_.size() > 1) n.first = top_final_[n.first];
     nodes[top_final_[i]] = n;
   }
-  pool_.parallel_for(subtrees_.size(), [&](std::size_t k, int) {
+  for (std::size_t k = 0; k < subtrees_.size(); ++k) {  // memory-bound: one thread is enough
     const auto [root, base] = subtree_place_[k];
     const std::vector<Bvh::Node>& local = locals_[k];
     for (std::size_t i = 0; i < local.size(); ++i) {
@@ -320,7 +317,7 @@ void Builder::stitch(std::vector<Bvh::Node>& nodes) {
       if (!n.is_leaf() && local.size() > 1) n.first += base - 1;
       nodes[i == 0 ? root : base + i - 1] = n;
     }
-  });
+  }
 }
 
 // Writes the references of the non-degenerate triangles among tris[begin, end) from out[0] on,
