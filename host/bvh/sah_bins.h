@@ -1,6 +1,7 @@
 // The binned SAH builder's data (Wald 2007, "On fast Construction of SAH-based Bounding Volume
 // Hierarchies"): 32-byte primitive references, boxes as SIMD lanes, centroid bins per axis kept
-// as separate arrays of lower corners, upper corners and counts, and the SAH sweep over them.
+// as separate arrays of lower corners, upper corners and counts, and the SAH sweep over them
+// with the three axes in lanes.
 #pragma once
 
 #include <cstdint>
