@@ -374,8 +374,7 @@ std::vector<bvh_build::PrimRef> random_refs(int n, unsigned seed, float grid) {
   for (const Triangle& t : random_triangles(n, seed, grid)) {
     bvh_build::PrimRef r{};
     const glm::vec3 lo = glm::min(glm::min(t.v0, t.v1), t.v2), hi = glm::max(glm::max(t.v0, t.v1), t.v2);
-    r.lo[0] = lo.x, r.lo[1] = lo.y, r.lo[2] = lo.z, r.hi[0] = hi.x, r.hi[1] = hi.y, r.hi[2] = hi.z;
-    r.id = id++;
+    r.set(simd::set3(lo.x, lo.y, lo.z), simd::set3(hi.x, hi.y, hi.z), id++);
     refs.push_back(r);
   }
   return refs;
@@ -431,13 +430,13 @@ TEST(BvhBuilderParts, SmallNodeSplitIsTheBinnedSplit) {
       alignas(16) std::int32_t b[4];
       map.map(r.centroid(), b);
       const bool left = b[binned.axis] <= binned.bin;
-      if (left) left_binned.insert(r.id);
+      if (left) left_binned.insert(r.id());
       (left ? left_centroids : right_centroids).grow(r.centroid());
     }
     ASSERT_TRUE(fast.has_centroids);
     EXPECT_TRUE(same_box(fast.left_centroids, left_centroids) &&
                 same_box(fast.right_centroids, right_centroids)) << trial;
-    for (std::uint32_t i = 0; i < left_count; ++i) left_fast.insert(moved[i].id);
+    for (std::uint32_t i = 0; i < left_count; ++i) left_fast.insert(moved[i].id());
     EXPECT_EQ(left_fast, left_binned) << "trial " << trial;
   }
   EXPECT_GT(splits, 2500);
@@ -466,7 +465,7 @@ TEST(BvhBuilderParts, ChunkedPartitionIsTheSameOnAnyPool) {
       EXPECT_EQ(0, std::memcmp(first.data(), other.data(), refs.size() * sizeof(refs[0])));
     }
     std::multiset<std::uint32_t> a, b;
-    for (std::size_t i = 0; i < refs.size(); ++i) a.insert(refs[i].id), b.insert(first[i].id);
+    for (std::size_t i = 0; i < refs.size(); ++i) a.insert(refs[i].id()), b.insert(first[i].id());
     EXPECT_EQ(a, b);
   }
 }

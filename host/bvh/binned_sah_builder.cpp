@@ -95,7 +95,7 @@ class Builder {
     Bvh bvh;
     stitch(bvh.nodes);
     bvh.prim_ids.resize(refs_.size());
-    for (std::size_t i = 0; i < refs_.size(); ++i) bvh.prim_ids[i] = refs_[i].id;
+    for (std::size_t i = 0; i < refs_.size(); ++i) bvh.prim_ids[i] = refs_[i].id();
     return bvh;
   }
 
@@ -219,7 +219,7 @@ void Builder::median_split(const NodeTask& t, const Box4& centroids, NodeTask& l
   std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
                    [a](const PrimRef& x, const PrimRef& y) {
                      const float cx = 0.5f * (x.lo[a] + x.hi[a]), cy = 0.5f * (y.lo[a] + y.hi[a]);
-                     return cx < cy || (cx == cy && x.id < y.id);
+                     return cx < cy || (cx == cy && x.id() < y.id());
                    });
   left = {t.begin, mid, t.depth + 1, {}, true, {}};
   right = {mid, t.end, t.depth + 1, {}, true, {}};
@@ -333,9 +333,8 @@ std::uint32_t write_references(const std::vector<Triangle>& tris, std::size_t be
     const simd::Float4 a = simd::set3(t.v0.x, t.v0.y, t.v0.z),
                        b = simd::set3(t.v1.x, t.v1.y, t.v1.z),
                        c = simd::set3(t.v2.x, t.v2.y, t.v2.z);
-    simd::store(r->lo, simd::min(simd::min(a, b), c) + zero);  // writes id and pad too
-    simd::store(r->hi, simd::max(simd::max(a, b), c) + zero);
-    r->id = static_cast<std::uint32_t>(i);
+    r->set(simd::min(simd::min(a, b), c) + zero, simd::max(simd::max(a, b), c) + zero,
+           static_cast<std::uint32_t>(i));
     bounds.grow(Box4{r->lo4(), r->hi4()});
     centroids.grow(r->centroid());
     ++r;

@@ -4,6 +4,7 @@
 // with the three axes in lanes.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <limits>
 
@@ -15,12 +16,17 @@ namespace hrpp::bvh_build {
 
 constexpr int kMaxBins = 64;
 
-// A triangle while the tree is built: its box and id. Partitioned in place, so 32 bytes.
+// A triangle while the tree is built: its box and id, 32 bytes, partitioned in place. The id's
+// bits sit in lo[3] (loads zero that lane), hi[3] is 0.
 struct PrimRef {
-  float lo[3];
-  std::uint32_t id;  // read as the box's fourth lane by load3, which zeroes it
-  float hi[3];
-  std::uint32_t pad;
+  float lo[4];
+  float hi[4];
+  std::uint32_t id() const { return std::bit_cast<std::uint32_t>(lo[3]); }
+  void set(simd::Float4 l, simd::Float4 h, std::uint32_t triangle) {
+    simd::store(lo, l);
+    simd::store(hi, h);
+    lo[3] = std::bit_cast<float>(triangle);
+  }
   simd::Float4 lo4() const { return simd::load3(lo); }
   simd::Float4 hi4() const { return simd::load3(hi); }
   // The centroid as Aabb::center() computes it: 0.5 (lo + hi).

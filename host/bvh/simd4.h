@@ -21,7 +21,7 @@ struct Int4 {
   __m128i v;
 };
 
-// Loads p[0..2] (reads p[3], which it zeroes: callers keep other data there).
+// Loads p[0..2] and 0 (reads p[3], which callers may use for other data).
 inline Float4 load3(const float* p) {
   const __m128 mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
   return {_mm_and_ps(_mm_loadu_ps(p), mask)};
