@@ -1,236 +1,392 @@
 #include "bvh/binned_sah_builder.h"
 
 #include <algorithm>
-#include <array>
-#include <atomic>
 #include <chrono>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <span>
 #include <thread>
 
+#include "bvh/ref_partition.h"
+#include "bvh/sah_bins.h"
+#include "bvh/small_node.h"
+#include "bvh/task_pool.h"
 #include "common/error.h"
 #include "scene/load_scene.h"
 
 namespace hrpp {
 namespace {
 
-constexpr int kMaxBins = 64;
+using bvh_build::BinMap;
+using bvh_build::Box4;
+using bvh_build::PrimRef;
+using bvh_build::RefPartitioner;
+using bvh_build::SahBins;
+using bvh_build::Split;
+
 // Below this depth the builder splits by SAH; from it on by object median, which bounds the
 // tree depth (and so the traversal stack, HRPP_STACK_SIZE) by this + log2(triangles).
 constexpr int kMedianSplitDepth = 36;
-// Subtrees at least this big are built on another thread while one is free.
-constexpr std::uint32_t kParallelMinPrims = 16384;
+// Work items of the parallel loops: triangles per task when making references, references per
+// task when binning.
+constexpr std::uint32_t kRefChunk = 1u << 14;
+constexpr std::uint32_t kBinChunk = 1u << 14;
+// Nodes with at least this many references are binned into two sets of bins (SahBins::add).
+constexpr std::uint32_t kDualBinsMin = 64;
+// With T threads, nodes over max(kMinSubtree, N / (kSubtreesPerThread T)) references are split
+// by all threads together (parallel binning and partition); smaller ones become subtrees that
+// one thread builds alone, handed out largest first.
+constexpr std::uint32_t kMinSubtree = 1u << 12;
+constexpr std::uint32_t kSubtreesPerThread = 8;
 
-struct PrimRef {
-  Aabb box;
-  glm::vec3 centroid;
-  std::uint32_t id;
+constexpr std::size_t chunks(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
+
+struct NodeTask {
+  std::uint32_t begin = 0, end = 0;
+  int depth = 0;
+  Box4 bounds;
+  bool has_centroids = false;  // centroids known (else split() computes them)
+  Box4 centroids;
+  std::uint32_t count() const { return end - begin; }
 };
 
-struct Split {
-  int axis = -1;     // -1: no SAH split found
-  int bin = 0;       // left side takes bins [0, bin]
-  float cost = 0.0f;
+// What each thread keeps between nodes.
+struct Scratch {
+  SahBins bins, odd_bins;
+  Box4 centroids;
+  RefPartitioner partitioner;
+  bvh_build::SmallNode small;
+};
+
+struct References {
+  std::unique_ptr<PrimRef[]> refs;  // default-initialised: the threads that fill it fault it in
+  std::uint32_t count = 0;
+  Box4 bounds, centroids;
+  std::uint32_t degenerate = 0;
+};
+
+// A node of the top of the tree (split by all threads) or the root of a subtree (subtree >= 0).
+struct TopNode {
+  Bvh::Node node;
+  int subtree = -1;
 };
 
 class Builder {
  public:
-  Builder(const BvhConfig& config, std::vector<PrimRef> refs)
-      : config_(config), refs_(std::move(refs)) {
-    nodes_.resize(std::max<std::size_t>(1, 2 * refs_.size()));
-    const int threads = config.threads > 0 ? config.threads
-                                           : static_cast<int>(std::thread::hardware_concurrency());
-    free_threads_ = std::max(0, threads - 1);
+  Builder(const BvhConfig& config, References& refs, TaskPool& pool)
+      : config_(config), refs_(refs.refs.get(), refs.count), pool_(pool), scratch_(pool.size()) {
+    root_.end = static_cast<std::uint32_t>(refs_.size());
+    root_.bounds = refs.bounds;
+    root_.has_centroids = true;
+    root_.centroids = refs.centroids;
+    bins_ = std::clamp(config.bin_count, 2, bvh_build::kMaxBins);
   }
 
   Bvh run() {
-    node_count_ = 1;
-    build(0, 0, static_cast<std::uint32_t>(refs_.size()), 0);
+    build_top();
+    locals_.resize(subtrees_.size());
+    pool_.parallel_for(subtrees_.size(), [&](std::size_t k, int thread) {
+      const std::size_t s = subtree_order_[k];
+      locals_[s].reserve(2 * std::size_t{std::max(1u, subtrees_[s].count())} - 1);
+      locals_[s].emplace_back();
+      build_subtree(subtrees_[s], 0, locals_[s], scratch_[thread]);
+    });
     Bvh bvh;
-    nodes_.resize(node_count_);
-    bvh.nodes = std::move(nodes_);
-    bvh.prim_ids.reserve(refs_.size());
-    for (const PrimRef& r : refs_) bvh.prim_ids.push_back(r.id);
+    stitch(bvh.nodes);
+    bvh.prim_ids.resize(refs_.size());
+    for (std::size_t i = 0; i < refs_.size(); ++i) bvh.prim_ids[i] = refs_[i].id();
     return bvh;
   }
 
  private:
-  void build(std::uint32_t node_index, std::uint32_t begin, std::uint32_t end, int depth) {
-    Aabb bounds, centroids;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      bounds.grow(refs_[i].box);
-      centroids.grow(refs_[i].centroid);
-    }
-    Bvh::Node& node = nodes_[node_index];
-    node.bounds = bounds;
-    const std::uint32_t count = end - begin;
-    const bool root = depth == 0;
-
-    if (count <= 1) return make_leaf(node, begin, count);
-
-    std::uint32_t mid = begin;
-    const Split split = depth < kMedianSplitDepth ? find_sah_split(begin, end, bounds, centroids)
-                                                  : Split{};
-    const float leaf_cost = config_.intersection_cost * static_cast<float>(count);
-    if (split.axis >= 0) {
-      if (!root && count <= static_cast<std::uint32_t>(config_.max_leaf_size) &&
-          leaf_cost <= split.cost)
-        return make_leaf(node, begin, count);
-      mid = partition(begin, end, centroids, split);
-    }
-    if (mid == begin || mid == end) {
-      // No SAH plane separates the centroids (or we are deep): object median on the widest axis.
-      if (!root && count <= static_cast<std::uint32_t>(config_.max_leaf_size))
-        return make_leaf(node, begin, count);
-      mid = median_split(begin, end, centroids);
-    }
-
-    const std::uint32_t left = node_count_.fetch_add(2);
-    node.first = left;
-    node.count = 0;
-    if (count >= kParallelMinPrims && take_thread()) {
-      std::thread worker([=, this] { build(left, begin, mid, depth + 1); });
-      build(left + 1, mid, end, depth + 1);
-      worker.join();
-      ++free_threads_;
-    } else {
-      build(left, begin, mid, depth + 1);
-      build(left + 1, mid, end, depth + 1);
-    }
-  }
-
-  static void make_leaf(Bvh::Node& node, std::uint32_t begin, std::uint32_t count) {
-    node.first = begin;
-    node.count = count;
-  }
-
-  bool take_thread() {
-    int n = free_threads_.load();
-    while (n > 0)
-      if (free_threads_.compare_exchange_weak(n, n - 1)) return true;
-    return false;
-  }
-
-  int bin_of(float c, float lo, float scale) const {
-    const int b = static_cast<int>((c - lo) * scale);
-    return std::clamp(b, 0, bins() - 1);
-  }
-  int bins() const { return std::clamp(config_.bin_count, 2, kMaxBins); }
-
-  Split find_sah_split(std::uint32_t begin, std::uint32_t end, const Aabb& bounds,
-                       const Aabb& centroids) const {
-    struct Bin {
-      Aabb box;
-      std::uint32_t count = 0;
-    };
-    const int n = bins();
-    const glm::vec3 extent = centroids.extent();
-    std::array<std::array<Bin, kMaxBins>, 3> bin{};
-    glm::vec3 scale;
-    for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? static_cast<float>(n) / extent[a] : 0.0f;
-
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const PrimRef& r = refs_[i];
-      for (int a = 0; a < 3; ++a) {
-        Bin& b = bin[a][bin_of(r.centroid[a], centroids.lo[a], scale[a])];
-        b.box.grow(r.box);
-        ++b.count;
-      }
-    }
-
-    Split best;
-    const float parent_area = bounds.area();
-    float best_cost = std::numeric_limits<float>::infinity();
-    for (int a = 0; a < 3; ++a) {
-      if (!(extent[a] > 0.0f)) continue;
-      // Sweep from the right: area and count of bins [k + 1, n).
-      std::array<float, kMaxBins> right_area{};
-      std::array<std::uint32_t, kMaxBins> right_count{};
-      Aabb acc;
-      std::uint32_t cnt = 0;
-      for (int k = n - 1; k > 0; --k) {
-        acc.grow(bin[a][k].box);
-        cnt += bin[a][k].count;
-        right_area[k - 1] = acc.area();
-        right_count[k - 1] = cnt;
-      }
-      acc = Aabb{};
-      cnt = 0;
-      for (int k = 0; k < n - 1; ++k) {
-        acc.grow(bin[a][k].box);
-        cnt += bin[a][k].count;
-        if (cnt == 0 || right_count[k] == 0) continue;
-        const float cost = acc.area() * static_cast<float>(cnt) +
-                           right_area[k] * static_cast<float>(right_count[k]);
-        if (cost < best_cost) {
-          best_cost = cost;
-          best = Split{a, k, 0.0f};
-        }
-      }
-    }
-    if (best.axis >= 0) {
-      const float inv_area = parent_area > 0.0f ? 1.0f / parent_area : 0.0f;
-      best.cost = config_.traversal_cost + config_.intersection_cost * best_cost * inv_area;
-    }
-    return best;
-  }
-
-  std::uint32_t partition(std::uint32_t begin, std::uint32_t end, const Aabb& centroids,
-                          const Split& split) {
-    const int a = split.axis;
-    const float lo = centroids.lo[a];
-    const float scale = static_cast<float>(bins()) / centroids.extent()[a];
-    auto it = std::partition(refs_.begin() + begin, refs_.begin() + end, [&](const PrimRef& r) {
-      return bin_of(r.centroid[a], lo, scale) <= split.bin;
-    });
-    return static_cast<std::uint32_t>(it - refs_.begin());
-  }
-
-  std::uint32_t median_split(std::uint32_t begin, std::uint32_t end, const Aabb& centroids) {
-    const glm::vec3 e = centroids.extent();
-    const int a = (e.x >= e.y && e.x >= e.z) ? 0 : (e.y >= e.z ? 1 : 2);
-    const std::uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(refs_.begin() + begin, refs_.begin() + mid, refs_.begin() + end,
-                     [a](const PrimRef& x, const PrimRef& y) {
-                       return x.centroid[a] < y.centroid[a] ||
-                              (x.centroid[a] == y.centroid[a] && x.id < y.id);
-                     });
-    return mid;
-  }
+  Split sah_split(const NodeTask& t, const Box4& centroids, const BinMap& map, Scratch& s,
+                  bool parallel);
+  Box4 centroid_bounds(const NodeTask& t, bool parallel);
+  bool split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch& s, bool parallel);
+  void bin(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel);
+  void median_split(const NodeTask& t, const Box4& centroids, NodeTask& left, NodeTask& right);
+  void build_top();
+  void build_subtree(const NodeTask& t, std::uint32_t index, std::vector<Bvh::Node>& out,
+                     Scratch& s);
+  void stitch(std::vector<Bvh::Node>& nodes);
+  std::uint32_t place(std::uint32_t top, std::uint32_t final_index, std::uint32_t cursor);
 
   const BvhConfig& config_;
-  std::vector<PrimRef> refs_;
-  std::vector<Bvh::Node> nodes_;
-  std::atomic<std::uint32_t> node_count_{0};
-  std::atomic<int> free_threads_{0};
+  std::span<PrimRef> refs_;
+  TaskPool& pool_;
+  std::vector<Scratch> scratch_;  // one per pool thread
+  int bins_ = 16;
+  NodeTask root_;
+  std::vector<TopNode> top_;
+  std::vector<NodeTask> subtrees_;
+  std::vector<std::size_t> subtree_order_;   // largest first
+  std::vector<std::vector<Bvh::Node>> locals_;  // subtree k's nodes, its root first
+  std::vector<std::uint32_t> top_final_;      // final index of each top node
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> subtree_place_;  // root index, base
 };
+
+// The SAH split of t (axis -1: none, or t is deep enough for object medians only), by the path
+// for its size: two references, a small node, or bins (parallel: on the whole pool).
+Split Builder::sah_split(const NodeTask& t, const Box4& centroids, const BinMap& map, Scratch& s,
+                         bool parallel) {
+  const float area = t.bounds.area();
+  if (t.depth >= kMedianSplitDepth) return {};
+  if (t.count() == 2) return bvh_build::split_pair(refs_.data() + t.begin, centroids, area, config_);
+  if (t.count() <= bvh_build::kMaxSmallNode) {
+    s.small.load(refs_.data() + t.begin, t.count(), map);
+    return s.small.best_split(centroids, area, config_);
+  }
+  bin(t, map, s, parallel);
+  return bvh_build::best_split(s.bins, map, centroids, area, config_);
+}
+
+// Bounds of t's centroids (in parallel: per-thread bounds over chunks, merged).
+Box4 Builder::centroid_bounds(const NodeTask& t, bool parallel) {
+  auto grow = [&](std::uint32_t begin, std::uint32_t end, Box4& b) {
+    for (std::uint32_t i = begin; i < end; ++i) b.grow(refs_[i].centroid());
+  };
+  Box4 all;
+  if (!parallel || t.count() <= kBinChunk) {
+    grow(t.begin, t.end, all);
+    return all;
+  }
+  for (Scratch& x : scratch_) x.centroids = Box4{};
+  pool_.parallel_for(chunks(t.count(), kBinChunk), [&](std::size_t k, int thread) {
+    const std::uint32_t b = t.begin + static_cast<std::uint32_t>(k) * kBinChunk;
+    grow(b, std::min(b + kBinChunk, t.end), scratch_[thread].centroids);
+  });
+  for (const Scratch& x : scratch_) all.grow(x.centroids);
+  return all;
+}
+
+// Splits node t into two children, or returns false when t is a leaf. With `parallel`, binning
+// and partition run on the whole pool. Either way the outcome depends on t's references only.
+bool Builder::split(const NodeTask& t, NodeTask& left, NodeTask& right, Scratch& s,
+                    bool parallel) {
+  const std::uint32_t count = t.count();
+  if (count <= 1) return false;
+  const bool may_be_leaf = t.depth > 0 && count <= static_cast<std::uint32_t>(config_.max_leaf_size);
+  const Box4 centroids = t.has_centroids ? t.centroids : centroid_bounds(t, parallel);
+  const BinMap map(centroids, bins_);
+  const Split sah = sah_split(t, centroids, map, s, parallel);
+  if (sah.axis < 0) {  // no plane separates the centroids (or we are deep): object median
+    if (may_be_leaf) return false;
+    median_split(t, centroids, left, right);
+    return true;
+  }
+  if (may_be_leaf && config_.intersection_cost * static_cast<float>(count) <= sah.cost)
+    return false;
+  std::uint32_t mid = t.begin + 1;  // split_pair put the left reference first
+  if (count > 2 && count <= bvh_build::kMaxSmallNode)
+    mid = t.begin + s.small.partition(refs_.data() + t.begin, sah);
+  else if (count > bvh_build::kMaxSmallNode)
+    mid = s.partitioner.run(refs_.data(), t.begin, t.end, {&map, sah.axis, sah.bin},
+                            parallel ? &pool_ : nullptr);
+  left = {t.begin, mid, t.depth + 1, sah.left, sah.has_centroids, sah.left_centroids};
+  right = {mid, t.end, t.depth + 1, sah.right, sah.has_centroids, sah.right_centroids};
+  return true;
+}
+
+// Bins t's references into s.bins; in parallel, each thread bins whole chunks into its own
+// scratch bins, merged into s.bins after (min, max and sums: the same bins in any order).
+void Builder::bin(const NodeTask& t, const BinMap& map, Scratch& s, bool parallel) {
+  if (!parallel || t.count() <= kBinChunk) {
+    s.bins.clear(bins_);
+    if (t.count() >= kDualBinsMin)
+      s.bins.add(refs_.data() + t.begin, t.count(), map, s.odd_bins);
+    else
+      s.bins.add(refs_.data() + t.begin, t.count(), map);
+    return;
+  }
+  for (Scratch& x : scratch_) x.bins.clear(bins_);
+  pool_.parallel_for(chunks(t.count(), kBinChunk), [&](std::size_t k, int thread) {
+    const std::uint32_t b = t.begin + static_cast<std::uint32_t>(k) * kBinChunk;
+    Scratch& x = scratch_[thread];
+    x.bins.add(refs_.data() + b, std::min(kBinChunk, t.end - b), map, x.odd_bins);
+  });
+  for (Scratch& x : scratch_)
+    if (&x != &s) s.bins.merge(x.bins, bins_);
+}
+
+// Object median on the widest centroid axis; ties in the centroid broken by triangle id, so the
+// halves do not depend on the references' order.
+void Builder::median_split(const NodeTask& t, const Box4& centroids, NodeTask& left,
+                           NodeTask& right) {
+  const float ex = centroids.extent(0), ey = centroids.extent(1), ez = centroids.extent(2);
+  const int a = (ex >= ey && ex >= ez) ? 0 : (ey >= ez ? 1 : 2);
+  const std::uint32_t mid = t.begin + t.count() / 2;
+  std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
+                   [a](const PrimRef& x, const PrimRef& y) {
+                     const float cx = 0.5f * (x.lo[a] + x.hi[a]), cy = 0.5f * (y.lo[a] + y.hi[a]);
+                     return cx < cy || (cx == cy && x.id() < y.id());
+                   });
+  left = {t.begin, mid, t.depth + 1, {}, true, {}};
+  right = {mid, t.end, t.depth + 1, {}, true, {}};
+  for (NodeTask* c : {&left, &right})
+    for (std::uint32_t i = c->begin; i < c->end; ++i) {
+      c->bounds.grow(Box4{refs_[i].lo4(), refs_[i].hi4()});
+      c->centroids.grow(refs_[i].centroid());
+    }
+}
+
+// Splits the top of the tree breadth first with all threads until the nodes are small enough to
+// be subtrees; the threshold only changes who does the work, not the tree.
+void Builder::build_top() {
+  const std::uint64_t n = refs_.size();
+  const std::uint32_t threshold =
+      pool_.size() == 1 ? std::numeric_limits<std::uint32_t>::max()
+                        : static_cast<std::uint32_t>(std::max<std::uint64_t>(
+                              kMinSubtree, n / (kSubtreesPerThread * pool_.size())));
+  std::vector<std::pair<NodeTask, std::uint32_t>> queue{{root_, 0}};  // task, top node
+  top_.resize(1);
+  for (std::size_t i = 0; i < queue.size(); ++i) {
+    const auto [t, ti] = queue[i];
+    top_[ti].node.bounds = t.bounds.aabb();
+    if (t.count() <= threshold) {
+      top_[ti].subtree = static_cast<int>(subtrees_.size());
+      subtrees_.push_back(t);
+      continue;
+    }
+    NodeTask l, r;
+    if (!split(t, l, r, scratch_[0], true)) {
+      top_[ti].node.first = t.begin;
+      top_[ti].node.count = t.count();
+      continue;
+    }
+    const auto pair = static_cast<std::uint32_t>(top_.size());
+    top_[ti].node.first = pair;
+    top_.resize(top_.size() + 2);
+    queue.push_back({l, pair});
+    queue.push_back({r, pair + 1});
+  }
+  subtree_order_.resize(subtrees_.size());
+  for (std::size_t k = 0; k < subtrees_.size(); ++k) subtree_order_[k] = k;
+  std::stable_sort(subtree_order_.begin(), subtree_order_.end(), [&](std::size_t x, std::size_t y) {
+    return subtrees_[x].count() > subtrees_[y].count();
+  });
+}
+
+// Depth first on one thread; children pairs numbered in visiting order, as a sequential build.
+void Builder::build_subtree(const NodeTask& t, std::uint32_t index, std::vector<Bvh::Node>& out,
+                            Scratch& s) {
+  out[index].bounds = t.bounds.aabb();
+  NodeTask l, r;
+  if (!split(t, l, r, s, false)) {
+    out[index].first = t.begin;
+    out[index].count = t.count();
+    return;
+  }
+  const auto pair = static_cast<std::uint32_t>(out.size());
+  out[index].first = pair;
+  out.resize(out.size() + 2);  // within the reserved 2 count - 1: no reallocation
+  build_subtree(l, pair, out, s);
+  build_subtree(r, pair + 1, out, s);
+}
+
+// Gives top node `top` the index final_index and numbers the nodes under it depth first from
+// `cursor`, as one thread building the whole tree would; returns the next free index.
+std::uint32_t Builder::place(std::uint32_t top, std::uint32_t final_index, std::uint32_t cursor) {
+  top_final_[top] = final_index;
+  const TopNode& n = top_[top];
+  if (n.subtree >= 0) {
+    subtree_place_[n.subtree] = {final_index, cursor};
+    return cursor + static_cast<std::uint32_t>(locals_[n.subtree].size()) - 1;
+  }
+  if (n.node.is_leaf()) return cursor;
+  cursor = place(n.node.first, cursor, cursor + 2);
+  return place(n.node.first + 1, top_final_[n.node.first] + 1, cursor);
+}
+
+// Numbers every node (place), then writes the top nodes and copies the subtrees.
+void Builder::stitch(std::vector<Bvh::Node>& nodes) {
+  top_final_.resize(top_.size());
+  subtree_place_.resize(subtrees_.size());
+  nodes.resize(place(0, 0, 1));
+  for (std::size_t i = 0; i < top_.size(); ++i) {
+    if (top_[i].subtree >= 0) continue;
+    Bvh::Node n = top_[i].node;
+    if (!n.is_leaf() && top_.size() > 1) n.first = top_final_[n.first];
+    nodes[top_final_[i]] = n;
+  }
+  for (std::size_t k = 0; k < subtrees_.size(); ++k) {  // memory-bound: one thread is enough
+    const auto [root, base] = subtree_place_[k];
+    const std::vector<Bvh::Node>& local = locals_[k];
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      Bvh::Node n = local[i];
+      if (!n.is_leaf() && local.size() > 1) n.first += base - 1;
+      nodes[i == 0 ? root : base + i - 1] = n;
+    }
+  }
+}
+
+// Writes the references of the non-degenerate triangles among tris[begin, end) from out[0] on,
+// growing the bounds; returns how many. Boxes get +0.0f added, which turns -0 into +0: min and
+// max then give the same bits in any order.
+std::uint32_t write_references(const std::vector<Triangle>& tris, std::size_t begin,
+                               std::size_t end, PrimRef* out, Box4& bounds, Box4& centroids) {
+  const simd::Float4 zero = simd::splat3(0.0f);
+  PrimRef* r = out;
+  for (std::size_t i = begin; i < end; ++i) {
+    const Triangle& t = tris[i];
+    if (is_degenerate(t)) continue;
+    const simd::Float4 a = simd::set3(t.v0.x, t.v0.y, t.v0.z),
+                       b = simd::set3(t.v1.x, t.v1.y, t.v1.z),
+                       c = simd::set3(t.v2.x, t.v2.y, t.v2.z);
+    r->set(simd::min(simd::min(a, b), c) + zero, simd::max(simd::max(a, b), c) + zero,
+           static_cast<std::uint32_t>(i));
+    bounds.grow(Box4{r->lo4(), r->hi4()});
+    centroids.grow(r->centroid());
+    ++r;
+  }
+  return static_cast<std::uint32_t>(r - out);
+}
+
+// The references of the non-degenerate triangles in id order, with their bounds: one pass in
+// parallel chunks, each writing from its own start, then the chunks moved down over the gaps
+// the degenerate triangles left (none to move in a scene without them).
+References make_references(const Scene& scene, TaskPool& pool) {
+  const std::vector<Triangle>& tris = scene.triangles;
+  const std::size_t tasks = chunks(tris.size(), kRefChunk);
+  References out;
+  out.refs.reset(new PrimRef[tris.size()]);
+  std::vector<std::uint32_t> kept(tasks);
+  std::vector<Box4> bounds(pool.size()), centroids(pool.size());
+  pool.parallel_for(tasks, [&](std::size_t k, int thread) {
+    const std::size_t begin = k * kRefChunk, end = std::min(tris.size(), begin + kRefChunk);
+    kept[k] = write_references(tris, begin, end, out.refs.get() + begin, bounds[thread],
+                               centroids[thread]);
+  });
+  for (std::size_t k = 0; k < tasks; ++k) {
+    PrimRef* from = out.refs.get() + k * kRefChunk;
+    if (out.count != k * kRefChunk) std::copy(from, from + kept[k], out.refs.get() + out.count);
+    out.count += kept[k];
+  }
+  out.degenerate = static_cast<std::uint32_t>(tris.size() - out.count);
+  for (int t = 0; t < pool.size(); ++t) {
+    out.bounds.grow(bounds[t]);
+    out.centroids.grow(centroids[t]);
+  }
+  return out;
+}
 
 }  // namespace
 
 Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
-  if (config.bin_count < 2 || config.bin_count > kMaxBins)
-    throw Error("--bvh-bins: must be between 2 and " + std::to_string(kMaxBins));
+  if (config.bin_count < 2 || config.bin_count > bvh_build::kMaxBins)
+    throw Error("--bvh-bins: must be between 2 and " + std::to_string(bvh_build::kMaxBins));
   if (config.max_leaf_size < 1 || config.max_leaf_size > 255)
     throw Error("--bvh-max-leaf: must be between 1 and 255");
+  if (config.threads < 0) throw Error("--threads: must be 0 (all) or more");
 
   const auto start = std::chrono::steady_clock::now();
-  std::vector<PrimRef> refs;
-  refs.reserve(scene.triangles.size());
-  std::uint32_t degenerate = 0;
-  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
-    const Triangle& t = scene.triangles[i];
-    if (is_degenerate(t)) {
-      ++degenerate;
-      continue;
-    }
-    PrimRef r;
-    r.box.grow(t.v0);
-    r.box.grow(t.v1);
-    r.box.grow(t.v2);
-    r.centroid = r.box.center();
-    r.id = static_cast<std::uint32_t>(i);
-    refs.push_back(r);
-  }
-  Bvh bvh = Builder(config, std::move(refs)).run();
-  bvh.degenerate_count = degenerate;
+  const int threads = config.threads > 0
+                          ? config.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  TaskPool pool(threads);
+  References refs = make_references(scene, pool);
+  Bvh bvh = Builder(config, refs, pool).run();
+  bvh.degenerate_count = refs.degenerate;
   bvh.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return bvh;

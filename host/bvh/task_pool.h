@@ -1,0 +1,56 @@
+// A fixed pool of threads for the BVH builder: parallel_for over task indices, the calling
+// thread taking part. Tasks are handed out one at a time from a shared counter, so which thread
+// runs which task varies from run to run; callers keep results independent of that.
+//
+// The caller waits only for tasks, never for a worker to wake up: on a busy machine a worker
+// that the scheduler has not run yet finds no task left when it does run, and the caller has
+// done them all in the meantime.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace hrpp {
+
+class TaskPool {
+ public:
+  // `threads` threads in all: the caller and threads - 1 workers (at least one thread).
+  explicit TaskPool(int threads);
+  ~TaskPool();
+  TaskPool(const TaskPool&) = delete;
+  TaskPool& operator=(const TaskPool&) = delete;
+
+  int size() const { return static_cast<int>(workers_.size()) + 1; }
+
+  // Runs fn(task, thread) for every task in [0, tasks), thread in [0, size()) naming the thread
+  // that runs it (0: the caller); returns when all are done, rethrowing the first exception.
+  using Task = std::function<void(std::size_t task, int thread)>;
+  void parallel_for(std::size_t tasks, const Task& fn);
+
+ private:
+  struct Job {
+    const Task* fn;
+    std::size_t tasks;
+    std::atomic<std::size_t> next{0}, done{0};
+    int users = 0;  // workers inside run(); guarded by mutex_
+    std::exception_ptr error;
+  };
+  void worker_loop(int thread);
+  void run(Job& job, int thread);
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  Job* job_ = nullptr;  // the current parallel_for's, while it has tasks to hand out
+  std::uint64_t generation_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace hrpp
