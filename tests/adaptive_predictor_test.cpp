@@ -106,6 +106,17 @@ TEST(AdaptivePredictor, MeasuresTheCostWithoutPredictionFirst) {
   EXPECT_FALSE(d.probe_next);
 }
 
+// Predict + resolve alone cost more than a trace of every ray: off after the first frame.
+TEST(AdaptivePredictor, AHopelessClassStopsAtOnce) {
+  AdaptivePredictor a(on());
+  ClassFrameCost c = probing_frame(20.0, 1000);  // trace 14 ms for all: predict + resolve 6 ms
+  c.predict_ms = 12.0;                           // now 14 ms: hopeless
+  const ClassDecision d = a.end_frame(RayClass::kBounce, c);
+  EXPECT_STREQ(d.reason, "hopeless");
+  EXPECT_FALSE(d.probe_next);
+  EXPECT_LT(d.gain_ms, 0.0);
+}
+
 TEST(AdaptivePredictor, ClassesAreIndependent) {
   AdaptivePredictor a(on());
   for (int f = 0; f < 3; ++f) {

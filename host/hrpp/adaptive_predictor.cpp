@@ -15,7 +15,20 @@ AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config) : adaptive_(
 // A probing frame: its gain against the last trace cost measured without prediction.
 void AdaptivePredictor::judge(State& s, const ClassFrameCost& cost, ClassDecision& d) const {
   const bool trial = s.confidence < kConfidenceOn;
-  if (s.frames_probed++ == 0) {
+  // Hopeless whatever the table holds: predict + resolve alone cost more than tracing every ray
+  // would (the trace's cost per ray of this frame's queue if none was measured: the queued rays
+  // are the harder ones, so this errs toward probing).
+  const double off_rate = s.off_ms_per_ray > 0.0 ? s.off_ms_per_ray
+                          : cost.traced > 0 ? cost.trace_ms / static_cast<double>(cost.traced)
+                                            : 0.0;
+  const double stage_ms = cost.predict_ms + cost.resolve_ms;
+  if (off_rate > 0.0 && stage_ms >= off_rate * static_cast<double>(cost.rays)) {
+    ++s.frames_probed;
+    d.gain_ms = off_rate * static_cast<double>(cost.rays) - cost.cost_ms();
+    d.reason = "hopeless";
+    s.confidence = std::min(s.confidence, kConfidenceOn) - 1;
+    if (trial) s.retry_after = std::min(2 * s.retry_after, kRetryMax);
+  } else if (s.frames_probed++ == 0) {
     d.reason = "warming";
   } else if (s.off_ms_per_ray <= 0.0) {
     d.reason = "unmeasured";  // the next frame traces without prediction to measure it

@@ -6,7 +6,10 @@
 //     trace time per ray with nearly every ray traced: a frame with prediction off, or a
 //     probing frame whose predictions almost all missed) minus that cost. A gain raises the
 //     2-bit confidence, a loss lowers it; the class probes while the confidence is >= 2.
-//   - The first probing frame fills an empty table: it is not judged (warming). When no frame
+//   - A probing frame whose predict + resolve time alone exceeds what tracing all its rays
+//     without prediction costs is a loss whatever the table holds ("hopeless"), the first frame
+//     included.
+//   - Otherwise the first probing frame fills an empty table: it is not judged (warming). When no frame
 //     has measured the trace cost without prediction yet (the warming frame's true positives
 //     left less than kTracedForOffCost of the rays to the trace), the next frame runs without
 //     prediction to measure it ("unmeasured"), and probing resumes after it.
@@ -40,7 +43,8 @@ struct ClassDecision {
   double gain_ms = 0;         // probing frames: estimated time saved (negative: lost)
   int confidence = 0;         // 0..3 after this frame
   bool probe_next = false;
-  const char* reason = "";    // disabled, fixed, warming, unmeasured, gain, loss, off, retry
+  const char* reason = "";    // disabled, fixed, hopeless, warming, unmeasured, gain, loss, off,
+                              // retry
 };
 
 class AdaptivePredictor {
