@@ -1,6 +1,6 @@
 // The node HRPP stores for a ray: the leaf that held its hit, or that leaf's ancestor `go_up`
-// levels above (the paper's go-up level). Mirrored by hrpp_prediction_node() in
-// shaders/lib/hrpp_predict.glsl.
+// levels above (the paper's go-up level). The GPU uses it through a table computed here once:
+// the prediction node of every triangle id (GpuPredictor, binding HRPP_STAGE_BINDING_NODE_OF_PRIM).
 #pragma once
 
 #include <cstdint>

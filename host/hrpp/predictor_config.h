@@ -40,10 +40,10 @@ struct TableConfig {
   std::uint64_t bytes() const { return entries() * (8u + 4u + 4u * std::uint64_t{nodes}); }
 };
 
-// Named table sizes (--table-preset); "tuned" is the default. "unbounded": the paper's limit study (policy none, so
-// nothing is ever evicted; inserts that find no room are counted as drops: 3 of 294k on the
-// bunny's 1024×1024 primaries, where a few keys gather more than 16 leaves). "small": 352 KiB, under the 1 MiB goal. "tiny": 8 entries,
-// for tests of eviction.
+// Named table sizes (--table-preset); "tuned" (512 KiB) is the default. "unbounded": the
+// paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
+// counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
+// than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction.
 TableConfig table_preset(std::string_view name);
 
 struct PredictorConfig {
