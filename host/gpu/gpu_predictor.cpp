@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
+#include <utility>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -185,22 +187,24 @@ struct GpuPredictor::State {
     record_queue_trace(cmd, c, trace_pc, timer);
   }
 
-  // Empties the queue (its cursors and indirect arguments) for another round over the same
-  // rays; the answer counts go on adding up.
-  void restart_queue(VkCommandBuffer cmd, RayClass c) {
+  // Empties the queue (its cursors and indirect arguments) for another round; the answer counts
+  // go on adding up. `rays` (first, end): also the rays to predict (a batch); else the same rays.
+  void restart_queue(VkCommandBuffer cmd, RayClass c,
+                     std::optional<std::pair<std::uint32_t, std::uint32_t>> rays = {}) {
     Queue& q = queue(c);
-    const gpu::PredictQueue empty = empty_queue(0, 0);
+    const gpu::PredictQueue empty = rays ? empty_queue(rays->first, rays->second) : empty_queue(0, 0);
     const std::uint32_t zero = 0;
     transfer_compute_barrier(cmd);
-    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, next_ray), sizeof zero,
-                      &zero);
-    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, queued), sizeof zero,
-                      &zero);
-    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, trace_groups),
-                      sizeof empty.trace_groups + sizeof empty.resolve_groups,
-                      &empty.trace_groups);
-    vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), offsetof(gpu::TraceCounters, next_ray),
-                      sizeof zero, &zero);
+    if (rays) {  // next_ray, ray_count, queued
+      record_update(cmd, q.state, 0, 3 * sizeof(std::uint32_t), &empty);
+    } else {
+      record_update(cmd, q.state, offsetof(gpu::PredictQueue, next_ray), sizeof zero, &zero);
+      record_update(cmd, q.state, offsetof(gpu::PredictQueue, queued), sizeof zero, &zero);
+    }
+    record_update(cmd, q.state, offsetof(gpu::PredictQueue, trace_groups),
+                  sizeof empty.trace_groups + sizeof empty.resolve_groups, &empty.trace_groups);
+    record_update(cmd, q.trace_counters, offsetof(gpu::TraceCounters, next_ray), sizeof zero,
+                  &zero);
     transfer_compute_barrier(cmd);
   }
 
@@ -354,18 +358,8 @@ void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t
   vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), 0, sizeof trace_zero, &trace_zero);
   for (std::uint32_t first = 0; first < count; first += s_->config.batch) {
     const std::uint32_t n = std::min(s_->config.batch, count - first);
-    // The batch: the cursor starts at `first`, prediction stops at first + n; the queue and the
-    // trace's cursor start empty (answer counts go on adding up).
-    const gpu::PredictQueue batch = empty_queue(first, first + n);
-    const std::uint32_t cursor = 0;
-    transfer_compute_barrier(cmd);
-    vkCmdUpdateBuffer(cmd, q.state.handle(), 0, 3 * sizeof(std::uint32_t), &batch);
-    vkCmdUpdateBuffer(cmd, q.state.handle(), offsetof(gpu::PredictQueue, trace_groups),
-                      sizeof batch.trace_groups + sizeof batch.resolve_groups,
-                      &batch.trace_groups);
-    vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), offsetof(gpu::TraceCounters, next_ray),
-                      sizeof cursor, &cursor);
-    transfer_compute_barrier(cmd);
+    // The batch: the cursor starts at `first`, prediction stops at first + n.
+    s_->restart_queue(cmd, c, std::pair{first, first + n});
     record_dispatch(cmd, t.predict(), &spc, (n + spc.trace_group_rays - 1) / spc.trace_group_rays,
                     nullptr);
     s_->record_queue_trace(cmd, c, trace_pc, nullptr);
