@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -37,19 +38,30 @@ VulkanContext& context() {
 
 class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
 
+// Every ray of the groups, in group order.
+std::vector<gpu::Ray> group_rays(const std::vector<RayGroup>& groups) {
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  return rays;
+}
+
+// Closest and any hit of every ray on the device.
+std::pair<GpuTraceResult, GpuTraceResult> trace_both(const GpuBvh& bvh,
+                                                     const std::vector<gpu::Ray>& rays) {
+  GpuTracer tracer(context(), bvh);
+  std::pair<GpuTraceResult, GpuTraceResult> r{tracer.trace(rays, false), tracer.trace(rays, true)};
+  EXPECT_EQ(r.first.hits.size(), rays.size());
+  EXPECT_EQ(r.second.hits.size(), rays.size());
+  return r;
+}
+
 TEST_P(ExtremeRaysGpu, EqualsCpuReferenceAndKeepsTheExactRules) {
   const test::ExtremeScene x = test::make_extreme_scene(GetParam(), false);
   const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
-  std::vector<gpu::Ray> rays;
-  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  std::vector<gpu::Ray> rays = group_rays(x.groups);
   const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
   rays.insert(rays.end(), invalid.begin(), invalid.end());
-
-  GpuTracer tracer(context(), bvh);
-  const GpuTraceResult closest = tracer.trace(rays, false);
-  const GpuTraceResult any = tracer.trace(rays, true);
-  ASSERT_EQ(closest.hits.size(), rays.size());
-  ASSERT_EQ(any.hits.size(), rays.size());
+  const auto [closest, any] = trace_both(bvh, rays);
 
   std::size_t i = 0;
   for (const RayGroup& g : x.groups) {
@@ -97,13 +109,8 @@ class LeakRaysGpu : public testing::TestWithParam<test::LeakFrame> {};
 TEST_P(LeakRaysGpu, EqualsCpuReferenceAndNothingEscapes) {
   const test::LeakScene x = test::make_leak_scene(GetParam());
   const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
-  std::vector<gpu::Ray> rays;
-  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
-  GpuTracer tracer(context(), bvh);
-  const GpuTraceResult closest = tracer.trace(rays, false);
-  const GpuTraceResult any = tracer.trace(rays, true);
-  ASSERT_EQ(closest.hits.size(), rays.size());
-  ASSERT_EQ(any.hits.size(), rays.size());
+  const std::vector<gpu::Ray> rays = group_rays(x.groups);
+  const auto [closest, any] = trace_both(bvh, rays);
   std::size_t i = 0;
   for (const RayGroup& g : x.groups) {
     const bool inside = g.rule == RayGroup::Rule::kHitRange;
