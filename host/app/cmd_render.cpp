@@ -71,10 +71,7 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
       continue;
     }
     all += s;
-    all_tables.entries += occupancy.entries;
-    all_tables.nodes += occupancy.nodes;
-    all_tables.capacity += occupancy.capacity;
-    all_tables.bytes += occupancy.bytes;
+    all_tables += occupancy;
   }
   if (all.traces > 0)
     j["hit_all"] = predictor_summary_json(summarize(all.predictor, all.counters, all_tables,

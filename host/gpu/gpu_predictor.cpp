@@ -14,6 +14,7 @@
 #include "gpu/kernel_bindings.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
+#include "gpu/trace_counters.h"
 #include "gpu/vulkan_context.h"
 #include "hrpp/prediction_node.h"
 
@@ -25,11 +26,6 @@ static_assert(sizeof(gpu::PredictQueue) == 64);
 static_assert(sizeof(gpu::QueueEntry) == 16);
 
 namespace {
-
-std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
-  return static_cast<std::uint64_t>(c.wide[2 * counter]) |
-         (static_cast<std::uint64_t>(c.wide[2 * counter + 1]) << 32);
-}
 
 // The queue at the start of a trace (or a batch): empty, indirect dispatches of (0, 1, 1).
 gpu::PredictQueue empty_queue(std::uint32_t next_ray, std::uint32_t ray_count) {
@@ -376,7 +372,8 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   q.trace_counters.download(&traced, sizeof traced);
   PredictedTrace out;
   s_->table(c).counters.download(&out.predictor, sizeof out.predictor);
-  out.queued = wide(traced, HRPP_COUNTER_RAYS);
+  const TraversalCounters queue_trace = traversal_counters(traced);
+  out.queued = queue_trace.rays;
   const std::uint64_t answered = state.resolved + std::uint64_t{state.resolve_done};
   if (answered != state.ray_count || state.resolve_done != out.queued || state.aborted != 0 ||
       traced.aborted != 0)
@@ -388,10 +385,9 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   const auto& pc = out.predictor.c;
   out.counters.rays = answered;
   out.counters.hits = state.resolved + std::uint64_t{state.queue_hits};
-  out.counters.interior_visited = wide(traced, HRPP_COUNTER_INTERIOR) + pc[HRPP_PC_VERIFY_INTERIOR];
-  out.counters.leaves_visited = wide(traced, HRPP_COUNTER_LEAVES) + pc[HRPP_PC_VERIFY_LEAVES];
-  out.counters.triangles_tested =
-      wide(traced, HRPP_COUNTER_TRIANGLES) + pc[HRPP_PC_VERIFY_TRIANGLES];
+  out.counters.interior_visited = queue_trace.interior_visited + pc[HRPP_PC_VERIFY_INTERIOR];
+  out.counters.leaves_visited = queue_trace.leaves_visited + pc[HRPP_PC_VERIFY_LEAVES];
+  out.counters.triangles_tested = queue_trace.triangles_tested + pc[HRPP_PC_VERIFY_TRIANGLES];
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include "gpu/gpu_predictor.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
+#include "gpu/trace_counters.h"
 #include "gpu/vulkan_context.h"
 #include "trace/slab_test.h"
 #include "hrpp_interface.h"
@@ -36,11 +37,6 @@ static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
 namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
-
-std::uint64_t wide(const gpu::TraceCounters& c, int counter) {
-  return static_cast<std::uint64_t>(c.wide[2 * counter]) |
-         (static_cast<std::uint64_t>(c.wide[2 * counter + 1]) << 32);
-}
 
 // The record a hit-any query's answer leaves in a ray file: prim 0 occluded, -1 free.
 void to_occlusion_records(std::span<gpu::Hit> hits) {
@@ -233,7 +229,8 @@ struct GpuTracer::State {
     GpuTraceResult out;
     gpu::TraceCounters k{};
     query(c).counters.download(&k, sizeof k);
-    const std::uint64_t done = wide(k, HRPP_COUNTER_RAYS);
+    out.counters = traversal_counters(k);
+    const std::uint64_t done = out.counters.rays;
     if (done != k.ray_count || k.aborted != 0)
       throw Error(query(c).kernel.name() + ": only " + std::to_string(done) + " of " +
                   std::to_string(k.ray_count) + " rays finished (" + std::to_string(k.aborted) +
@@ -241,11 +238,6 @@ struct GpuTracer::State {
                   "subgroup) ended the kernel's loops at " +
                   std::to_string(config.rays_per_invocation) +
                   " rays per invocation; lower rays_per_invocation");
-    out.counters.rays = done;
-    out.counters.interior_visited = wide(k, HRPP_COUNTER_INTERIOR);
-    out.counters.leaves_visited = wide(k, HRPP_COUNTER_LEAVES);
-    out.counters.triangles_tested = wide(k, HRPP_COUNTER_TRIANGLES);
-    out.counters.hits = wide(k, HRPP_COUNTER_HITS);
     out.traced = done;
     return out;
   }

@@ -17,6 +17,14 @@ struct TableOccupancy {
   std::uint64_t nodes = 0;     // node slots in use
   std::uint64_t capacity = 0;  // sets × ways
   std::uint64_t bytes = 0;     // the table's GPU memory (TableConfig::bytes)
+
+  TableOccupancy& operator+=(const TableOccupancy& o) {
+    entries += o.entries;
+    nodes += o.nodes;
+    capacity += o.capacity;
+    bytes += o.bytes;
+    return *this;
+  }
 };
 
 struct PredictorSummary {
