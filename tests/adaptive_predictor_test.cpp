@@ -1,13 +1,14 @@
-// The adaptive predictor (host/hrpp/adaptive_predictor.h) on forced costs: a class whose
-// prediction saves time keeps probing, one that loses stops after its warming frame and one
-// judged loss, is retried after kRetryEvery frames (twice as long after each losing trial), and
-// comes back when a trial gains; a class that does not predict never probes; adaptive off
-// probes every frame.
+// The adaptive predictor (host/hrpp/adaptive_predictor.h) on forced costs: a class starts by
+// sampling; a sample that gains turns it to every ray, one that loses turns it off; an off class
+// samples again after kRetryEvery frames (twice as long after each losing sample); a class at
+// every ray that loses goes off; a class that does not predict never probes; adaptive off
+// probes every ray of every frame.
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "hrpp/adaptive_predictor.h"
+#include "hrpp_passes.h"
 
 namespace hrpp {
 namespace {
@@ -19,18 +20,29 @@ PredictorConfig on(bool adaptive = true) {
   return c;
 }
 
-// A frame of 1000 rays: traced without prediction it costs 1 ms per 100 rays (10 ms).
-ClassFrameCost off_frame() {
+// A frame of 1000 rays traced without prediction at 1 ms per 100 rays (10 ms).
+ClassFrameCost off_frame(double ms = 10.0) {
   ClassFrameCost c;
   c.rays = c.traced = 1000;
-  c.trace_ms = 10.0;
+  c.trace_ms = ms;
   return c;
 }
 
-// A probing frame costing `ms` in all, with `traced` rays left to the trace kernel.
-ClassFrameCost probing_frame(double ms, std::uint64_t traced) {
+// A sample frame: the plain trace of 1000 rays (10 ms) and the stage over 100 of them costing
+// `ms` (predict + resolve: half of it).
+ClassFrameCost sample_frame(double ms) {
+  ClassFrameCost c = off_frame();
+  c.mode = Probe::kSample;
+  c.sampled = 100;
+  c.sample_ms = ms;
+  c.sample_stage_ms = 0.5 * ms;
+  return c;
+}
+
+// A frame with every ray predicted, costing `ms` in all.
+ClassFrameCost all_frame(double ms, std::uint64_t traced) {
   ClassFrameCost c;
-  c.probed = true;
+  c.mode = Probe::kAll;
   c.rays = 1000;
   c.traced = traced;
   c.predict_ms = 0.2 * ms;
@@ -39,111 +51,146 @@ ClassFrameCost probing_frame(double ms, std::uint64_t traced) {
   return c;
 }
 
-TEST(AdaptivePredictor, KeepsProbingAClassThatSavesTime) {
+TEST(AdaptivePredictor, SamplesThenPredictsAClassThatSavesTime) {
   AdaptivePredictor a(on());
-  EXPECT_TRUE(a.probing(RayClass::kCamera));
-  // Warming: an empty table, every ray traced (10 ms of trace: the cost without prediction).
-  ClassFrameCost warm = probing_frame(14.3, 1000);
-  ClassDecision d = a.end_frame(RayClass::kCamera, warm);
-  EXPECT_STREQ(d.reason, "warming");
-  EXPECT_TRUE(d.probe_next);
-  EXPECT_DOUBLE_EQ(d.off_ms_per_ray, warm.trace_ms / 1000.0);
+  EXPECT_EQ(a.mode(RayClass::kCamera), Probe::kSample);
+  ClassDecision d = a.end_frame(RayClass::kCamera, sample_frame(0.5));
+  EXPECT_STREQ(d.reason, "warming");  // the table was empty
+  EXPECT_EQ(d.next, Probe::kSample);
+  EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.01);
+  d = a.end_frame(RayClass::kCamera, sample_frame(0.5));  // 5 us per sampled ray against 10
+  EXPECT_STREQ(d.reason, "gain");
+  EXPECT_NEAR(d.gain_ms, 1000 * (0.01 - 0.005), 1e-9);
+  EXPECT_EQ(d.next, Probe::kAll);
   for (int f = 0; f < 6; ++f) {
-    d = a.end_frame(RayClass::kCamera, probing_frame(6.0, 400));
+    d = a.end_frame(RayClass::kCamera, all_frame(6.0, 400));
     EXPECT_STREQ(d.reason, "gain");
-    EXPECT_NEAR(d.gain_ms, 1000 * (14.3 * 0.7 / 1000) - 6.0, 1e-9);
-    EXPECT_TRUE(d.probe_next);
-    EXPECT_TRUE(a.probing(RayClass::kCamera));
+    EXPECT_NEAR(d.gain_ms, 10.0 - 6.0, 1e-9);
+    EXPECT_EQ(a.mode(RayClass::kCamera), Probe::kAll);
   }
   EXPECT_EQ(d.confidence, AdaptivePredictor::kConfidenceMax);
+  // The costs change: two losing frames bring the confidence under kConfidenceOn.
+  d = a.end_frame(RayClass::kCamera, all_frame(12.0, 900));
+  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.next, Probe::kAll);
+  d = a.end_frame(RayClass::kCamera, all_frame(12.0, 900));
+  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.next, Probe::kOff);
 }
 
-TEST(AdaptivePredictor, StopsALosingClassAndRetriesIt) {
+TEST(AdaptivePredictor, StopsALosingClassAndSamplesItAgain) {
   AdaptivePredictor a(on());
-  a.end_frame(RayClass::kShadow, probing_frame(13.0, 1000));  // warming: trace 9.1 ms / 1000
-  ClassDecision d = a.end_frame(RayClass::kShadow, probing_frame(13.0, 990));
+  a.end_frame(RayClass::kShadow, sample_frame(1.5));  // warming
+  ClassDecision d = a.end_frame(RayClass::kShadow, sample_frame(1.5));  // 15 us against 10
   EXPECT_STREQ(d.reason, "loss");
   EXPECT_LT(d.gain_ms, 0.0);
-  EXPECT_FALSE(d.probe_next);
-  EXPECT_FALSE(a.probing(RayClass::kShadow));
-  // Off: the trace time per ray is measured; a trial every kRetryEvery frames.
+  EXPECT_EQ(d.next, Probe::kOff);
   int frames_off = 0;
-  while (!a.probing(RayClass::kShadow)) {
-    d = a.end_frame(RayClass::kShadow, off_frame());
+  while (a.mode(RayClass::kShadow) == Probe::kOff) {
+    d = a.end_frame(RayClass::kShadow, off_frame(8.0));
     ++frames_off;
     ASSERT_LE(frames_off, AdaptivePredictor::kRetryEvery);
   }
   EXPECT_EQ(frames_off, AdaptivePredictor::kRetryEvery);
   EXPECT_STREQ(d.reason, "retry");
-  EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.01);
-  // A losing trial: off again, twice as long.
-  d = a.end_frame(RayClass::kShadow, probing_frame(12.0, 950));
+  EXPECT_EQ(d.next, Probe::kSample);
+  EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.008);  // the last plain trace's
+  // A losing sample: off again, twice as long.
+  d = a.end_frame(RayClass::kShadow, sample_frame(1.2));
   EXPECT_STREQ(d.reason, "loss");
-  EXPECT_FALSE(d.probe_next);
   for (int f = 1; f < 2 * AdaptivePredictor::kRetryEvery; ++f)
-    EXPECT_FALSE(a.end_frame(RayClass::kShadow, off_frame()).probe_next);
-  EXPECT_TRUE(a.end_frame(RayClass::kShadow, off_frame()).probe_next);
-  // The costs change: a trial that gains turns the class back on.
-  d = a.end_frame(RayClass::kShadow, probing_frame(5.0, 300));
+    EXPECT_EQ(a.end_frame(RayClass::kShadow, off_frame()).next, Probe::kOff);
+  EXPECT_EQ(a.end_frame(RayClass::kShadow, off_frame()).next, Probe::kSample);
+  // The costs change: a sample that gains turns the class to every ray.
+  d = a.end_frame(RayClass::kShadow, sample_frame(0.4));
   EXPECT_STREQ(d.reason, "gain");
-  EXPECT_TRUE(d.probe_next);
-  EXPECT_TRUE(a.probing(RayClass::kShadow));
+  EXPECT_EQ(d.next, Probe::kAll);
 }
 
-// A warming frame whose true positives left too few rays to the trace measures no cost without
-// prediction: the next frame runs without it, then probing resumes and is judged.
-TEST(AdaptivePredictor, MeasuresTheCostWithoutPredictionFirst) {
-  AdaptivePredictor a(on());
-  EXPECT_STREQ(a.end_frame(RayClass::kCamera, probing_frame(8.0, 600)).reason, "warming");
-  ClassDecision d = a.end_frame(RayClass::kCamera, probing_frame(8.0, 500));
-  EXPECT_STREQ(d.reason, "unmeasured");
-  EXPECT_FALSE(d.probe_next);
-  d = a.end_frame(RayClass::kCamera, off_frame());
-  EXPECT_STREQ(d.reason, "off");
-  EXPECT_TRUE(d.probe_next);  // confidence unchanged: back on
-  d = a.end_frame(RayClass::kCamera, probing_frame(14.0, 500));
-  EXPECT_STREQ(d.reason, "loss");
-  EXPECT_FALSE(d.probe_next);
-}
-
-// Predict + resolve alone cost more than a trace of every ray: off after the first frame.
+// Predict + resolve alone cost more per sampled ray than the plain trace per ray: off at once,
+// even from the warming sample.
 TEST(AdaptivePredictor, AHopelessClassStopsAtOnce) {
   AdaptivePredictor a(on());
-  ClassFrameCost c = probing_frame(20.0, 1000);  // trace 14 ms for all: predict + resolve 6 ms
-  c.predict_ms = 12.0;                           // now 14 ms: hopeless
+  ClassFrameCost c = sample_frame(1.0);
+  c.sample_stage_ms = 1.0;  // 10 us per sampled ray: as much as the plain trace
   const ClassDecision d = a.end_frame(RayClass::kBounce, c);
   EXPECT_STREQ(d.reason, "hopeless");
-  EXPECT_FALSE(d.probe_next);
-  EXPECT_LT(d.gain_ms, 0.0);
+  EXPECT_EQ(d.next, Probe::kOff);
+  EXPECT_EQ(a.mode(RayClass::kBounce), Probe::kOff);
+}
+
+TEST(AdaptivePredictor, AFrameWithoutRaysIsNotJudged) {
+  AdaptivePredictor a(on());
+  ClassFrameCost idle;
+  idle.mode = Probe::kSample;
+  const ClassDecision d = a.end_frame(RayClass::kBounce, idle);
+  EXPECT_STREQ(d.reason, "idle");
+  EXPECT_EQ(d.next, Probe::kSample);
+  EXPECT_STREQ(a.end_frame(RayClass::kBounce, sample_frame(0.5)).reason, "warming");
 }
 
 TEST(AdaptivePredictor, ClassesAreIndependent) {
   AdaptivePredictor a(on());
   for (int f = 0; f < 3; ++f) {
-    a.end_frame(RayClass::kCamera, probing_frame(f == 0 ? 14.0 : 5.0, f == 0 ? 1000 : 300));
-    a.end_frame(RayClass::kBounce, probing_frame(14.0, 1000));
+    a.end_frame(RayClass::kCamera, f < 2 ? sample_frame(0.5) : all_frame(6.0, 400));
+    a.end_frame(RayClass::kBounce, sample_frame(1.5));
   }
-  EXPECT_TRUE(a.probing(RayClass::kCamera));
-  EXPECT_FALSE(a.probing(RayClass::kBounce));
+  EXPECT_EQ(a.mode(RayClass::kCamera), Probe::kAll);
+  EXPECT_EQ(a.mode(RayClass::kBounce), Probe::kOff);
 }
 
 TEST(AdaptivePredictor, DisabledClassesAndFixedMode) {
   PredictorConfig c = on();
   c.classes[RayClass::kShadow] = false;
   AdaptivePredictor a(c);
-  EXPECT_FALSE(a.probing(RayClass::kShadow));
+  EXPECT_EQ(a.mode(RayClass::kShadow), Probe::kOff);
   EXPECT_STREQ(a.end_frame(RayClass::kShadow, off_frame()).reason, "disabled");
-  EXPECT_FALSE(a.probing(RayClass::kShadow));
+  EXPECT_EQ(a.mode(RayClass::kShadow), Probe::kOff);
 
   AdaptivePredictor fixed(on(false));
+  EXPECT_EQ(fixed.mode(RayClass::kBounce), Probe::kAll);
   for (int f = 0; f < 8; ++f) {
-    const ClassDecision d = fixed.end_frame(RayClass::kBounce, probing_frame(100.0, 1000));
+    const ClassDecision d = fixed.end_frame(RayClass::kBounce, all_frame(100.0, 1000));
     EXPECT_STREQ(d.reason, "fixed");
-    EXPECT_TRUE(d.probe_next);
+    EXPECT_EQ(d.next, Probe::kAll);
   }
   PredictorConfig off;
   AdaptivePredictor none(off);
-  for (RayClass k : kRayClasses) EXPECT_FALSE(none.probing(k));
+  for (RayClass k : kRayClasses) EXPECT_EQ(none.mode(k), Probe::kOff);
+}
+
+// The HRPP stage's passes (shaders/shared/hrpp_passes.h, also compiled into hrpp_predict): a
+// pass's indices are distinct, in range, as many as its count says, and the pilots and the
+// others together are every ray once; the sample's blocks are consecutive rays.
+TEST(HrppPasses, IndicesCoverWhatTheCountsSay) {
+  for (const gpu::uint total : {0u, 1u, 7u, 255u, 256u, 257u, 8191u, 8192u, 8193u, 70000u})
+    for (const gpu::uint stride : {1u, 2u, 16u, 32u}) {
+      std::vector<int> seen(total, 0);
+      for (const gpu::uint pass : {HRPP_PASS_PILOTS, HRPP_PASS_OTHERS}) {
+        if (stride < 2) continue;
+        for (gpu::uint j = 0; j < gpu::hrpp_pass_ray_count(total, pass, stride); ++j) {
+          const gpu::uint i = gpu::hrpp_pass_ray_index(j, pass, stride);
+          ASSERT_LT(i, total);
+          ++seen[i];
+        }
+      }
+      if (stride >= 2) {
+        for (gpu::uint i = 0; i < total; ++i) ASSERT_EQ(seen[i], 1) << total << " " << stride;
+      }
+      const gpu::uint n = gpu::hrpp_pass_ray_count(total, HRPP_PASS_SAMPLE, stride);
+      gpu::uint expected = 0;  // rays i whose block i / HRPP_SAMPLE_BLOCK is a multiple of stride
+      for (gpu::uint i = 0; i < total; ++i) expected += (i / HRPP_SAMPLE_BLOCK) % stride == 0;
+      EXPECT_EQ(n, expected) << total << " " << stride;
+      for (gpu::uint j = 0; j < n; ++j) {
+        const gpu::uint i = gpu::hrpp_pass_ray_index(j, HRPP_PASS_SAMPLE, stride);
+        ASSERT_LT(i, total);
+        ASSERT_EQ((i / HRPP_SAMPLE_BLOCK) % stride, 0u);
+        if (j > 0 && j % HRPP_SAMPLE_BLOCK != 0) {
+          ASSERT_EQ(i, gpu::hrpp_pass_ray_index(j - 1, HRPP_PASS_SAMPLE, stride) + 1);
+        }
+      }
+      EXPECT_EQ(gpu::hrpp_pass_ray_count(total, HRPP_PASS_ALL, stride), total);
+    }
 }
 
 }  // namespace

@@ -233,6 +233,37 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
+// The adaptive predictor's sample (Probe::kSample): the HRPP stage runs over every
+// PredictorConfig::sample-th ray and the plain trace over every ray, so the answers are HRPP
+// off's, speculative or not, and the HRPP counters are the sample's.
+TEST(HrppPredictor, SampleAnswersAreHrppOffs) {
+  GpuTracerConfig tc;
+  tc.rays_per_invocation = 1;
+  GpuTracer off(context(), bunny().bvh, tc);
+  for (const Case& k : cases())
+    for (const std::size_t n : {std::size_t{1}, std::size_t{33}, k.rays->size()}) {
+      const std::vector<gpu::Ray> rays(k.rays->begin(), k.rays->begin() + static_cast<long>(n));
+      const std::string what = std::string(k.name) + " " + std::to_string(n) + " rays";
+      PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
+      p.hash.bits = 3;  // coarse: predictor hits, wrong ones among them
+      GpuTracer on(context(), bunny().bvh, tc, p);
+      on.trace(rays, k.any);  // every ray predicted: fills the table
+      on.set_probing(k.any ? RayClass::kShadow : RayClass::kCamera, Probe::kSample);
+      const GpuTraceResult r = on.trace(rays, k.any);
+      const GpuTraceResult plain = off.trace(rays, k.any);
+      EXPECT_FALSE(r.predicted) << what;
+      EXPECT_EQ(r.sampled, gpu::hrpp_pass_ray_count(static_cast<std::uint32_t>(n),
+                                                    HRPP_PASS_SAMPLE, p.sample))
+          << what;
+      EXPECT_LT(r.sampled, n > HRPP_SAMPLE_BLOCK ? n : n + 1) << what;
+      EXPECT_EQ(r.traced, n) << what;
+      EXPECT_EQ(r.counters.interior_visited, plain.counters.interior_visited) << what;
+      expect_counters_add_up(r.predictor, r.sampled, what);
+      expect_same_hits(r.hits, plain.hits, what);
+    }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 // Speculative hit-all: the wrong closest hits counted on the GPU are the ones that differ from
 // HRPP off.
 TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {

@@ -2,7 +2,8 @@
 // hit-all and hit-any prediction the image equals HRPP off bit for bit (same seed), with a roomy
 // table and with tables that evict or drop; speculative prediction under a loose hash changes
 // pixels and counts its wrong closest hits; per-class counters add up over a whole render; the
-// batched (deterministic-order) mode, whose shadow traces are not dispatched indirectly, too.
+// batched (deterministic-order) mode, whose shadow traces are not dispatched indirectly, too;
+// the adaptive predictor's sample frames render HRPP off's image.
 #include <cstdio>
 #include <string>
 
@@ -28,11 +29,11 @@ const Scene& cornell() {
   return *s;
 }
 
-RenderResult render(const PredictorConfig& predictor) {
+RenderResult render(const PredictorConfig& predictor, std::uint32_t spp = 4) {
   static const GpuBvh bvh = make_gpu_layout(build_bvh(cornell(), BvhConfig{}), cornell());
   RenderConfig c;
   c.width = c.height = 48;
-  c.spp = 4;
+  c.spp = spp;
   c.seed = 7;
   c.predictor = predictor;
   WavefrontRenderer renderer(context(), cornell(), bvh, c);
@@ -79,6 +80,34 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
       const int full = t.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
       EXPECT_GT(exact.stats.closest().predictor.c[full], 0u) << what;
     }
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// The adaptive predictor starts every class with a sample frame: the stage over a sample of
+// each trace (shadow and bounce traces dispatched indirectly), then the plain trace over every
+// ray. Speculative prediction under a loose hash, yet the sample frames' image is HRPP off's.
+TEST(HrppRender, SampleFramesRenderTheImageOfHrppOff) {
+  PredictorConfig p = on(PredictorMode::kSpeculative, table_preset("small"), 3);
+  p.adaptive = true;
+  p.count_baseline = false;
+  p.sample = 2;  // 48x48: every other block of 256 rays
+  const RenderResult off = render({}, 1);
+  const RenderResult sampled = render(p, 1);
+  EXPECT_TRUE(sampled.rgb == off.rgb);
+  ASSERT_EQ(sampled.stats.frames.size(), 1u);
+  const FrameStats& f = sampled.stats.frames[0];
+  for (RayClass k : kRayClasses) {
+    const std::string what = ray_class_name(k);
+    EXPECT_EQ(f.decisions[k].mode, Probe::kSample) << what;
+    EXPECT_GT(f.classes[k].sampled, 0u) << what;
+    EXPECT_LT(f.classes[k].sampled, f.classes[k].counters.rays) << what;
+    EXPECT_LE(f.classes[k].predictor.c[HRPP_PC_PROBES], f.classes[k].sampled) << what;
+    EXPECT_EQ(f.classes[k].traced, f.classes[k].counters.rays) << what;  // every ray, plainly
+    EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + "hrpp_predict"), 0u)
+        << what;
+    EXPECT_EQ(f.classes[k].counters.interior_visited, off.stats.classes[k].counters.interior_visited)
+        << what;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

@@ -4,11 +4,12 @@
 For each scene the same binary renders the same image (same size, spp and seed) with --hrpp off
 and with --hrpp on (plus --flags), alternating off/on --repeat times; the fastest run of each
 side counts. Printed per scene: on/off device-time ratios of each ray class's kernels (camera,
-bounce, shadow: hrpp_predict + trace + hrpp_resolve against the trace alone), of the whole frame
-(all kernels) and of the wall time; the classes' true-positive rates, the interior-node visits
-saved (counted by the kernels: visits with HRPP on against off, verification included), the
-frames each class probed (the adaptive predictor), and the image error of on against off: relMSE
-and the fraction of pixels that differ. --json writes every figure.
+bounce, shadow: every kernel of the class against the trace alone), of the whole frame (all
+kernels) and of the wall time; the classes' true-positive rates (of the probed rays), the
+interior-node visits saved (counted by the kernels: visits with HRPP on against off, verification
+included), the frames each class predicted every ray and the frames it sampled (the adaptive
+predictor: "2+3s/8"), and the image error of on against off: relMSE and the fraction of pixels
+that differ. --json writes every figure.
 
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
@@ -92,15 +93,16 @@ def bench_scene(binary, scene, a, tmp):
     last_on, last_off = ons[-1], offs[-1]
     for c in CLASSES:
         h = last_on["classes"][c].get("hrpp", {})
-        rays = max(1, last_on["classes"][c]["rays"])
+        probes = max(1, h.get("probes", 0))
         frames = last_on.get("frames", [])
-        probed = sum(1 for f in frames if f.get("hrpp_decisions", {}).get(c, {}).get("probed"))
+        modes = [f.get("hrpp_decisions", {}).get(c, {}).get("mode", "off") for f in frames]
         visits_on = last_on["classes"][c]["interior_visited"]
         visits_off = last_off["classes"][c]["interior_visited"]
-        row[c] = {"tp_rate": h.get("true_positives", 0) / rays,
+        row[c] = {"tp_rate": h.get("true_positives", 0) / probes,
                   "interior_saved": 1 - ratio(visits_on, visits_off) if visits_off else 0.0,
                   "wrong_closest": h.get("wrong_closest", 0),
-                  "frames_probed": probed, "frames": len(frames)}
+                  "frames_all": modes.count("all"), "frames_sample": modes.count("sample"),
+                  "frames": len(frames)}
     row["relmse"], row["pixels_differ"] = image_error(read_exr(exr_on), read_exr(exr_off))
     return row
 
@@ -108,7 +110,8 @@ def bench_scene(binary, scene, a, tmp):
 def print_row(r):
     q = r["ratio"]
     cls = "  ".join(f"{c} {q[c]:.2f} (tp {r[c]['tp_rate']:.2f}, saved {100 * r[c]['interior_saved']:.0f}%,"
-                    f" {r[c]['frames_probed']}/{r[c]['frames']} frames)" for c in CLASSES)
+                    f" {r[c]['frames_all']}+{r[c]['frames_sample']}s/{r[c]['frames']} frames)"
+                    for c in CLASSES)
     print(f"{r['scene']:14s} frame {q['frame']:.3f}  wall {q['wall']:.3f}  | {cls}  | "
           f"relMSE {r['relmse']:.2e}, {100 * r['pixels_differ']:.1f}% pixels differ", flush=True)
 

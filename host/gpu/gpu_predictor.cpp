@@ -159,32 +159,39 @@ struct GpuPredictor::State {
     t.upload_params();
   }
 
+  // `pilot_pass`: HRPP_PASS_*; `stride`: the sample's (0: the pilot schedule's K).
   gpu::StagePushConstants stage_push(const gpu::TracePushConstants& trace_pc,
-                                     std::uint32_t pilot_pass = 0) const {
+                                     std::uint32_t pilot_pass = 0, std::uint32_t stride = 0) const {
     return {trace_pc.rays_per_invocation, trace_pc.canary_iterations,
-            rays_per_workgroup(trace_pc.rays_per_invocation), config.pilot, pilot_pass, 0};
+            rays_per_workgroup(trace_pc.rays_per_invocation), stride ? stride : config.pilot,
+            pilot_pass, 0};
   }
 
   // One round of predict → trace of the queue → resolve over the rays of `pilot_pass`
-  // (0: all; 1, 2: the pilot schedule's passes).
+  // (HRPP_PASS_*: shaders/shared/hrpp_passes.h), timed under labels
+  // "<prefix><kernel>:<class>".
   void record_pass(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
                    const gpu::TracePushConstants& trace_pc, std::uint32_t pilot_pass,
-                   KernelTimer* timer) {
-    const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass);
-    const std::string label = std::string("hrpp_predict:") + ray_class_name(c);
+                   KernelTimer* timer, std::uint32_t stride = 0, const std::string& prefix = "") {
+    const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass, stride);
+    const std::string label = prefix + "hrpp_predict:" + ray_class_name(c);
     if (count.host) {
       const std::uint32_t per_group = spc.trace_group_rays;
-      record_dispatch(cmd, table(c).predict(), &spc, (*count.host + per_group - 1) / per_group,
-                      timer, label);
+      const std::uint32_t n = gpu::hrpp_pass_ray_count(*count.host, pilot_pass, spc.pilot_stride);
+      record_dispatch(cmd, table(c).predict(), &spc, (n + per_group - 1) / per_group, timer,
+                      label);
     } else {
       record_dispatch_indirect(cmd, table(c).predict(), &spc, *count.buffer, count.args_offset,
                                timer, label);
     }
-    record_queue_trace(cmd, c, trace_pc, timer);
+    record_queue_trace(cmd, c, trace_pc, timer, prefix);
   }
 
   // Empties the queue (its cursors and indirect arguments) for another round; the answer counts
   // go on adding up. `rays` (first, end): also the rays to predict (a batch); else the same rays.
+  void start_queue(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                   std::uint32_t clock);
+
   void restart_queue(VkCommandBuffer cmd, RayClass c,
                      std::optional<std::pair<std::uint32_t, std::uint32_t>> rays = {}) {
     Queue& q = queue(c);
@@ -214,7 +221,7 @@ struct GpuPredictor::State {
   // The trace over the queue and the resolve pass, after hrpp_predict: the trace's ray count
   // is the queue's size, both dispatched indirectly from the queue.
   void record_queue_trace(VkCommandBuffer cmd, RayClass c, const gpu::TracePushConstants& trace_pc,
-                          KernelTimer* timer) {
+                          KernelTimer* timer, const std::string& prefix = "") {
     Queue& q = queue(c);
     const std::string cls = std::string(":") + ray_class_name(c);
     indirect_args_barrier(cmd);
@@ -222,11 +229,12 @@ struct GpuPredictor::State {
                 offsetof(gpu::TraceCounters, ray_count), sizeof(std::uint32_t));
     transfer_compute_barrier(cmd);
     record_dispatch_indirect(cmd, q.trace, &trace_pc, q.state,
-                             offsetof(gpu::PredictQueue, trace_groups), timer, q.trace.name() + cls);
+                             offsetof(gpu::PredictQueue, trace_groups), timer,
+                             prefix + q.trace.name() + cls);
     const gpu::StagePushConstants spc = stage_push(trace_pc);
     record_dispatch_indirect(cmd, table(c).resolve, &spc, q.state,
                              offsetof(gpu::PredictQueue, resolve_groups), timer,
-                             "hrpp_resolve" + cls);
+                             prefix + "hrpp_resolve" + cls);
   }
 };
 
@@ -236,6 +244,7 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     : s_(std::make_unique<State>()) {
   if (!ctx.info().int64 || !ctx.info().int64_atomics)
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
+  if (config.sample == 0) throw Error("HRPP: the adaptive predictor's sample stride must be >= 1");
   if (config.batch > HRPP_INSERT_BATCH_MAX)
     throw Error("--hrpp-batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
   s_->ctx = &ctx;
@@ -317,29 +326,44 @@ void GpuPredictor::begin(RayClass c) {
   s_->table(c).counters.upload(&zero, sizeof zero);
 }
 
-void GpuPredictor::record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                          const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
-                          KernelTimer* timer) {
-  if (s_->config.batch > 0)
+// The queue emptied for a trace of `count` rays, with their count copied in when it is on the
+// device.
+void GpuPredictor::State::start_queue(VkCommandBuffer cmd, RayClass c,
+                                      const RayCountSource& count, std::uint32_t clock) {
+  if (config.batch > 0)
     throw Error("HRPP's batched mode (--hrpp-batch) records with record_batches");
-  Queue& q = s_->queue(c);
+  Queue& q = queue(c);
   if (q.capacity == 0) throw Error("HRPP: a trace recorded before bind_rays sized its queue");
-  s_->set_clock(c, clock);
+  set_clock(c, clock);
   const gpu::PredictQueue start = empty_queue(0, count.host ? *count.host : 0);
   const gpu::TraceCounters trace_start{};
-  vkCmdUpdateBuffer(cmd, q.state.handle(), 0, sizeof start, &start);
-  vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), 0, sizeof trace_start, &trace_start);
+  record_update(cmd, q.state, 0, sizeof start, &start);
+  record_update(cmd, q.trace_counters, 0, sizeof trace_start, &trace_start);
   if (!count.host) {
     transfer_compute_barrier(cmd);  // the update before the copy into the same buffer
     record_copy(cmd, *count.buffer, count.count_offset, q.state,
                 offsetof(gpu::PredictQueue, ray_count), sizeof(std::uint32_t));
   }
   transfer_compute_barrier(cmd);
+}
+
+void GpuPredictor::record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                          const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
+                          KernelTimer* timer) {
+  s_->start_queue(cmd, c, count, clock);
   const std::uint32_t k = s_->config.pilot;
-  if (k < 2) return s_->record_pass(cmd, c, count, trace_pc, 0, timer);
-  s_->record_pass(cmd, c, count, trace_pc, 1, timer);  // the pilot rays, then the others
+  if (k < 2) return s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_ALL, timer);
+  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_PILOTS, timer);  // then the others
   s_->restart_queue(cmd, c);
-  s_->record_pass(cmd, c, count, trace_pc, 2, timer);
+  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_OTHERS, timer);
+}
+
+void GpuPredictor::record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                                 const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
+                                 KernelTimer* timer) {
+  s_->start_queue(cmd, c, count, clock);
+  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, s_->config.sample,
+                  kSampleLabel);
 }
 
 void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
@@ -364,7 +388,7 @@ void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t
   }
 }
 
-PredictedTrace GpuPredictor::finish(RayClass c) const {
+PredictedTrace GpuPredictor::finish(RayClass c, bool sampled) const {
   const Queue& q = s_->queue(c);
   gpu::PredictQueue state{};
   q.state.download(&state, sizeof state);
@@ -375,7 +399,8 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   const TraversalCounters queue_trace = traversal_counters(traced);
   out.queued = queue_trace.rays;
   const std::uint64_t answered = state.resolved + std::uint64_t{state.resolve_done};
-  if (answered != state.ray_count || state.resolve_done != out.queued || state.aborted != 0 ||
+  const std::uint32_t pass = sampled ? HRPP_PASS_SAMPLE : HRPP_PASS_ALL;
+  if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->config.sample) || state.resolve_done != out.queued || state.aborted != 0 ||
       traced.aborted != 0)
     throw Error("hrpp_predict / " + q.trace.name() + " / hrpp_resolve: only " +
                 std::to_string(answered) + " of " + std::to_string(state.ray_count) +

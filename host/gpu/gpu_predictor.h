@@ -49,6 +49,9 @@ struct PredictedTrace {
   std::uint64_t queued = 0;             // rays the trace kernel traced
 };
 
+// The timer-label prefix of a sample's kernels (GpuPredictor::record_sample).
+inline constexpr const char* kSampleLabel = "sample_";
+
 class GpuPredictor {
  public:
   // Throws hrpp::Error when the device lacks 64-bit integer atomics or the table exceeds a
@@ -74,13 +77,20 @@ class GpuPredictor {
   // "<kernel>:<class>" labels. `clock`: use stamp of ray 0 (LRU). Not in batched mode.
   void record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
               const gpu::TracePushConstants& trace_pc, std::uint32_t clock, KernelTimer* timer);
+  // Records the HRPP stage over a sample of the class's rays (every config().sample-th), its
+  // kernels timed under "<kSampleLabel><kernel>:<class>": the adaptive predictor's sample
+  // frame, which then traces every ray with the plain kernel. Not in batched mode.
+  void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                     const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
+                     KernelTimer* timer);
   // Deterministic order (config().batch = K > 0): per batch of K rays a predict, trace and
   // resolve that defers its inserts, then hrpp_insert applying them in ray order. Untimed.
   void record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
                       const gpu::TracePushConstants& trace_pc, std::uint32_t clock);
   // After the submit: checks that every ray was answered (throws hrpp::Error naming the loop
   // limiter otherwise) and returns what the class's trace did.
-  PredictedTrace finish(RayClass c) const;
+  // `sampled`: the trace was record_sample's (its sample answered, not every ray).
+  PredictedTrace finish(RayClass c, bool sampled = false) const;
 
   // Rays one workgroup of hrpp_predict takes: every lane, or one per subgroup in serial mode,
   // times rays_per_invocation. The trace kernel over the queue takes the same.

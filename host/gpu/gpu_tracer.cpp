@@ -53,7 +53,8 @@ struct QueryArrays {
   TexelView hit_view;        // how the HRPP stage reads and writes the hits
   StorageBuffer counters;    // TraceCounters of the plain trace
   ComputePipeline kernel;
-  bool predicted = false;    // the last recorded trace ran the HRPP stage
+  bool predicted = false;    // the last recorded trace ran the HRPP stage over every ray
+  bool sampled = false;      // ... over a sample, then the plain trace over every ray
 
   QueryArrays(VulkanContext& c, bool any_hit)
       : counters(c, sizeof(gpu::TraceCounters),
@@ -73,7 +74,7 @@ struct GpuTracer::State {
   std::unique_ptr<QueryArrays> queries[2];        // [any_hit]
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on
-  PerClass<bool> probing{};                 // HRPP on: the classes that trace through it now
+  PerClass<Probe> probing{};                // HRPP on: how each class traces through it now
   PerClass<std::uint32_t> clock{};          // HRPP use stamps: rays of the class traced so far
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
@@ -102,7 +103,8 @@ struct GpuTracer::State {
     if (predictor_config.enabled) {
       predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
                                                  triangle_view);
-      for (RayClass k : kRayClasses) probing[k] = predictor_config.predicts(k);
+      for (RayClass k : kRayClasses)
+        probing[k] = predictor_config.predicts(k) ? Probe::kAll : Probe::kOff;
     }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
@@ -113,7 +115,10 @@ struct GpuTracer::State {
 
   QueryArrays& query(RayClass c) { return *queries[is_any_hit(c)]; }
   const QueryArrays& query(RayClass c) const { return *queries[is_any_hit(c)]; }
-  bool predicts(RayClass c) const { return predictor && probing[c]; }
+  bool predicts(RayClass c) const { return predictor && probing[c] == Probe::kAll; }
+  bool samples(RayClass c) const {
+    return predictor && probing[c] == Probe::kSample && !batched();
+  }
   bool batched() const { return predictor && predictor->config().batch > 0; }
   bool serial() const { return predictor && predictor->config().serial; }
 
@@ -189,10 +194,12 @@ struct GpuTracer::State {
     check_resident(c, count);
     const gpu::TracePushConstants pc = push_constants();
     query(c).predicted = predicts(c);
+    query(c).sampled = samples(c);
     if (predicts(c)) {
       if (batched()) return predictor->record_batches(cmd, c, count, pc, clock[c]);
       return predictor->record(cmd, c, RayCountSource{&count}, pc, clock[c], t);
     }
+    if (samples(c)) predictor->record_sample(cmd, c, RayCountSource{&count}, pc, clock[c], t);
     prepare_trace(cmd, c, &count, nullptr, 0);
     ComputePipeline& k = query(c).kernel;
     const std::uint32_t per_group = rays_per_workgroup();
@@ -207,10 +214,10 @@ struct GpuTracer::State {
       throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
     const gpu::TracePushConstants pc = push_constants();
     query(c).predicted = predicts(c);
-    if (predicts(c)) {
-      const RayCountSource source{nullptr, &queue, count_offset, args_offset};
-      return predictor->record(cmd, c, source, pc, clock[c], t);
-    }
+    query(c).sampled = samples(c);
+    const RayCountSource source{nullptr, &queue, count_offset, args_offset};
+    if (predicts(c)) return predictor->record(cmd, c, source, pc, clock[c], t);
+    if (samples(c)) predictor->record_sample(cmd, c, source, pc, clock[c], t);
     prepare_trace(cmd, c, nullptr, &queue, count_offset);
     ComputePipeline& k = query(c).kernel;
     record_dispatch_indirect(cmd, k, &pc, queue, args_offset, t, label(k, c));
@@ -253,6 +260,11 @@ struct GpuTracer::State {
     } else {
       out = finish_plain(c);
     }
+    if (query(c).sampled) {  // the sample's HRPP counters beside the plain trace's
+      const PredictedTrace p = predictor->finish(c, true);
+      out.predictor = p.predictor;
+      out.sampled = p.counters.rays;
+    }
     clock[c] += static_cast<std::uint32_t>(out.counters.rays);
     return out;
   }
@@ -282,6 +294,7 @@ GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c) {
     out.kernel_ms += r.kernel_ms;
     out.traced += r.traced;
     out.predicted = r.predicted;
+    out.sampled += r.sampled;
     for (int i = 0; i < HRPP_PC_COUNT; ++i) out.predictor.c[i] += r.predictor.c[i];
   }
   if (is_any_hit(c)) to_occlusion_records(out.hits);
@@ -296,7 +309,7 @@ StorageBuffer& GpuTracer::ray_buffer(RayClass c, std::size_t rays) {
 StorageBuffer& GpuTracer::hit_buffer(RayClass c) { return s_->query(c).hits; }
 
 void GpuTracer::begin(RayClass c) {
-  if (s_->predicts(c)) s_->predictor->begin(c);
+  if (s_->predicts(c) || s_->samples(c)) s_->predictor->begin(c);
 }
 
 void GpuTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
@@ -337,18 +350,24 @@ void GpuTracer::warm_up() {
   for (RayClass c : kRayClasses) {
     trace(rays, c);
     if (!s_->predictor || !s_->predicts(c)) continue;
-    s_->probing[c] = false;  // the plain kernel too: the adaptive switch may turn to it
-    trace(rays, c);
-    s_->probing[c] = true;
+    // The plain kernel and a sample too: the adaptive switch may turn to them.
+    for (Probe p : {Probe::kOff, Probe::kSample}) {
+      s_->probing[c] = p;
+      trace(rays, c);
+    }
+    s_->probing[c] = Probe::kAll;
   }
   clear_predictor();  // the warm-up rays leave nothing behind
 }
 
-void GpuTracer::set_probing(RayClass c, bool on) {
-  if (s_->predictor) s_->probing[c] = on && s_->predictor->config().predicts(c);
+void GpuTracer::set_probing(RayClass c, Probe mode) {
+  if (s_->predictor) s_->probing[c] = s_->predictor->config().predicts(c) ? mode : Probe::kOff;
 }
 
-bool GpuTracer::probing(RayClass c) const { return s_->predicts(c); }
+Probe GpuTracer::probing(RayClass c) const {
+  if (s_->predicts(c)) return Probe::kAll;
+  return s_->samples(c) ? Probe::kSample : Probe::kOff;
+}
 
 TableOccupancy GpuTracer::predictor_occupancy(RayClass c) const {
   return s_->predictor ? s_->predictor->occupancy(c) : TableOccupancy{};

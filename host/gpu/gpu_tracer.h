@@ -13,6 +13,7 @@
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu_types.h"
+#include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
 #include "trace/traversal_counters.h"
@@ -39,6 +40,7 @@ struct GpuTraceResult {
   bool predicted = false;       // the HRPP stage ran (the class probes)
   std::uint64_t traced = 0;     // rays the trace kernel traced (HRPP: the queue)
   gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
+  std::uint64_t sampled = 0;    // HRPP sample (Probe::kSample): rays that ran the stage
 };
 
 class GpuTracer {
@@ -104,10 +106,12 @@ class GpuTracer {
 
   const GpuTracerConfig& config() const;
 
-  // HRPP on: whether class `c` traces through the HRPP stage from the next record on (the
-  // adaptive predictor's switch; initially every class the configuration names).
-  void set_probing(RayClass c, bool on);
-  bool probing(RayClass c) const;
+  // HRPP on: how class `c` traces through the HRPP stage from the next record on (the adaptive
+  // predictor's switch; initially every class the configuration names at Probe::kAll). A sample
+  // (not in batched mode) runs the stage over every PredictorConfig::sample-th ray, then the
+  // plain trace over every ray: the hits are HRPP off's, the HRPP counters the sample's.
+  void set_probing(RayClass c, Probe mode);
+  Probe probing(RayClass c) const;
   // HRPP on: what the class's table holds now; empty every table.
   TableOccupancy predictor_occupancy(RayClass c) const;
   void clear_predictor();

@@ -1,76 +1,113 @@
 #include "hrpp/adaptive_predictor.h"
 
 #include <algorithm>
-#include <utility>
 
 namespace hrpp {
 
+const char* probe_name(Probe p) {
+  switch (p) {
+    case Probe::kSample: return "sample";
+    case Probe::kAll: return "all";
+    case Probe::kOff: break;
+  }
+  return "off";
+}
+
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config) : adaptive_(config.adaptive) {
   for (RayClass c : kRayClasses) {
-    state_[c].enabled = config.predicts(c);
-    state_[c].probing = state_[c].enabled;
+    State& s = state_[c];
+    s.enabled = config.predicts(c);
+    if (s.enabled) s.mode = adaptive_ ? Probe::kSample : Probe::kAll;
   }
 }
 
-// A probing frame: its gain against the last trace cost measured without prediction.
-void AdaptivePredictor::judge(State& s, const ClassFrameCost& cost, ClassDecision& d) const {
-  const bool trial = s.confidence < kConfidenceOn;
-  // Hopeless whatever the table holds: predict + resolve alone cost more than tracing every ray
-  // would (the trace's cost per ray of this frame's queue if none was measured: the queued rays
-  // are the harder ones, so this errs toward probing).
-  const double off_rate = s.off_ms_per_ray > 0.0 ? s.off_ms_per_ray
-                          : cost.traced > 0 ? cost.trace_ms / static_cast<double>(cost.traced)
-                                            : 0.0;
-  const double stage_ms = cost.predict_ms + cost.resolve_ms;
-  if (off_rate > 0.0 && stage_ms >= off_rate * static_cast<double>(cost.rays)) {
-    ++s.frames_probed;
-    d.gain_ms = off_rate * static_cast<double>(cost.rays) - cost.cost_ms();
+namespace {
+
+double per_ray(double ms, std::uint64_t rays) {
+  return rays > 0 ? ms / static_cast<double>(rays) : 0.0;
+}
+
+}  // namespace
+
+// A sample frame: the stage's cost per sampled ray against the plain trace's per ray, measured
+// in the same frame.
+void AdaptivePredictor::judge_sample(State& s, const ClassFrameCost& cost,
+                                     ClassDecision& d) const {
+  const double off = s.off_ms_per_ray;
+  d.gain_ms = (off - per_ray(cost.sample_ms, cost.sampled)) * static_cast<double>(cost.rays);
+  const bool hopeless = cost.sampled > 0 && per_ray(cost.sample_stage_ms, cost.sampled) >= off;
+  const bool warming = !s.warmed;
+  s.warmed = true;
+  if (!hopeless && warming) {
+    d.reason = "warming";  // the table was empty: sample again
+    return;
+  }
+  if (!hopeless && d.gain_ms > 0.0) {
+    d.reason = "gain";
+    s.mode = Probe::kAll;
+    s.confidence = kConfidenceOn;
+    s.losses = 0;
+    return;
+  }
+  d.reason = hopeless ? "hopeless" : "loss";
+  s.mode = Probe::kOff;
+  s.retry_after = std::min(kRetryEvery << std::min(s.losses, 8), kRetryMax);
+  ++s.losses;
+}
+
+// A frame with every ray predicted: its gain against the last plain trace's cost per ray.
+void AdaptivePredictor::judge_all(State& s, const ClassFrameCost& cost, ClassDecision& d) const {
+  s.warmed = true;
+  const double off = s.off_ms_per_ray;
+  if (off <= 0.0) {
+    d.reason = "unmeasured";  // a sample frame measures the plain trace
+    s.mode = Probe::kSample;
+    return;
+  }
+  const double rays = static_cast<double>(cost.rays);
+  d.gain_ms = off * rays - cost.cost_ms();
+  if (cost.predict_ms + cost.resolve_ms >= off * rays) {
     d.reason = "hopeless";
     s.confidence = std::min(s.confidence, kConfidenceOn) - 1;
-    if (trial) s.retry_after = std::min(2 * s.retry_after, kRetryMax);
-  } else if (s.frames_probed++ == 0) {
-    d.reason = "warming";
-  } else if (s.off_ms_per_ray <= 0.0) {
-    d.reason = "unmeasured";  // the next frame traces without prediction to measure it
-    s.measure_next = true;
   } else {
-    d.gain_ms = s.off_ms_per_ray * static_cast<double>(cost.rays) - cost.cost_ms();
     const bool gain = d.gain_ms > 0.0;
     d.reason = gain ? "gain" : "loss";
     s.confidence = std::clamp(s.confidence + (gain ? 1 : -1), 0, kConfidenceMax);
-    if (trial && gain) s.confidence = kConfidenceOn;
-    if (trial) s.retry_after = gain ? kRetryEvery : std::min(2 * s.retry_after, kRetryMax);
   }
+  if (s.confidence >= kConfidenceOn) return;
+  s.mode = Probe::kOff;
+  s.retry_after = kRetryEvery;
 }
 
 ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cost) {
   State& s = state_[c];
   ClassDecision d;
-  d.probed = cost.probed;
-  // Nearly every ray traced (off, or a probing frame whose predictions missed): the trace time
-  // per ray is what a trace without prediction costs.
-  if (cost.traced > 0 &&
-      static_cast<double>(cost.traced) >= kTracedForOffCost * static_cast<double>(cost.rays))
-    s.off_ms_per_ray = cost.trace_ms / static_cast<double>(cost.traced);
+  d.mode = cost.mode;
+  // The plain trace ran over every ray (off and sample frames): its cost per ray is the cost
+  // without prediction.
+  if (cost.mode != Probe::kAll && cost.traced > 0) s.off_ms_per_ray = per_ray(cost.trace_ms, cost.traced);
   if (!s.enabled) {
     d.reason = "disabled";
   } else if (!adaptive_) {
     d.reason = "fixed";
-  } else if (cost.probed) {
-    judge(s, cost, d);
+  } else if (cost.rays == 0) {
+    d.reason = "idle";  // nothing to judge
+  } else if (cost.mode == Probe::kSample) {
+    judge_sample(s, cost, d);
+    s.frames_off = 0;
+  } else if (cost.mode == Probe::kAll) {
+    judge_all(s, cost, d);
     s.frames_off = 0;
   } else {
     d.reason = "off";
-    ++s.frames_off;
-  }
-  if (s.enabled && adaptive_) {
-    s.probing = s.confidence >= kConfidenceOn || s.frames_off >= s.retry_after;
-    if (s.probing && s.confidence < kConfidenceOn) d.reason = "retry";
-    if (std::exchange(s.measure_next, false)) s.probing = false;
+    if (s.mode == Probe::kOff && ++s.frames_off >= s.retry_after) {
+      s.mode = Probe::kSample;
+      d.reason = "retry";
+    }
   }
   d.off_ms_per_ray = s.off_ms_per_ray;
   d.confidence = s.confidence;
-  d.probe_next = s.probing;
+  d.next = s.mode;
   return d;
 }
 

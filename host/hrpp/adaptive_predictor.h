@@ -1,22 +1,24 @@
 // The adaptive predictor: per ray class, a branch predictor's confidence counter applied to the
 // question "does probing this class save time?", decided once per frame from the frame's
-// kernel times and counters.
-//   - While a class probes, a frame's cost is predict + trace + resolve milliseconds. Its gain
-//     is what the class's rays would have cost traced without prediction (the last measured
-//     trace time per ray with nearly every ray traced: a frame with prediction off, or a
-//     probing frame whose predictions almost all missed) minus that cost. A gain raises the
-//     2-bit confidence, a loss lowers it; the class probes while the confidence is >= 2.
-//   - A probing frame whose predict + resolve time alone exceeds what tracing all its rays
-//     without prediction costs is a loss whatever the table holds ("hopeless"), the first frame
-//     included.
-//   - Otherwise the first probing frame fills an empty table: it is not judged (warming). When no frame
-//     has measured the trace cost without prediction yet (the warming frame's true positives
-//     left less than kTracedForOffCost of the rays to the trace), the next frame runs without
-//     prediction to measure it ("unmeasured"), and probing resumes after it.
-//   - A class that stopped probing traces as with HRPP off (which measures the trace cost per
-//     ray) and is tried again after kRetryEvery frames; a trial with a gain turns it back on,
-//     each losing trial doubles the wait (up to kRetryMax frames).
-// The decisions are reported per frame in the render stats.
+// kernel times and counters. A class is in one of three modes each frame (Probe):
+//   - sample: every PredictorConfig::sample-th ray runs the HRPP stage (predict, trace of its
+//     queue, resolve), then the plain trace kernel traces every ray, the sample included, so the
+//     frame's answers are HRPP off's. One frame thus measures both costs per ray under the same
+//     load: the stage's on the sample and the plain trace's on all rays. The sample's gain per
+//     ray, times the class's rays, decides: a gain turns the class to `all`, a loss (or a
+//     "hopeless" sample, whose predict + resolve alone cost more than a plain trace) turns it
+//     off. The first sample only fills the empty table (warming).
+//   - all: every ray runs the HRPP stage. The frame's gain is what its rays cost traced without
+//     prediction (the last plain trace's cost per ray) minus predict + trace + resolve. A gain
+//     raises the 2-bit confidence, a loss lowers it; the class stays at `all` while the
+//     confidence is >= 2 and is off below.
+//   - off: the plain trace (which measures the cost per ray without prediction). After
+//     retry_after frames off the class samples again; each losing sample doubles the wait (up
+//     to kRetryMax frames).
+// A class starts by sampling, so a class that loses costs its samples only (a sample frame pays
+// the stage on 1/sample of the rays on top of a plain trace), never a whole predicted frame.
+// Adaptive off (--hrpp-adaptive off): every enabled class is at `all` every frame. The
+// decisions are reported per frame in the render stats.
 #pragma once
 
 #include <cstdint>
@@ -26,55 +28,62 @@
 
 namespace hrpp {
 
+// How a class runs the HRPP stage in a frame.
+enum class Probe : std::uint8_t { kOff, kSample, kAll };
+const char* probe_name(Probe p);  // "off", "sample", "all"
+
 // What one frame of a ray class did and cost on the device.
 struct ClassFrameCost {
-  bool probed = false;       // the class ran the HRPP stage this frame
+  Probe mode = Probe::kOff;
   std::uint64_t rays = 0;    // rays of the class
-  std::uint64_t traced = 0;  // rays the trace kernel traced (probing: the queue)
-  double predict_ms = 0.0, trace_ms = 0.0, resolve_ms = 0.0;
+  std::uint64_t traced = 0;  // rays the plain trace traced (all: the queue; else every ray)
+  double predict_ms = 0.0, trace_ms = 0.0, resolve_ms = 0.0;  // all: the stage; else 0, trace, 0
+  std::uint64_t sampled = 0;  // sample: rays that ran the HRPP stage
+  double sample_ms = 0.0;     // sample: predict + trace of the queue + resolve over them
+  double sample_stage_ms = 0.0;  // sample: predict + resolve alone
 
   double cost_ms() const { return predict_ms + trace_ms + resolve_ms; }
 };
 
 // One frame's decision for one class.
 struct ClassDecision {
-  bool probed = false;        // this frame
+  Probe mode = Probe::kOff;   // this frame
   double off_ms_per_ray = 0;  // trace cost per ray without prediction (0: not measured yet)
-  double gain_ms = 0;         // probing frames: estimated time saved (negative: lost)
+  double gain_ms = 0;         // sample and all frames: estimated time saved over the class's
+                              // rays (negative: lost)
   int confidence = 0;         // 0..3 after this frame
-  bool probe_next = false;
-  const char* reason = "";    // disabled, fixed, hopeless, warming, unmeasured, gain, loss, off,
-                              // retry
+  Probe next = Probe::kOff;
+  const char* reason = "";    // disabled, fixed, idle, warming, unmeasured, hopeless, gain,
+                              // loss, off, retry
 };
 
 class AdaptivePredictor {
  public:
-  static constexpr int kRetryEvery = 4;  // frames off before the first trial
-  static constexpr int kRetryMax = 64;   // the longest wait after losing trials
+  static constexpr int kRetryEvery = 4;  // frames off before the first retry
+  static constexpr int kRetryMax = 64;   // the longest wait after losing samples
   static constexpr int kConfidenceMax = 3;
   static constexpr int kConfidenceOn = 2;
-  // Nearly every ray traced: the trace time then stands for a trace without prediction.
-  static constexpr double kTracedForOffCost = 0.9;
 
   explicit AdaptivePredictor(const PredictorConfig& config);
 
-  // Whether the class probes in the coming frame.
-  bool probing(RayClass c) const { return state_[c].probing; }
+  // How the class runs the HRPP stage in the coming frame.
+  Probe mode(RayClass c) const { return state_[c].mode; }
   // Takes a frame's cost of the class and decides the next frame.
   ClassDecision end_frame(RayClass c, const ClassFrameCost& cost);
 
  private:
   struct State {
-    bool enabled = false;   // the class predicts at all (--hrpp-rays)
-    bool probing = false;
-    int confidence = kConfidenceOn;
-    int frames_probed = 0;
+    bool enabled = false;  // the class predicts at all (--hrpp-rays)
+    Probe mode = Probe::kOff;
+    int confidence = 0;
+    bool warmed = false;  // a sample or a predicted frame has filled the table
     int frames_off = 0;
-    int retry_after = kRetryEvery;  // frames off before the next trial
-    bool measure_next = false;      // a frame without prediction to measure the trace cost
+    int retry_after = kRetryEvery;  // frames off before the next sample
+    int losses = 0;                 // losing samples since the last gain
     double off_ms_per_ray = 0.0;
   };
-  void judge(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
+  void judge_sample(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
+  void judge_all(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
 
   bool adaptive_;
   PerClass<State> state_;

@@ -34,15 +34,16 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
     for (int i = 0; i <= HRPP_PC_EVICTIONS; ++i) p[kPredictorCounterNames[i]] = s.predictor.c[i];
     p["predicted_traces"] = s.predicted_traces;
     p["traced"] = s.traced;
+    p["sampled"] = s.sampled;
     j["hrpp"] = p;
   }
   return j;
 }
 
 json decision_json(const ClassDecision& d) {
-  return json{{"probed", d.probed},         {"reason", d.reason},
-              {"gain_ms", d.gain_ms},       {"off_ms_per_ray", d.off_ms_per_ray},
-              {"confidence", d.confidence}, {"probe_next", d.probe_next}};
+  return json{{"mode", probe_name(d.mode)},  {"reason", d.reason},
+              {"gain_ms", d.gain_ms},         {"off_ms_per_ray", d.off_ms_per_ray},
+              {"confidence", d.confidence},   {"next", probe_name(d.next)}};
 }
 
 // The per-class figures of a frame or a render.

@@ -82,15 +82,25 @@ std::pair<std::string, std::string> split_label(const std::string& label) {
 }
 
 // What one frame of a class cost, for the adaptive predictor.
-ClassFrameCost frame_cost(const RayClassStats& s, bool probed) {
+ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
   ClassFrameCost c;
-  c.probed = probed;
+  c.mode = mode;
   c.rays = s.counters.rays;
   c.traced = s.traced;
+  c.sampled = s.sampled;
+  const std::string sample = kSampleLabel;
   for (const auto& [kernel, ms] : s.kernels_ms) {
-    if (kernel == "hrpp_predict") c.predict_ms += ms;
-    else if (kernel == "hrpp_resolve") c.resolve_ms += ms;
-    else c.trace_ms += ms;
+    if (kernel.starts_with(sample)) {
+      c.sample_ms += ms;
+      if (kernel != sample + "trace_closest" && kernel != sample + "trace_any")
+        c.sample_stage_ms += ms;
+    } else if (kernel == "hrpp_predict") {
+      c.predict_ms += ms;
+    } else if (kernel == "hrpp_resolve") {
+      c.resolve_ms += ms;
+    } else {
+      c.trace_ms += ms;
+    }
   }
   return c;
 }
@@ -103,6 +113,7 @@ RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
   traces += o.traces;
   predicted_traces += o.predicted_traces;
   traced += o.traced;
+  sampled += o.sampled;
   for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
   return *this;
 }
@@ -255,6 +266,7 @@ struct WavefrontRenderer::State {
     ++c.traces;
     c.predicted_traces += r.predicted ? 1 : 0;
     c.traced += r.traced;
+    c.sampled += r.sampled;
   }
 
   // The shadow half of a bounce: trace_any, then render_accumulate, on the shadow queue's count
@@ -362,7 +374,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
                           "render_accumulate"})
       frame.kernels_ms[k] = 0.0;
-    for (RayClass c : kRayClasses) s_->tracer.set_probing(c, s_->adaptive.probing(c));
+    for (RayClass c : kRayClasses) s_->tracer.set_probing(c, s_->adaptive.mode(c));
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
     frame.wall_s =

@@ -60,6 +60,7 @@ struct RayClassStats {
   std::uint64_t traces = 0;            // traces (one per bounce and wavefront)
   std::uint64_t predicted_traces = 0;  // of those, through the HRPP stage
   std::uint64_t traced = 0;            // rays the trace kernel traced (HRPP: the queues)
+  std::uint64_t sampled = 0;           // HRPP sample frames: rays that ran the HRPP stage
   std::map<std::string, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve
 
   RayClassStats& operator+=(const RayClassStats& o);

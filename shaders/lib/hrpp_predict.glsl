@@ -165,25 +165,20 @@ void flush_counters() {
   }
 }
 
-// The rays of this dispatch: all of the queue's ray_count, or one pass of the pilot schedule
-// (PredictorConfig::pilot): first the rays whose index is a multiple of K, so that the rest find
-// their entries. Returns the count; ray_index() maps the j-th ray of the pass to its index.
-uint pass_ray_count(uint total) {
-  if (pc.pilot_pass == 0u) return total;
-  const uint pilots = (total + pc.pilot_stride - 1u) / pc.pilot_stride;
-  return pc.pilot_pass == 1u ? pilots : total - pilots;
-}
+// The rays of this dispatch (shaders/shared/hrpp_passes.h): all of the queue's ray_count, or
+// one pass of the pilot schedule (PredictorConfig::pilot: first the rays whose index is a
+// multiple of K, so that the rest find their entries), or the adaptive predictor's sample.
+uint pass_ray_count(uint total) { return hrpp_pass_ray_count(total, pc.pilot_pass, pc.pilot_stride); }
 
-uint ray_index(uint j) {
-  if (pc.pilot_pass == 0u) return j;
-  if (pc.pilot_pass == 1u) return j * pc.pilot_stride;
-  const uint others = pc.pilot_stride - 1u;  // rays between two pilots
-  return (j / others) * pc.pilot_stride + j % others + 1u;
-}
+uint ray_index(uint j) { return hrpp_pass_ray_index(j, pc.pilot_pass, pc.pilot_stride); }
 
 void main() {
   if (hrpp.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup
   const uint count = pass_ray_count(queue.ray_count);
+  // Workgroups past the pass's rays (a pilot or sample pass dispatched, indirectly, with the
+  // workgroups of every ray) leave before their atomics: on lavapipe those cost more than the
+  // pass's own work.
+  if (gl_WorkGroupID.x * pc.trace_group_rays >= count) return;
   uint resolved_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
     // One atomicAdd per subgroup for all its active lanes (any subgroup size).

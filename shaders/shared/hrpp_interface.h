@@ -3,6 +3,7 @@
 #ifndef HRPP_HRPP_INTERFACE_H
 #define HRPP_HRPP_INTERFACE_H
 
+#include "hrpp_passes.h"
 #include "hrpp_types.h"
 #include "trace_interface.h"
 
@@ -53,8 +54,8 @@ struct StagePushConstants {
   uint rays_per_invocation;  // hrpp_predict: cap on the rays one invocation takes (loop limiter)
   uint canary_iterations;    // always 2 (shaders/lib/trace_kernel.glsl, loop_budget_left)
   uint trace_group_rays;     // rays per workgroup of the trace kernel over the queue
-  uint pilot_stride;         // K > 1: the pilot schedule, rays i with i % K == 0 first
-  uint pilot_pass;           // 0: every ray; 1: the pilot rays; 2: the others
+  uint pilot_stride;         // the pilot schedule's K, or the sample's stride
+  uint pilot_pass;           // HRPP_PASS_* (shaders/shared/hrpp_passes.h)
   uint pad;
 };
 
