@@ -18,6 +18,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "cli_runner.h"
+#include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
@@ -55,8 +56,9 @@ std::vector<gpu::Ray> random_rays(std::size_t n, const Aabb& box, std::uint32_t 
   for (std::size_t i = 0; i < n; ++i) {
     glm::vec3 o = box.lo + glm::vec3(t(rng), t(rng), t(rng)) * box.extent();
     glm::vec3 d{dir(rng), dir(rng), dir(rng)};
-    if (i % 97 == 0) o[i % 3] = odd[(i / 97) % 8];
-    if (i % 89 == 0) d[(i + 1) % 3] = odd[(i / 89) % 8];
+    const int axis = static_cast<int>(i % 3);
+    if (i % 97 == 0) o[axis] = odd[(i / 97) % 8];
+    if (i % 89 == 0) d[(axis + 1) % 3] = odd[(i / 89) % 8];
     rays[i] = ray(o, d);
   }
   return rays;
@@ -111,7 +113,9 @@ TEST(RaySortKey, CpuOrderIsAStableSortByKey) {
     if (j == 0) continue;
     const std::uint32_t a = ray_sort_key(rays[order[j - 1]], g), b = ray_sort_key(rays[order[j]], g);
     ASSERT_LE(a, b) << "position " << j;
-    if (a == b) ASSERT_LT(order[j - 1], order[j]) << "equal keys out of queue order at " << j;
+    if (a == b) {
+      ASSERT_LT(order[j - 1], order[j]) << "equal keys out of queue order at " << j;
+    }
   }
 }
 
