@@ -31,6 +31,8 @@ constexpr auto kSortBindingTypes = [] {
   return t;
 }();
 
+constexpr const char* kSortLabel = "ray_sort";
+
 constexpr std::size_t kDoneWords = HRPP_SORT_PASSES + 1;
 
 // Most rays one sort takes: the item array's two halves in one storage buffer.
@@ -114,18 +116,18 @@ struct RaySorter::State {
     gpu::RaySortPushConstants pc = push_constants(n);
     const std::uint32_t half = static_cast<std::uint32_t>(max_rays);
     pc.dst = 0;
-    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, "ray_sort");
+    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
     for (std::uint32_t pass = 0; pass < HRPP_SORT_PASSES; ++pass) {
       pc.shift = pass * HRPP_SORT_DIGIT_BITS;
       pc.src = (pass % 2) * half;
       pc.dst = ((pass + 1) % 2) * half;
       const std::uint32_t block_groups = groups(pc.blocks, HRPP_SORT_WORKGROUP_SIZE);
-      record_dispatch(cmd, count, &pc, block_groups, t, "ray_sort");
-      record_dispatch(cmd, scan, &pc, 1, t, "ray_sort");
-      record_dispatch(cmd, scatter, &pc, block_groups, t, "ray_sort");
+      record_dispatch(cmd, count, &pc, block_groups, t, kSortLabel);
+      record_dispatch(cmd, scan, &pc, 1, t, kSortLabel);
+      record_dispatch(cmd, scatter, &pc, block_groups, t, kSortLabel);
     }
     pc.src = (HRPP_SORT_PASSES % 2) * half;
-    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, "ray_sort");
+    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
   }
 
   void finish(std::uint32_t n) const {
