@@ -105,8 +105,8 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
     const double base = median(total[0]);
     for (std::size_t v = 0; v < variants.size(); ++v) {
       const double ms = median(total[v]);
-      std::printf("%-12s %-8s %-24s %9.2f ms (sort %6.2f) %7.2f Mrays/s  %.3fx\n", scene.name.c_str(),
-                  kind.c_str(), variants[v].name().c_str(), ms, median(sort[v]),
+      std::printf("%-12s %-8s %-24s %9.2f ms (sort %6.2f) %7.2f Mrays/s  %.3fx\n",
+                  scene.name.c_str(), kind.c_str(), variants[v].name().c_str(), ms, median(sort[v]),
                   ms > 0 ? static_cast<double>(batch.size()) / (ms * 1e3) : 0.0,
                   ms > 0 ? base / ms : 0.0);
     }

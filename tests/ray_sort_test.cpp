@@ -93,7 +93,8 @@ TEST(RaySortKey, OctantAboveMortonCode) {
   flat.grow(glm::vec3(1, 1, 5));
   const RaySortGrid f = ray_sort_grid(flat);
   EXPECT_EQ(f.scale.z, 0.0f);
-  EXPECT_EQ(ray_sort_key(ray({1, 1, 9}, {1, 1, 1}), f), ray_sort_key(ray({1, 1, -9}, {1, 1, 1}), f));
+  EXPECT_EQ(ray_sort_key(ray({1, 1, 9}, {1, 1, 1}), f),
+            ray_sort_key(ray({1, 1, -9}, {1, 1, 1}), f));
   EXPECT_EQ(ray_sort_key(ray({1, 1, 5}, {1, 1, 1}), f) & 4u, 0u);  // z's lowest Morton bit
   EXPECT_EQ(ray_sort_key(ray({1, 1, 5}, {1, 1, 1}), f) & 3u, 3u);  // x, y in the last cell
   EXPECT_EQ(last & 1u, 1u);
@@ -111,7 +112,8 @@ TEST(RaySortKey, CpuOrderIsAStableSortByKey) {
     ASSERT_FALSE(seen[order[j]]) << "ray " << order[j] << " placed twice";
     seen[order[j]] = true;
     if (j == 0) continue;
-    const std::uint32_t a = ray_sort_key(rays[order[j - 1]], g), b = ray_sort_key(rays[order[j]], g);
+    const std::uint32_t a = ray_sort_key(rays[order[j - 1]], g);
+    const std::uint32_t b = ray_sort_key(rays[order[j]], g);
     ASSERT_LE(a, b) << "position " << j;
     if (a == b) {
       ASSERT_LT(order[j - 1], order[j]) << "equal keys out of queue order at " << j;

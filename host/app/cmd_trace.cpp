@@ -78,8 +78,12 @@ void run_trace(const TraceOptions& o) {
   VulkanContext ctx(o.vulkan);
   GpuTracer tracer(ctx, bvh, o.tracer, predictor);
   std::unique_ptr<RaySorter> sorter;
-  if (o.reorder != RayOrder::kOff)
+  if (o.reorder != RayOrder::kOff) {
+    if (rays.size() > RaySorter::kMaxRays)
+      throw Error("--reorder: " + std::to_string(rays.size()) + " rays exceed the " +
+                  std::to_string(RaySorter::kMaxRays) + " one sort takes");
     sorter = std::make_unique<RaySorter>(ctx, bvh.bounds, rays.size());
+  }
   if (o.repeat > 1) {
     tracer.warm_up();
     if (sorter) sorter->sort(rays);
@@ -139,6 +143,7 @@ void run_trace(const TraceOptions& o) {
                               {"query", o.any_hit ? "any" : "closest"},
                               {"kernel_ms_median", median},
                               {"reorder", ray_order_name(o.reorder)},
+                              {"bvh_layout", node_layout_name(o.bvh_layout)},
                               {"hits", c.hits},
                               {"interior_visited", c.interior_visited},
                               {"leaves_visited", c.leaves_visited},

@@ -35,9 +35,6 @@ constexpr const char* kSortLabel = "ray_sort";
 
 constexpr std::size_t kDoneWords = HRPP_SORT_PASSES + 1;
 
-// Most rays one sort takes: the item array's two halves in one storage buffer.
-constexpr std::size_t kMaxRays = std::size_t{1} << 22;
-
 std::uint32_t groups(std::uint32_t items, std::uint32_t per_group) {
   return (items + per_group - 1) / per_group;
 }
@@ -77,9 +74,9 @@ struct RaySorter::State {
   }
 
   static void check_max(std::size_t max) {
-    if (max > kMaxRays)
+    if (max > RaySorter::kMaxRays)
       throw Error("ray sort: " + std::to_string(max) + " rays exceed the " +
-                  std::to_string(kMaxRays) + " one sort takes");
+                  std::to_string(RaySorter::kMaxRays) + " one sort takes");
   }
 
   static ComputePipeline pipeline(VulkanContext& c, const char* name) {

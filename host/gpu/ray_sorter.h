@@ -6,6 +6,7 @@
 // stable_ray_order() exactly.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -30,6 +31,9 @@ struct RaySortResult {
 
 class RaySorter {
  public:
+  // Most rays one sort takes: the item array's two halves fill one storage buffer's range.
+  static constexpr std::size_t kMaxRays = std::size_t{1} << 22;
+
   // Sorts up to `max_rays` rays at once, keys quantized in `bounds` (the scene's). Throws
   // hrpp::Error when max_rays exceeds what one storage buffer holds.
   RaySorter(VulkanContext& ctx, const Aabb& bounds, std::size_t max_rays);

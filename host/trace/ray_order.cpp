@@ -65,7 +65,8 @@ std::vector<std::uint32_t> stable_ray_order(std::span<const gpu::Ray> rays,
   std::uint32_t run = 0;
   for (std::uint32_t& n : next) run += std::exchange(n, run);
   std::vector<std::uint32_t> order(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) order[next[keys[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    order[next[keys[i]]++] = static_cast<std::uint32_t>(i);
   return order;
 }
 
