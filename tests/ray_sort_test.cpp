@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
@@ -211,6 +212,25 @@ TEST_F(ReorderCli, TraceWritesTheSameHitsFile) {
     EXPECT_EQ(a.size(), rays.size() * sizeof(gpu::Hit));
     EXPECT_TRUE(a == b) << "the hits file changed with --reorder morton" << any;
   }
+}
+
+// hrpp render --reorder morton: the stats name the order, time the sort and count the rays of
+// the --reorder off render.
+TEST_F(ReorderCli, RenderStatsNameTheOrderAndTimeTheSort) {
+  const std::string base = "render builtin:cornell --size 24x16 --spp 1 --seed 4";
+  const test::CliResult off = run(base + " --out " + (dir_ / "off.exr").string() + " --stats " +
+                                  (dir_ / "off.json").string());
+  ASSERT_EQ(off.status, 0) << off.err;
+  const test::CliResult on = run(base + " --reorder morton --out " + (dir_ / "on.exr").string() +
+                                 " --stats " + (dir_ / "on.json").string());
+  ASSERT_EQ(on.status, 0) << on.err;
+  const nlohmann::json a = nlohmann::json::parse(test::read_file(dir_ / "off.json"));
+  const nlohmann::json b = nlohmann::json::parse(test::read_file(dir_ / "on.json"));
+  EXPECT_EQ(a["config"]["reorder"], "off");
+  EXPECT_EQ(b["config"]["reorder"], "morton");
+  EXPECT_FALSE(a["kernels_ms"].contains("ray_sort"));
+  EXPECT_GT(b["kernels_ms"]["ray_sort"].get<double>(), 0.0);
+  EXPECT_EQ(a["rays"], b["rays"]);  // the same paths, bounce by bounce
 }
 
 TEST_F(ReorderCli, BadValueIsAnErrorNamingTheFlag) {
