@@ -98,7 +98,6 @@ struct RaySorter::State {
                                              groups(n, HRPP_SORT_MAX_BLOCKS));
     pc.blocks = groups(n, pc.block_items);
     pc.payload = payload ? 1u : 0u;
-    pc.key_kind = HRPP_SORT_KEY_MORTON;
     return pc;
   }
 

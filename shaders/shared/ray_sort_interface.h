@@ -28,9 +28,6 @@ namespace hrpp::gpu {
 #define HRPP_SORT_MAX_BLOCKS 1024
 #define HRPP_SORT_MIN_BLOCK_ITEMS 64
 
-// Key kinds (RaySortPushConstants.key_kind).
-#define HRPP_SORT_KEY_MORTON 0u
-
 // Bindings shared by every sort kernel (each uses what it needs).
 #define HRPP_SORT_BINDING_RAYS 0          // uniform texel buffer: the rays in queue order
 #define HRPP_SORT_BINDING_ITEMS 1         // uvec2 (key, source index), two halves (ping-pong)
@@ -50,7 +47,7 @@ struct RaySortPushConstants {
   uint src;      // first item of the pass's input half of ITEMS
   uint dst;      // first item of its output half
   uint payload;  // 1: gather the payload too
-  uint key_kind; // HRPP_SORT_KEY_*
+  uint pad;
 };
 
 #ifdef __cplusplus
