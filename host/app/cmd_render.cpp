@@ -164,6 +164,11 @@ void add_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
       ->capture_default_str();
+  cmd->add_option("--reorder", o->render.reorder,
+                  "Sort each bounce's continuation rays before tracing them: off, or morton "
+                  "(direction octant, then the origin's Morton code); the image is the same")
+      ->transform(CLI::CheckedTransformer(ray_order_names()))
+      ->default_str(ray_order_name(o->render.reorder));
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_render(*o); });
 }

@@ -17,8 +17,10 @@
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
+#include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
 #include "scene/load_scene.h"
+#include "trace/ray_order.h"
 
 namespace hrpp::app {
 namespace {
@@ -34,6 +36,8 @@ struct TraceOptions {
   GpuTracerConfig tracer;
   int repeat = 1;
   BvhConfig bvh;
+  NodeLayout bvh_layout = NodeLayout::kDfs;
+  RayOrder reorder = RayOrder::kOff;
   HrppOptions hrpp;
   std::string stats;
 };
@@ -52,16 +56,38 @@ std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
   return rays;
 }
 
+// Traces the rays, sorted on the device first when `sorter` is given (its time added to
+// kernel_ms); the hits come back in the file's order.
+GpuTraceResult trace_rays(GpuTracer& tracer, RaySorter* sorter,
+                          const std::vector<gpu::Ray>& rays, bool any_hit) {
+  if (!sorter) return tracer.trace(rays, any_hit);
+  const RaySortResult sorted = sorter->sort(rays);
+  GpuTraceResult r = tracer.trace(sorted.rays, any_hit);
+  r.hits = hits_in_queue_order(r.hits, sorted.order);
+  r.kernel_ms += sorted.kernel_ms;
+  return r;
+}
+
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene, o.bvh_layout);
   const PredictorConfig predictor = o.hrpp.config();
   VulkanContext ctx(o.vulkan);
   GpuTracer tracer(ctx, bvh, o.tracer, predictor);
-  if (o.repeat > 1) tracer.warm_up();
+  std::unique_ptr<RaySorter> sorter;
+  if (o.reorder != RayOrder::kOff) {
+    if (rays.size() > RaySorter::kMaxRays)
+      throw Error("--reorder: " + std::to_string(rays.size()) + " rays exceed the " +
+                  std::to_string(RaySorter::kMaxRays) + " one sort takes");
+    sorter = std::make_unique<RaySorter>(ctx, bvh.bounds, rays.size());
+  }
+  if (o.repeat > 1) {
+    tracer.warm_up();
+    if (sorter) sorter->sort(rays);
+  }
 
   // Every run starts from an empty table; HRPP's figures come from one more run that also
   // counts what full traversals would visit (outside the timings).
@@ -69,7 +95,7 @@ void run_trace(const TraceOptions& o) {
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
     tracer.clear_predictor();
-    result = tracer.trace(rays, o.any_hit);
+    result = trace_rays(tracer, sorter.get(), rays, o.any_hit);
     ms.push_back(result.kernel_ms);
   }
   std::string hrpp_text = "off";
@@ -77,7 +103,7 @@ void run_trace(const TraceOptions& o) {
   if (predictor.predicts(ray_file_class(o.any_hit))) {
     tracer.clear_predictor();
     tracer.set_count_baseline(true);
-    const GpuTraceResult counted = tracer.trace(rays, o.any_hit);
+    const GpuTraceResult counted = trace_rays(tracer, sorter.get(), rays, o.any_hit);
     const PredictorSummary s = summarize(counted.predictor, counted.counters,
                                          tracer.predictor_occupancy(ray_file_class(o.any_hit)), true);
     hrpp_text = describe(predictor) + "\n" + format_summary("", s, o.any_hit);
@@ -103,6 +129,8 @@ void run_trace(const TraceOptions& o) {
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0, static_cast<int>(o.tracer.rays_per_invocation));
+  std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
+              sorter ? " (the sort's device time is in the kernel time)" : "");
   std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
               n > 0 ? static_cast<double>(c.interior_visited) / n : 0.0,
               n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
@@ -114,6 +142,8 @@ void run_trace(const TraceOptions& o) {
                               {"rays", rays.size()},
                               {"query", o.any_hit ? "any" : "closest"},
                               {"kernel_ms_median", median},
+                              {"reorder", ray_order_name(o.reorder)},
+                              {"bvh_layout", node_layout_name(o.bvh_layout)},
                               {"hits", c.hits},
                               {"interior_visited", c.interior_visited},
                               {"leaves_visited", c.leaves_visited},
@@ -155,6 +185,16 @@ void add_trace_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
       ->capture_default_str();
+  cmd->add_option("--bvh-layout", o->bvh_layout,
+                  "Node numbering: dfs (left subtree first) or dfs-large-first (the child with "
+                  "the larger surface area first); answers are the same")
+      ->transform(CLI::CheckedTransformer(node_layout_names()))
+      ->default_str(node_layout_name(o->bvh_layout));
+  cmd->add_option("--reorder", o->reorder,
+                  "Sort the rays on the device before tracing (sort time counted): off, or morton "
+                  "(direction octant, then the origin's Morton code); hits stay in file order")
+      ->transform(CLI::CheckedTransformer(ray_order_names()))
+      ->default_str(ray_order_name(o->reorder));
   cmd->add_option("--stats", o->stats, "Write the figures and the HRPP configuration as JSON");
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_trace(*o); });

@@ -9,7 +9,8 @@ namespace {
 
 class Flattener {
  public:
-  Flattener(const Bvh& bvh, const Scene& scene, GpuBvh& out) : bvh_(bvh), scene_(scene), out_(out) {}
+  Flattener(const Bvh& bvh, const Scene& scene, NodeLayout layout, GpuBvh& out)
+      : bvh_(bvh), scene_(scene), layout_(layout), out_(out) {}
 
   // Returns the child reference of base node `index` placed under `parent` at `depth`.
   int place(std::uint32_t index, int parent, int depth) {
@@ -20,8 +21,15 @@ class Flattener {
                   " levels)");
     const int self = static_cast<int>(out_.nodes.size());
     out_.nodes.emplace_back();
-    const int left = place(n.first, self, depth + 1);
-    const int right = place(n.first + 1, self, depth + 1);
+    // The links stay left/right whatever the numbering, so traversal visits the same nodes.
+    int left = 0, right = 0;
+    if (right_first(n)) {
+      right = place(n.first + 1, self, depth + 1);
+      left = place(n.first, self, depth + 1);
+    } else {
+      left = place(n.first, self, depth + 1);
+      right = place(n.first + 1, self, depth + 1);
+    }
     write_node(self, bvh_.nodes[n.first].bounds, bvh_.nodes[n.first + 1].bounds, left, right,
                parent, depth);
     return self;
@@ -37,6 +45,12 @@ class Flattener {
   }
 
  private:
+  // Whether the right child's subtree is numbered first (right after its parent).
+  bool right_first(const Bvh::Node& n) const {
+    if (layout_ != NodeLayout::kDfsLargeFirst) return false;
+    return bvh_.nodes[n.first + 1].bounds.area() > bvh_.nodes[n.first].bounds.area();
+  }
+
   int add_leaf(std::uint32_t first, std::uint32_t count, int parent, int depth) {
     gpu::BvhLeaf leaf;
     leaf.first_triangle = static_cast<gpu::uint>(out_.triangles.size());
@@ -68,19 +82,34 @@ class Flattener {
 
   const Bvh& bvh_;
   const Scene& scene_;
+  NodeLayout layout_;
   GpuBvh& out_;
 };
 
 }  // namespace
 
-GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene) {
+const char* node_layout_name(NodeLayout l) {
+  switch (l) {
+    case NodeLayout::kDfs: return "dfs";
+    case NodeLayout::kDfsLargeFirst: return "dfs-large-first";
+  }
+  return "?";
+}
+
+const std::map<std::string, NodeLayout>& node_layout_names() {
+  static const std::map<std::string, NodeLayout> kNames = {
+      {"dfs", NodeLayout::kDfs}, {"dfs-large-first", NodeLayout::kDfsLargeFirst}};
+  return kNames;
+}
+
+GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout) {
   GpuBvh out;
   if (bvh.nodes.empty()) throw Error("BVH has no nodes");
   out.bounds = bvh.nodes[0].bounds;
   out.nodes.reserve(bvh.nodes.size() / 2 + 1);
   out.leaves.reserve(bvh.nodes.size() / 2 + 2);
   out.triangles.reserve(bvh.prim_ids.size());
-  Flattener f(bvh, scene, out);
+  Flattener f(bvh, scene, layout, out);
   if (bvh.nodes[0].is_leaf() || bvh.nodes.size() == 1)
     f.place_lone_leaf();
   else

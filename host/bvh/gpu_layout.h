@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "bvh/aabb.h"
@@ -42,10 +44,21 @@ struct GpuBvh {
   }
 };
 
-// Interior nodes numbered depth-first (left subtree first), leaves in the order met, triangle
-// records in leaf order: the same tree always gets the same layout. A tree that is one leaf gets
-// an interior root whose right child is an empty leaf. Throws hrpp::Error when the tree is deeper
-// than HRPP_STACK_SIZE.
-GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene);
+// How interior nodes are numbered (--bvh-layout). Only the numbering changes: every node keeps
+// its left and right child, so a traversal visits the same nodes and answers the same.
+enum class NodeLayout {
+  kDfs,            // depth-first, left subtree first
+  kDfsLargeFirst,  // depth-first, the child with the larger surface area (more likely hit)
+                   // first: it follows its parent in memory
+};
+const char* node_layout_name(NodeLayout l);
+// Name → value, for the command line (CLI11's CheckedTransformer).
+const std::map<std::string, NodeLayout>& node_layout_names();
+
+// Interior nodes numbered depth-first (which subtree first: `layout`), leaves in the order met,
+// triangle records in leaf order: the same tree always gets the same layout. A tree that is one
+// leaf gets an interior root whose right child is an empty leaf. Throws hrpp::Error when the tree
+// is deeper than HRPP_STACK_SIZE.
+GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout = NodeLayout::kDfs);
 
 }  // namespace hrpp

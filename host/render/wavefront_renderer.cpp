@@ -12,12 +12,18 @@
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
+#include "gpu/ray_sorter.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "render_interface.h"
 
 namespace hrpp {
+
+// The sort's gather moves a payload of 2 texels per ray (shaders/ray_sort_gather.comp).
+static_assert(sizeof(gpu::PathState) == 2 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
+
 namespace {
 
 constexpr auto kBindingTypes = [] {
@@ -141,6 +147,8 @@ struct WavefrontRenderer::State {
   StorageBuffer shade_triangles, materials, lights, textures, texels;
   TexelView shade_view, material_view, light_view;
   TexelView ray_view, hit_view, shadow_hit_view, path_view;  // over the tracer's arrays, `paths`
+  std::unique_ptr<RaySorter> sorter;  // --reorder: sorts next_rays/next_paths into place
+  TexelView next_ray_view, next_path_view;  // what the sorter reads
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
   ComputePipeline generate, shade, accumulate;
   KernelTimer timer;
@@ -182,8 +190,9 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 32),
+        timer(c, 48),  // up to 12 HRPP dispatches, 8 of the sort, the render kernels
         adaptive(config.predictor) {
+    if (cfg.reorder != RayOrder::kOff) make_sorter(bvh.bounds);
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {
       p->bind(HRPP_RENDER_BINDING_PARAMS, params);
       p->bind(HRPP_RENDER_BINDING_PATHS, paths);
@@ -205,6 +214,24 @@ struct WavefrontRenderer::State {
       p->bind(HRPP_RENDER_BINDING_TEXELS, texels);
     }
     upload_params(scene.cameras[cfg.camera]);
+  }
+
+  // The continuation rays and paths are sorted from next_rays/next_paths straight into the
+  // tracer's ray array and `paths`: the sort's gather replaces the bounce's copies.
+  void make_sorter(const Aabb& bounds) {
+    sorter = std::make_unique<RaySorter>(ctx, bounds, wave);
+    next_ray_view = TexelView(ctx, next_rays);
+    next_path_view = TexelView(ctx, next_paths);
+    sorter->bind(next_ray_view, ray_view, &next_path_view, &path_view);
+  }
+
+  // At the start of a bounce after the first: the continuation rays and their paths into place,
+  // sorted (--reorder) or copied as they are.
+  void record_continuations(VkCommandBuffer cmd, std::uint32_t n) {
+    if (sorter) return sorter->record(cmd, n, &timer);
+    record_copy(cmd, next_rays, 0, tracer.ray_buffer(RayClass::kCamera, wave), 0,
+                std::size_t{n} * sizeof(gpu::Ray));
+    record_copy(cmd, next_paths, 0, paths, 0, std::size_t{n} * sizeof(gpu::PathState));
   }
 
   void upload_params(const Camera& cam) {
@@ -301,11 +328,7 @@ struct WavefrontRenderer::State {
       const gpu::RenderQueues q = submit(
           [&](VkCommandBuffer cmd) {
             record_update(cmd, queues, 0, sizeof kRenderQueuesStart, &kRenderQueuesStart);
-            if (depth > 0) {
-              record_copy(cmd, next_rays, 0, tracer.ray_buffer(RayClass::kCamera, wave), 0,
-                          std::size_t{n} * sizeof(gpu::Ray));
-              record_copy(cmd, next_paths, 0, paths, 0, std::size_t{n} * sizeof(gpu::PathState));
-            }
+            if (depth > 0) record_continuations(cmd, n);
             transfer_compute_barrier(cmd);
             if (depth == 0) {
               const gpu::RenderPushConstants pc{first, n, sample, 0};
@@ -318,6 +341,7 @@ struct WavefrontRenderer::State {
           },
           "render bounce", stats);
       if (depth == 0) check_done("render_generate", q.done[HRPP_RENDER_DONE_GENERATE], n);
+      if (depth > 0 && sorter) sorter->finish(n);
       check_done("render_shade", q.done[HRPP_RENDER_DONE_SHADE], n);
       if (q.next_rays > n || q.shadow_rays > n)
         throw Error("render_shade: queue overflow (" + std::to_string(q.next_rays) + ", " +

@@ -25,6 +25,7 @@
 #include "hrpp/ray_class.h"
 #include "render/render_scene.h"
 #include "scene/scene.h"
+#include "trace/ray_order.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -49,6 +50,10 @@ struct RenderConfig {
   // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe facts"). The image and
   // the counters leave it out.
   bool warm_up = true;
+  // The continuation rays' order before each bounce's trace (--reorder): kMorton sorts them
+  // with their path states on the GPU (host/gpu/ray_sorter.h); the image is the same bit for
+  // bit, only the trace's coherence changes.
+  RayOrder reorder = RayOrder::kOff;
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };

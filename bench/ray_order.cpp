@@ -1,0 +1,151 @@
+// Ray reordering and node layout (issue 12, items 1 and 2): per scene and Aila–Laine batch kind
+// (host/trace/ray_batches.h), the GPU trace's device time with each combination of --reorder
+// (off, morton: the sort's device time included) and --bvh-layout (dfs, dfs-large-first),
+// interleaved round by round on the same rays, medians and the ratio to (dfs, off). Every
+// variant's hits must equal the baseline's bit for bit (it exits 1 otherwise). Not a test.
+//   bench_ray_order [SCENE...] [--rays N] [--repeat R] [--kinds primary,ao,diffuse] [--device D]
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/ray_sorter.h"
+#include "gpu/vulkan_context.h"
+#include "scene/load_scene.h"
+#include "trace/ray_batches.h"
+#include "trace/ray_order.h"
+
+namespace hrpp {
+namespace {
+
+struct Variant {
+  NodeLayout layout;
+  RayOrder order;
+  std::string name() const {
+    return std::string(node_layout_name(layout)) + " / " + ray_order_name(order);
+  }
+};
+
+struct Timed {
+  std::vector<gpu::Hit> hits;
+  double trace_ms = 0.0, sort_ms = 0.0;
+};
+
+Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ray>& rays,
+                 RayOrder order, bool any_hit) {
+  Timed t;
+  if (order == RayOrder::kOff) {
+    GpuTraceResult r = tracer.trace(rays, any_hit);
+    t.hits = std::move(r.hits);
+    t.trace_ms = r.kernel_ms;
+    return t;
+  }
+  const RaySortResult s = sorter.sort(rays);
+  const GpuTraceResult r = tracer.trace(s.rays, any_hit);
+  t.hits = hits_in_queue_order(r.hits, s.order);
+  t.trace_ms = r.kernel_ms;
+  t.sort_ms = s.kernel_ms;
+  return t;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int repeat,
+              const std::vector<std::string>& kinds) {
+  const Scene scene = load_scene(name);
+  const Bvh bvh = build_bvh(scene, BvhConfig{});
+  const std::vector<Variant> variants = {{NodeLayout::kDfs, RayOrder::kOff},
+                                         {NodeLayout::kDfs, RayOrder::kMorton},
+                                         {NodeLayout::kDfsLargeFirst, RayOrder::kOff},
+                                         {NodeLayout::kDfsLargeFirst, RayOrder::kMorton}};
+  GpuBvh layouts[2] = {make_gpu_layout(bvh, scene, NodeLayout::kDfs),
+                       make_gpu_layout(bvh, scene, NodeLayout::kDfsLargeFirst)};
+  std::unique_ptr<GpuTracer> tracers[2];
+  for (int l = 0; l < 2; ++l) {
+    tracers[l] = std::make_unique<GpuTracer>(ctx, layouts[l]);
+    tracers[l]->warm_up();
+  }
+  RayBatchConfig bc;
+  bc.secondary_count = rays;
+  const RayBatches b = make_ray_batches(scene, layouts[0], bc);
+  RaySorter sorter(ctx, layouts[0].bounds, std::max(b.primary.size(), rays));
+  int failures = 0;
+  for (const std::string& kind : kinds) {
+    const bool any_hit = kind == "ao";
+    const std::vector<gpu::Ray>& batch =
+        kind == "primary" ? b.primary : kind == "ao" ? b.ao.rays : b.diffuse.rays;
+    std::vector<std::vector<double>> total(variants.size()), sort(variants.size());
+    std::vector<gpu::Hit> baseline;
+    sorter.sort(batch);  // JIT warm-up of the sort kernels
+    for (int round = 0; round < repeat; ++round)
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        const int l = variants[v].layout == NodeLayout::kDfs ? 0 : 1;
+        const Timed t = trace_once(*tracers[l], sorter, batch, variants[v].order, any_hit);
+        total[v].push_back(t.trace_ms + t.sort_ms);
+        sort[v].push_back(t.sort_ms);
+        if (v == 0 && round == 0) baseline = t.hits;
+        if (t.hits.size() != baseline.size() ||
+            std::memcmp(t.hits.data(), baseline.data(), baseline.size() * sizeof(gpu::Hit)) != 0) {
+          std::fprintf(stderr, "%s %s %s: hits differ from dfs / off\n", name.c_str(),
+                       kind.c_str(), variants[v].name().c_str());
+          ++failures;
+        }
+      }
+    const double base = median(total[0]);
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      const double ms = median(total[v]);
+      std::printf("%-12s %-8s %-24s %9.2f ms (sort %6.2f) %7.2f Mrays/s  %.3fx\n",
+                  scene.name.c_str(), kind.c_str(), variants[v].name().c_str(), ms, median(sort[v]),
+                  ms > 0 ? static_cast<double>(batch.size()) / (ms * 1e3) : 0.0,
+                  ms > 0 ? base / ms : 0.0);
+    }
+  }
+  return failures;
+}
+
+}  // namespace
+}  // namespace hrpp
+
+int main(int argc, char** argv) {
+  std::vector<std::string> scenes = {"bunny"};
+  std::vector<std::string> kinds = {"primary", "ao", "diffuse"};
+  std::size_t rays = std::size_t{1} << 20;
+  int repeat = 5;
+  hrpp::VulkanOptions vk;
+  CLI::App app{"Ray reordering and node layouts: GPU trace time with and without"};
+  app.add_option("scenes", scenes, "Scenes (names in scenes/, files)")->capture_default_str();
+  app.add_option("--rays", rays, "Rays per AO / diffuse batch (primary: 1024x1024)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 22));
+  app.add_option("--repeat", repeat, "Interleaved rounds; medians are printed")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  app.add_option("--kinds", kinds, "Batch kinds: primary, ao, diffuse")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"primary", "ao", "diffuse"}))
+      ->capture_default_str();
+  app.add_option("--device", vk.device, "Vulkan device (index or name substring)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    hrpp::VulkanContext ctx(vk);
+    std::printf("device %s; ratio: (dfs / off) time / this time, > 1 is faster\n",
+                ctx.info().name.c_str());
+    int failures = 0;
+    for (const std::string& s : scenes) failures += hrpp::run_scene(ctx, s, rays, repeat, kinds);
+    return failures == 0 ? 0 : 1;
+  } catch (const hrpp::Error& e) {
+    std::fprintf(stderr, "bench_ray_order: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,208 @@
+#include "gpu/ray_sorter.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+
+#include "common/error.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
+#include "gpu/vulkan_context.h"
+#include "ray_sort_interface.h"
+#include "trace/ray_order.h"
+
+namespace hrpp {
+
+static_assert(sizeof(gpu::RaySortPushConstants) == 64);
+static_assert(HRPP_SORT_PASSES * HRPP_SORT_DIGIT_BITS >= HRPP_SORT_KEY_BITS);
+static_assert(HRPP_SORT_BINS == 1 << HRPP_SORT_DIGIT_BITS);
+
+namespace {
+
+constexpr auto kSortBindingTypes = [] {
+  std::array<VkDescriptorType, HRPP_SORT_BINDING_COUNT> t{};
+  t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[HRPP_SORT_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_SORT_BINDING_PAYLOAD] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_SORT_BINDING_SORTED_RAYS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  t[HRPP_SORT_BINDING_SORTED_PAYLOAD] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+  return t;
+}();
+
+constexpr const char* kSortLabel = "ray_sort";
+
+constexpr std::size_t kDoneWords = HRPP_SORT_PASSES + 1;
+
+std::uint32_t groups(std::uint32_t items, std::uint32_t per_group) {
+  return (items + per_group - 1) / per_group;
+}
+
+}  // namespace
+
+struct RaySorter::State {
+  VulkanContext& ctx;
+  RaySortGrid grid;
+  std::size_t max_rays;
+  StorageBuffer items, counts;
+  ComputePipeline keys, count, scan, scatter, gather;
+  // sort(): the host's rays and their sorted copy, grown on demand.
+  StorageBuffer host_rays, host_sorted;
+  TexelView host_ray_view, host_sorted_view;
+  KernelTimer timer;
+  bool payload = false;  // bind() was given payload arrays
+
+  State(VulkanContext& c, const Aabb& bounds, std::size_t max)
+      : ctx(c),
+        grid(ray_sort_grid(bounds)),
+        max_rays((check_max(max), std::max<std::size_t>(max, 1))),
+        items(c, 2 * max_rays * 2 * sizeof(std::uint32_t), "ray sort items"),
+        counts(c, (kDoneWords + std::size_t{HRPP_SORT_BINS} * HRPP_SORT_MAX_BLOCKS) *
+                      sizeof(std::uint32_t),
+               "ray sort counts"),
+        keys(pipeline(c, "ray_sort_keys")),
+        count(pipeline(c, "ray_sort_count")),
+        scan(pipeline(c, "ray_sort_scan")),
+        scatter(pipeline(c, "ray_sort_scatter")),
+        gather(pipeline(c, "ray_sort_gather")),
+        timer(c, 2 + 3 * HRPP_SORT_PASSES) {
+    for (ComputePipeline* p : all()) {
+      p->bind(HRPP_SORT_BINDING_ITEMS, items);
+      p->bind(HRPP_SORT_BINDING_COUNTS, counts);
+    }
+  }
+
+  static void check_max(std::size_t max) {
+    if (max > RaySorter::kMaxRays)
+      throw Error("ray sort: " + std::to_string(max) + " rays exceed the " +
+                  std::to_string(RaySorter::kMaxRays) + " one sort takes");
+  }
+
+  static ComputePipeline pipeline(VulkanContext& c, const char* name) {
+    return ComputePipeline(c, name, embedded_spirv(name), kSortBindingTypes,
+                           sizeof(gpu::RaySortPushConstants));
+  }
+
+  std::array<ComputePipeline*, 5> all() { return {&keys, &count, &scan, &scatter, &gather}; }
+
+  gpu::RaySortPushConstants push_constants(std::uint32_t n) const {
+    gpu::RaySortPushConstants pc{};
+    pc.lo = glm::vec4(grid.lo, 0.0f);
+    pc.scale = glm::vec4(grid.scale, 0.0f);
+    pc.count = n;
+    // Enough items per block that blocks stay <= HRPP_SORT_MAX_BLOCKS: the scan's loops then
+    // run at most 2 × HRPP_SORT_BINS × HRPP_SORT_MAX_BLOCKS / HRPP_SORT_SCAN_WORKGROUP_SIZE
+    // iterations, and a block's at most 2 × HRPP_SORT_BINS + kMaxRays / HRPP_SORT_MAX_BLOCKS.
+    pc.block_items = std::max<std::uint32_t>(HRPP_SORT_MIN_BLOCK_ITEMS,
+                                             groups(n, HRPP_SORT_MAX_BLOCKS));
+    pc.blocks = groups(n, pc.block_items);
+    pc.payload = payload ? 1u : 0u;
+    return pc;
+  }
+
+  void record(VkCommandBuffer cmd, std::uint32_t n, KernelTimer* t) {
+    if (n > max_rays)
+      throw Error("ray sort: " + std::to_string(n) + " rays exceed the sorter's " +
+                  std::to_string(max_rays));
+    const std::array<std::uint32_t, kDoneWords> zero{};
+    record_update(cmd, counts, 0, sizeof zero, zero.data());
+    transfer_compute_barrier(cmd);
+    if (n == 0) return;
+    gpu::RaySortPushConstants pc = push_constants(n);
+    const std::uint32_t half = static_cast<std::uint32_t>(max_rays);
+    pc.dst = 0;
+    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
+    for (std::uint32_t pass = 0; pass < HRPP_SORT_PASSES; ++pass) {
+      pc.shift = pass * HRPP_SORT_DIGIT_BITS;
+      pc.src = (pass % 2) * half;
+      pc.dst = ((pass + 1) % 2) * half;
+      const std::uint32_t block_groups = groups(pc.blocks, HRPP_SORT_WORKGROUP_SIZE);
+      record_dispatch(cmd, count, &pc, block_groups, t, kSortLabel);
+      record_dispatch(cmd, scan, &pc, 1, t, kSortLabel);
+      record_dispatch(cmd, scatter, &pc, block_groups, t, kSortLabel);
+    }
+    pc.src = (HRPP_SORT_PASSES % 2) * half;
+    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
+  }
+
+  void finish(std::uint32_t n) const {
+    std::array<std::uint32_t, kDoneWords> done{};
+    counts.download(done.data(), sizeof done);
+    for (std::size_t k = 0; k < kDoneWords; ++k)
+      if (done[k] != n)
+        throw Error(std::string(k < HRPP_SORT_PASSES ? "ray_sort_scatter" : "ray_sort_gather") +
+                    ": placed " + std::to_string(done[k]) + " of " + std::to_string(n) +
+                    " rays: the driver's loop limiter or a lost dispatch");
+  }
+
+  std::vector<std::uint32_t> order(std::uint32_t n) const {
+    std::vector<std::uint32_t> pairs(2 * std::size_t{n});
+    const std::size_t first = (HRPP_SORT_PASSES % 2) * max_rays;
+    items.download(pairs.data(), pairs.size() * sizeof(std::uint32_t),
+                   first * 2 * sizeof(std::uint32_t));
+    std::vector<std::uint32_t> out(n);
+    for (std::size_t j = 0; j < n; ++j) out[j] = pairs[2 * j + 1];
+    return out;
+  }
+};
+
+RaySorter::RaySorter(VulkanContext& ctx, const Aabb& bounds, std::size_t max_rays)
+    : s_(std::make_unique<State>(ctx, bounds, max_rays)) {}
+
+RaySorter::~RaySorter() = default;
+
+void RaySorter::bind(const TexelView& rays, const TexelView& sorted_rays,
+                     const TexelView* payload, const TexelView* sorted_payload) {
+  for (ComputePipeline* p : s_->all()) {
+    p->bind(HRPP_SORT_BINDING_RAYS, rays);
+    p->bind(HRPP_SORT_BINDING_SORTED_RAYS, sorted_rays);
+    // Without payloads the kernels never touch these bindings; the rays stand in.
+    p->bind(HRPP_SORT_BINDING_PAYLOAD, payload ? *payload : rays);
+    p->bind(HRPP_SORT_BINDING_SORTED_PAYLOAD, sorted_payload ? *sorted_payload : sorted_rays);
+  }
+  s_->payload = payload != nullptr;
+}
+
+void RaySorter::record(VkCommandBuffer cmd, std::uint32_t count, KernelTimer* timer) {
+  s_->record(cmd, count, timer);
+}
+
+void RaySorter::finish(std::uint32_t count) const { s_->finish(count); }
+
+std::vector<std::uint32_t> RaySorter::order(std::uint32_t count) const {
+  return s_->order(count);
+}
+
+RaySortResult RaySorter::sort(std::span<const gpu::Ray> rays) {
+  const auto n = static_cast<std::uint32_t>(rays.size());
+  RaySortResult out;
+  if (n == 0) return out;
+  State& s = *s_;
+  if (s.host_rays.size() < rays.size_bytes()) {
+    s.host_ray_view = TexelView();
+    s.host_sorted_view = TexelView();
+    s.host_rays = StorageBuffer();
+    s.host_sorted = StorageBuffer();
+    s.host_rays = StorageBuffer(s.ctx, rays.size_bytes(), "rays to sort");
+    s.host_sorted = StorageBuffer(s.ctx, rays.size_bytes(), "sorted rays");
+    s.host_ray_view = TexelView(s.ctx, s.host_rays);
+    s.host_sorted_view = TexelView(s.ctx, s.host_sorted);
+  }
+  bind(s.host_ray_view, s.host_sorted_view, nullptr, nullptr);
+  s.host_rays.upload(rays);
+  s.ctx.submit_and_wait(
+      [&](VkCommandBuffer cmd) {
+        s.timer.reset(cmd);
+        s.record(cmd, n, &s.timer);
+      },
+      "ray sort");
+  s.finish(n);
+  for (const auto& [kernel, ms] : s.timer.read_ms()) out.kernel_ms += ms;
+  out.rays.resize(n);
+  s.host_sorted.download(out.rays.data(), rays.size_bytes());
+  out.order = s.order(n);
+  return out;
+}
+
+}  // namespace hrpp
