@@ -1,6 +1,6 @@
 // host/render/ + shaders/render_shade.comp: direct light against closed forms on the Vulkan
-// device (lavapipe here), under the validation layer; the closed forms that are one-bounce
-// integrals (ClosedForm) also on the CPU reference renderer (host/cpu_render/). A receiver close to a two-sided emissive
+// device (lavapipe here), under the validation layer; the ClosedForm tests also on the CPU
+// reference renderer (host/cpu_render/). A receiver close to a two-sided emissive
 // square (gaps 1e-4..1, the scene translated by 0, 1e2 and 1e4), the Cornell box with its light
 // hung at a gap below the ceiling, point/spot/directional lights over a diffuse plane (with
 // blockers before and behind the light), a diffuse convex body in a constant environment, and

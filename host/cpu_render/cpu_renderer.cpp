@@ -32,18 +32,20 @@ struct PathTracer {
     const gpu::LightSample ls = gpu::sample_light(light, s, u.light_u1, u.light_u2);
     const vec3 contribution = gpu::light_contribution(path, lobe, s, wo, ls, prob);
     if (!gpu::traces_shadow_ray(contribution, ls)) return;
-    if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow])) pixel += glm::vec4(contribution, 0.0f);
+    if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow]))
+      pixel += glm::vec4(contribution, 0.0f);
   }
 
   // One path vertex at a hit (render_shade): adds what it sees to `pixel`; false when the path
   // ends, otherwise ray and path become the continuation's.
   bool shade_hit(gpu::Ray& ray, const gpu::Hit& hit, gpu::PathState& path, glm::vec4& pixel) {
-    const gpu::SurfaceHit s = gpu::make_surface_hit(rs.triangles[static_cast<std::size_t>(hit.prim)],
-                                                    hit, ray.dir);
+    const gpu::ShadeTriangle& t = rs.triangles[static_cast<std::size_t>(hit.prim)];
+    const gpu::SurfaceHit s = gpu::make_surface_hit(t, hit, ray.dir);
     const gpu::GpuMaterial& m = rs.materials[s.material];
     const vec3 wo = -ray.dir;
     vec3 radiance(0.0f);
-    if (gpu::counts_emission(path) && gpu::kEmissiveTriangles) radiance += path.throughput * m.emission;
+    if (gpu::counts_emission(path) && gpu::kEmissiveTriangles)
+      radiance += path.throughput * m.emission;
     vec3 albedo = m.base_color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
@@ -121,7 +123,8 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
   out.stats.triangles = rs_.triangles.size();
   out.stats.emissive_triangles = rs_.emissive_triangles;
   out.stats.delta_lights = rs_.delta_lights;
-  out.stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.stats.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 

@@ -82,7 +82,8 @@ HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, flo
   // Heitz 2018, listing 1: stretch, sample the projected disk, unstretch.
   const vec3 vh = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
   const float len2 = vh.x * vh.x + vh.y * vh.y;
-  const vec3 t1 = len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
+  const vec3 t1 =
+      len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
   const vec3 t2 = cross(vh, t1);
   const float r = sqrt(u1);
   const float phi = 2.0f * kPi * u2;
