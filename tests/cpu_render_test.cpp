@@ -23,6 +23,7 @@
 #include "cli_runner.h"
 #include "common/error.h"
 #include "cpu_render/cpu_renderer.h"
+#include "cpu_render/scene_lookups.h"
 #include "gpu/vulkan_context.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
@@ -193,6 +194,34 @@ TEST(CpuReference, AgreesWithTheDeviceOnEveryLobeLightAndTexture) {
   // Every feature was compiled into the kernels, so every one was compared.
   EXPECT_EQ(r.device.stats.features.size(), 8u);
   EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// The light choice by cdf (scene_lookups.h; render_shade's pick_light): each light with the
+// probability its cdf step gives, the boundaries to the light above, u just below 1 to the
+// last, a zero-power light never.
+TEST(CpuReference, PickLightFollowsTheCdf) {
+  RenderScene rs;
+  for (float cdf : {0.25f, 0.25f, 0.75f, 1.0f}) {
+    gpu::GpuLight l{};
+    l.cdf = cdf;
+    rs.lights.push_back(l);
+  }
+  const struct {
+    float u;
+    std::uint32_t light;
+    float prob;
+  } cases[] = {{0.0f, 0, 0.25f},  {0.2499f, 0, 0.25f}, {0.25f, 2, 0.5f},
+               {0.5f, 2, 0.5f},   {0.75f, 3, 0.25f},   {0.99999994f, 3, 0.25f}};
+  for (const auto& c : cases) {
+    float prob = -1.0f;
+    EXPECT_EQ(pick_light(rs, c.u, prob), c.light) << "u " << c.u;
+    EXPECT_EQ(prob, c.prob) << "u " << c.u;
+  }
+  rs.lights.resize(1);
+  rs.lights[0].cdf = 1.0f;
+  float prob = 0.0f;
+  EXPECT_EQ(pick_light(rs, 0.7f, prob), 0u);
+  EXPECT_EQ(prob, 1.0f);
 }
 
 // The same seed gives the same image however the work is split: the CPU reference is a pure

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <ostream>
 #include <cstdint>
 #include <cstdio>
 #include <random>
@@ -52,6 +53,8 @@ RenderResult render(const Scene& scene, const RenderConfig& config,
   WavefrontRenderer renderer(context(), scene, bvh, config);
   return renderer.render();
 }
+
+void PrintTo(Backend b, std::ostream* os) { *os << (b == Backend::kCpu ? "cpu" : "device"); }
 
 class ClosedForm : public testing::TestWithParam<Backend> {};
 
