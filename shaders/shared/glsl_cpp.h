@@ -3,10 +3,11 @@
 // runs the render kernels' own shading code (docs/ARCHITECTURE.md, "Shared C++/GLSL headers").
 // Rules for such code: float literals with an f suffix (a bare 1.0 is a double in C++), no
 // swizzles (glm has none by default), functions marked HRPP_INLINE (one definition in every C++
-// translation unit), out and inout parameters through HRPP_OUT / HRPP_INOUT,
-// structs built with T(...) (C++20 aggregate initialisation), and no `precise`: C++ is built
-// with -ffp-contract=off, so both sides evaluate exactly the operations written, up to the
-// device's own sqrt, sin, cos and pow.
+// translation unit), out and inout parameters through HRPP_OUT / HRPP_INOUT, structs filled
+// member by member (GLSL's T(...) needs C++20 parenthesised aggregates, which clang has only
+// from 16), and no `precise` (C++ is built with -ffp-contract=off: no fused multiply-adds).
+// What still differs is the device's own sqrt, sin, cos and pow; tests/cpu_render_test.cpp
+// measures the images' agreement.
 #ifndef HRPP_GLSL_CPP_H
 #define HRPP_GLSL_CPP_H
 

@@ -17,6 +17,16 @@ namespace hrpp::gpu {
 #include "offset_ray.glsl"
 #endif
 
+// A ray from o along unit dir up to tmax (tmin 0: the origins are offset instead).
+HRPP_INLINE Ray ray_from(vec3 o, vec3 dir, float tmax) {
+  Ray r;
+  r.origin = o;
+  r.tmin = 0.0f;
+  r.dir = dir;
+  r.tmax = tmax;
+  return r;
+}
+
 struct LightSample {
   vec3 wi;    // unit direction from the surface point to the light
   vec3 li;    // incident radiance × 1/pdf of the sample (zero: nothing to add)
@@ -64,7 +74,7 @@ HRPP_INLINE LightSample sample_light(GpuLight l, SurfaceHit s, float u1, float u
   LightSample ls;
   ls.wi = -l.dir;
   ls.li = kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL ? l.color : vec3(0.0f);
-  ls.shadow = Ray(offset_ray_origin(s.p, s.ng), 0.0f, ls.wi, float(HRPP_RAY_TMAX_FAR));
+  ls.shadow = ray_from(offset_ray_origin(s.p, s.ng), ls.wi, float(HRPP_RAY_TMAX_FAR));
   return ls;
 }
 

@@ -30,11 +30,25 @@ HRPP_INLINE Ray camera_ray(RenderParams params, uint pixel, uint sample_index) {
   const vec3 d = vec3(params.cam_forward) +
                  (2.0f * sx - 1.0f) * tan_half * aspect * vec3(params.cam_right) +
                  (1.0f - 2.0f * sy) * tan_half * vec3(params.cam_up);  // image rows top down
-  return Ray(vec3(params.cam_position), 0.0f, normalize(d), float(HRPP_RAY_TMAX_FAR));
+  return ray_from(vec3(params.cam_position), normalize(d), float(HRPP_RAY_TMAX_FAR));
+}
+
+// A path of pixel and sample at depth `depth` carrying `throughput`; specular: 1 after a delta
+// bounce.
+HRPP_INLINE PathState path_state(vec3 throughput, uint pixel, uint sample_index, uint depth,
+                                 uint specular) {
+  PathState p;
+  p.throughput = throughput;
+  p.pixel = pixel;
+  p.sample_index = sample_index;
+  p.depth = depth;
+  p.specular = specular;
+  p.pad = 0u;
+  return p;
 }
 
 HRPP_INLINE PathState camera_path(uint pixel, uint sample_index) {
-  return PathState(vec3(1.0f), pixel, sample_index, 0u, 0u, 0u);
+  return path_state(vec3(1.0f), pixel, sample_index, 0u, 0u);
 }
 
 // The random numbers of one vertex, drawn from its stream in this order whatever is used.
@@ -121,7 +135,10 @@ struct Bounce {
 
 HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo, float u1,
                                  float u2) {
-  Bounce b = Bounce(vec3(0.0f), vec3(0.0f), s.ng);
+  Bounce b;
+  b.wi = vec3(0.0f);
+  b.weight = vec3(0.0f);
+  b.leave_normal = s.ng;
   if (kGlass && lobe.kind == kLobeGlass) {
     const float eta = s.front ? 1.0f / m.ior : m.ior;
     const float cos_i = dot(s.ns, wo);
@@ -163,12 +180,12 @@ HRPP_INLINE bool survives(HRPP_INOUT(vec3) throughput, uint next_depth, uint rr_
 }
 
 HRPP_INLINE Ray continuation_ray(SurfaceHit s, Bounce b) {
-  return Ray(offset_ray_origin(s.p, b.leave_normal), 0.0f, b.wi, float(HRPP_RAY_TMAX_FAR));
+  return ray_from(offset_ray_origin(s.p, b.leave_normal), b.wi, float(HRPP_RAY_TMAX_FAR));
 }
 
 HRPP_INLINE PathState continuation_path(PathState path, vec3 throughput, Lobe lobe) {
-  return PathState(throughput, path.pixel, path.sample_index, path.depth + 1u,
-                   lobe.delta ? 1u : 0u, 0u);
+  return path_state(throughput, path.pixel, path.sample_index, path.depth + 1u,
+                    lobe.delta ? 1u : 0u);
 }
 
 #ifdef __cplusplus

@@ -68,9 +68,13 @@ HRPP_INLINE uint texel_index(GpuTexture t, int x, int y) {
 HRPP_INLINE TextureFootprint texture_footprint(GpuTexture t, vec2 uv) {
   const vec2 p = uv * vec2(t.width, t.height) - 0.5f;
   const ivec2 i = ivec2(floor(p));
-  return TextureFootprint(texel_index(t, i.x, i.y), texel_index(t, i.x + 1, i.y),
-                          texel_index(t, i.x, i.y + 1), texel_index(t, i.x + 1, i.y + 1),
-                          fract(p));
+  TextureFootprint f;
+  f.i00 = texel_index(t, i.x, i.y);
+  f.i10 = texel_index(t, i.x + 1, i.y);
+  f.i01 = texel_index(t, i.x, i.y + 1);
+  f.i11 = texel_index(t, i.x + 1, i.y + 1);
+  f.f = fract(p);
+  return f;
 }
 
 HRPP_INLINE vec3 bilerp(vec3 c00, vec3 c10, vec3 c01, vec3 c11, vec2 f) {
