@@ -1,5 +1,6 @@
 // host/render/ + shaders/render_shade.comp: direct light against closed forms on the Vulkan
-// device (lavapipe here), under the validation layer. A receiver close to a two-sided emissive
+// device (lavapipe here), under the validation layer; the ClosedForm tests also on the CPU
+// reference renderer (host/cpu_render/). A receiver close to a two-sided emissive
 // square (gaps 1e-4..1, the scene translated by 0, 1e2 and 1e4), the Cornell box with its light
 // hung at a gap below the ceiling, point/spot/directional lights over a diffuse plane (with
 // blockers before and behind the light), a diffuse convex body in a constant environment, and
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <ostream>
 #include <cstdint>
 #include <cstdio>
 #include <random>
@@ -23,6 +25,7 @@
 #include "gpu/embedded_shaders.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/vulkan_context.h"
+#include "cpu_render/cpu_renderer.h"
 #include "render/wavefront_renderer.h"
 #include "render_interface.h"
 #include "scene/load_scene.h"
@@ -39,10 +42,24 @@ VulkanContext& context() {
   return *ctx;
 }
 
-RenderResult render(const Scene& scene, const RenderConfig& config) {
+// Where a closed-form test renders: the kernels on the device, or the CPU reference renderer
+// (host/cpu_render/), which has to meet the same closed forms on its own.
+enum class Backend { kDevice, kCpu };
+
+RenderResult render(const Scene& scene, const RenderConfig& config,
+                    Backend backend = Backend::kDevice) {
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  if (backend == Backend::kCpu) return CpuRenderer(scene, bvh, config).render();
   WavefrontRenderer renderer(context(), scene, bvh, config);
   return renderer.render();
+}
+
+void PrintTo(Backend b, std::ostream* os) { *os << (b == Backend::kCpu ? "cpu" : "device"); }
+
+class ClosedForm : public testing::TestWithParam<Backend> {};
+
+std::string backend_name(const testing::TestParamInfo<Backend>& info) {
+  return info.param == Backend::kCpu ? "CpuReference" : "Device";
 }
 
 // size × size pixels, spp samples, camera `camera`, direct light only.
@@ -159,7 +176,7 @@ bool gap_resolvable(const Scene& s, float gap) {
 // Before shadow rays were offset at both ends, the ceiling got no light from the square's upper
 // face whenever the receiver's offset exceeded 0.1% of the gap: at shift 0 for gaps below
 // 7.6e-3, at every gap here at shifts 1e2 and 1e4.
-TEST(LightTransport, EmitterCloseToReceiverMatchesClosedForm) {
+TEST_P(ClosedForm, EmitterCloseToReceiver) {
   const double expected = kCeilingAlbedo / kPi * irradiance_above_centre(1.0, 1.0, 1.0, 1.0);
   for (float gap : {1e-4f, 1e-3f, 1e-2f, 1e-1f, 1.0f}) {
     Estimate at_origin;
@@ -169,7 +186,7 @@ TEST(LightTransport, EmitterCloseToReceiverMatchesClosedForm) {
         std::printf("gap %g shift %g: below the offsets' resolution, not tested\n", gap, shift);
         continue;
       }
-      const Estimate e = estimate(render(scene, direct_only(16, 16)).rgb);
+      const Estimate e = estimate(render(scene, direct_only(16, 16), GetParam()).rgb);
       std::printf("gap %g shift %g: ceiling radiance %.5f +- %.5f, closed form %.5f\n", gap,
                   shift, e.mean, e.se, expected);
       EXPECT_NEAR(e.mean, expected, 4.0 * e.se + 1e-4) << "gap " << gap << " shift " << shift;
@@ -293,10 +310,10 @@ Scene delta_light_scene(Light light, float d, float shift, V toward, float block
 
 // Radiance of the floor point under the light (8 × 8 pixels, 1 sample: delta lights are not
 // sampled at random).
-double delta_light_radiance(const Light& light, float d, float shift, V toward,
+double delta_light_radiance(Backend backend, const Light& light, float d, float shift, V toward,
                             float blocker_height = 0.0f) {
   return estimate(render(delta_light_scene(light, d, shift, toward, blocker_height),
-                         direct_only(8, 1)).rgb).mean;
+                         direct_only(8, 1), backend).rgb).mean;
 }
 
 struct DeltaLightCase {
@@ -336,7 +353,8 @@ std::vector<DeltaLightCase> delta_light_cases(float d) {
 // of the light does too and one 1% beyond it does not (the shadow ray ends at the light).
 // Heights d from 1e-2 to 1e2, the scene translated by 0, 1e2 and 1e4 where the receiver's
 // offset is under 0.5% of d.
-TEST(LightTransport, DeltaLightsOverDiffusePlaneMatchClosedForm) {
+TEST_P(ClosedForm, DeltaLightsOverDiffusePlane) {
+  const Backend b = GetParam();
   for (float d : {1e-2f, 1.0f, 1e2f}) {
     for (float shift : {0.0f, 1e2f, 1e4f}) {
       const V p = V(shift) + V(0.3f, 0.0f, 0.3f);
@@ -346,14 +364,14 @@ TEST(LightTransport, DeltaLightsOverDiffusePlaneMatchClosedForm) {
         const double expected = kFloorAlbedo * power / kPi;
         const std::string where = std::string(c.name) + " d " + std::to_string(d) + " shift " +
                                   std::to_string(shift);
-        EXPECT_NEAR(delta_light_radiance(c.light, d, shift, c.toward), expected, 2e-4 * expected)
+        EXPECT_NEAR(delta_light_radiance(b, c.light, d, shift, c.toward), expected, 2e-4 * expected)
             << where;
-        EXPECT_EQ(delta_light_radiance(c.light, d, shift, c.toward, 0.5f * d * c.toward.y), 0.0)
+        EXPECT_EQ(delta_light_radiance(b, c.light, d, shift, c.toward, 0.5f * d * c.toward.y), 0.0)
             << where << ": blocker halfway";
         if (!c.has_position || c.light.type == LightType::kSpot) continue;
-        EXPECT_EQ(delta_light_radiance(c.light, d, shift, c.toward, 0.99f * d), 0.0)
+        EXPECT_EQ(delta_light_radiance(b, c.light, d, shift, c.toward, 0.99f * d), 0.0)
             << where << ": blocker just short of the light";
-        EXPECT_NEAR(delta_light_radiance(c.light, d, shift, c.toward, 1.01f * d), expected,
+        EXPECT_NEAR(delta_light_radiance(b, c.light, d, shift, c.toward, 1.01f * d), expected,
                     2e-4 * expected) << where << ": blocker just beyond the light";
       }
     }
@@ -400,7 +418,7 @@ void add_polyhedron(Scene& s, V c, std::uint32_t material) {
 // exactly ρ L: every bounce off it escapes. With one sample per pixel and two interactions a
 // pixel is L (background) or ρ L (body), nothing else; a bounce ray that hit the body again
 // (self-intersection at an edge or vertex of the facets) would give 0.
-TEST(LightTransport, FurnaceConvexBodyInEnvironment) {
+TEST_P(ClosedForm, FurnaceConvexBodyInEnvironment) {
   const float albedo = 0.3f, environment = 0.5f;
   for (float shift : {0.0f, 1e2f, 1e4f}) {
     Scene scene;
@@ -414,7 +432,7 @@ TEST(LightTransport, FurnaceConvexBodyInEnvironment) {
     scene.cameras.push_back(looking_at(c + V(0.8f, 1.2f, 3.2f), c, 0.7f));
     RenderConfig config = direct_only(48, 1);
     config.max_depth = 2;
-    const RenderResult r = render(scene, config);
+    const RenderResult r = render(scene, config, GetParam());
     std::size_t body = 0, other = 0;
     for (float v : r.rgb) {
       if (v == environment * albedo) ++body;
@@ -426,6 +444,9 @@ TEST(LightTransport, FurnaceConvexBodyInEnvironment) {
   }
   expect_no_validation_messages();
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, ClosedForm, testing::Values(Backend::kDevice, Backend::kCpu),
+                         backend_name);
 
 // --- The shadow-ray construction on the device equals its C++ mirror ------------------------
 

@@ -1,11 +1,17 @@
 // hrpp render [SCENE] --spp N --size WxH --max-depth D --seed S --out FILE --stats FILE: the
-// wavefront path tracer (host/render/) on the Vulkan device; prints per-kernel device time and
-// per-ray-class counters, writes the image (EXR linear, PNG sRGB) and optionally the stats JSON.
+// wavefront path tracer (host/render/) on the Vulkan device, or with --backend cpu the CPU
+// reference renderer (host/cpu_render/: the same image up to float rounding); prints per-kernel
+// device time and per-ray-class counters, writes the image (EXR linear, PNG sRGB) and
+// optionally the stats JSON.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "app/commands.h"
 #include "app/hrpp_options.h"
@@ -13,6 +19,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
+#include "cpu_render/cpu_renderer.h"
 #include "gpu/vulkan_context.h"
 #include "render/image_output.h"
 #include "render/render_stats.h"
@@ -22,7 +29,11 @@
 namespace hrpp::app {
 namespace {
 
+// Where the path tracer runs: the Vulkan device's kernels, or the CPU reference renderer.
+enum class RenderBackend { kGpu, kCpu };
+
 struct RenderOptions {
+  RenderBackend backend = RenderBackend::kGpu;
   std::string scene = "builtin:cornell";
   std::string size = "256x256";
   std::string out = "render.png";
@@ -78,6 +89,44 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
                                                     baseline));
 }
 
+// A progress line on stderr once the render has taken more than a second.
+std::function<void(std::uint32_t)> progress_line(std::uint32_t spp) {
+  const auto start = std::chrono::steady_clock::now();
+  return [start, spp, shown = false](std::uint32_t done) mutable {
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (s < 1.0 && !shown) return;
+    shown = true;
+    std::fprintf(stderr, "\rrender: %u/%u spp, %.1f s", done, spp, s);
+    if (done == spp) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+// --backend cpu: the CPU reference renderer, on every hardware thread. HRPP lives in the trace
+// kernels, so it is refused here; the device options do not apply.
+void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bvh) {
+  if (o.render.predictor.enabled)
+    throw Error("--backend cpu: HRPP runs in the device's trace kernels only (use --hrpp off)");
+  const CpuRenderer renderer(scene, bvh, o.render);
+  const RenderResult result = renderer.render(progress_line(o.render.spp));
+  write_image(o.out, result.width, result.height, result.rgb);
+  DeviceInfo cpu;
+  cpu.name = "CPU reference renderer";
+  cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
+  cpu.driver = std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads";
+  if (!o.stats.empty()) {
+    nlohmann::json j = render_stats_json(scene.name, o.render, cpu, result);
+    j["backend"] = "cpu";
+    write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
+  }
+  std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
+  std::printf("backend     cpu (%s, %s)\n", cpu.name.c_str(), cpu.driver.c_str());
+  std::printf("%s", render_stats_text(o.render, result).c_str());
+  std::printf("image       %s\n", o.out.c_str());
+  if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
+}
+
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
   check_range("--spp", o.render.spp, 1, 1u << 20);
@@ -90,22 +139,11 @@ void run_render(RenderOptions& o) {
   o.render.predictor = o.hrpp.config();
   const Scene scene = load_scene(o.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  if (o.backend == RenderBackend::kCpu) return run_cpu_render(o, scene, bvh);
   VulkanContext ctx(o.vulkan);
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);
 
-  // A progress line on stderr once the render has taken more than a second.
-  const auto start = std::chrono::steady_clock::now();
-  bool shown = false;
-  const std::uint32_t spp = o.render.spp;
-  const RenderResult result = renderer.render([&](std::uint32_t done) {
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (s < 1.0 && !shown) return;
-    shown = true;
-    std::fprintf(stderr, "\rrender: %u/%u spp, %.1f s", done, spp, s);
-    if (done == spp) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  });
+  const RenderResult result = renderer.render(progress_line(o.render.spp));
   if (ctx.validation_messages() != 0)
     throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
                 " Vulkan validation messages (printed above)");
@@ -117,6 +155,7 @@ void run_render(RenderOptions& o) {
                                                       hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
+    j["backend"] = "gpu";
     j["hrpp_predictor"] = hrpp_json;
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
@@ -142,6 +181,13 @@ void add_render_command(CLI::App& app) {
                   "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
                   "manifest in scenes/")
       ->capture_default_str();
+  cmd->add_option("--backend", o->backend,
+                  "gpu: the wavefront kernels on the Vulkan device; cpu: the CPU reference "
+                  "renderer (the same shading code, one path at a time; no HRPP)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, RenderBackend>{{"gpu", RenderBackend::kGpu},
+                                               {"cpu", RenderBackend::kCpu}}))
+      ->default_str("gpu");
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();

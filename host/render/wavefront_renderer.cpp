@@ -16,6 +16,7 @@
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
+#include "render/render_params.h"
 #include "render_interface.h"
 
 namespace hrpp {
@@ -36,22 +37,6 @@ constexpr auto kBindingTypes = [] {
     t[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
-
-void check_config(const RenderConfig& c, const Scene& scene) {
-  const std::string side = std::to_string(RenderConfig::kMaxSide);
-  if (c.width == 0 || c.height == 0 || c.width > RenderConfig::kMaxSide ||
-      c.height > RenderConfig::kMaxSide)
-    throw Error("render size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
-                " is outside 1x1.." + side + "x" + side);
-  if (c.spp == 0) throw Error("spp (--spp) must be at least 1");
-  if (c.max_depth == 0 || c.max_depth > RenderConfig::kMaxDepth)
-    throw Error("max depth (--max-depth) must be 1.." + std::to_string(RenderConfig::kMaxDepth));
-  if (c.wavefront_paths == 0) throw Error("wavefront paths (--wavefront) must be at least 1");
-  if (c.camera >= scene.cameras.size())
-    throw Error("camera " + std::to_string(c.camera) + " (--camera) does not exist: the scene has " +
-                std::to_string(scene.cameras.size()) + " (0.." +
-                std::to_string(scene.cameras.size() - 1) + ")");
-}
 
 template <class T>
 StorageBuffer upload_array(VulkanContext& ctx, const std::vector<T>& items, const char* name) {
@@ -156,7 +141,7 @@ struct WavefrontRenderer::State {
 
   State(VulkanContext& c, const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
       : ctx(c),
-        cfg((check_config(config, scene), config)),
+        cfg((check_render_config(config, scene), config)),
         rs(make_render_scene(scene)),
         tracer(c, bvh, config.tracer, config.predictor),
         // One dispatch per kernel and wavefront: at most max_workgroup_count_x workgroups.
@@ -235,23 +220,7 @@ struct WavefrontRenderer::State {
   }
 
   void upload_params(const Camera& cam) {
-    gpu::RenderParams p{};
-    p.width = cfg.width;
-    p.height = cfg.height;
-    p.seed = cfg.seed;
-    p.max_depth = cfg.max_depth;
-    const glm::vec3 f = glm::normalize(cam.forward);
-    const glm::vec3 right = glm::normalize(glm::cross(f, cam.up));
-    const glm::vec3 up = glm::cross(right, f);
-    // The image's own aspect ratio: a camera's stored aspect would stretch other image sizes.
-    p.cam_position = glm::vec4(cam.position, std::tan(0.5f * cam.yfov));
-    p.cam_forward = glm::vec4(f, static_cast<float>(cfg.width) / static_cast<float>(cfg.height));
-    p.cam_up = glm::vec4(up, 0.0f);
-    p.cam_right = glm::vec4(right, 0.0f);
-    p.environment = glm::vec4(rs.environment, 0.0f);
-    p.light_count = static_cast<std::uint32_t>(rs.lights.size());
-    p.rr_depth = cfg.rr_depth;
-    p.trace_any_group_rays = tracer.rays_per_workgroup();
+    const gpu::RenderParams p = make_render_params(cfg, cam, rs, tracer.rays_per_workgroup());
     params.upload(&p, sizeof p);
   }
 

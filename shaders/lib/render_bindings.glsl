@@ -79,6 +79,20 @@ PathState load_path(uint i) {
   return PathState(uintBitsToFloat(a.xyz), a.w, b.x, b.y, b.z, b.w);
 }
 
+vec4 float_texel(usamplerBuffer b, uint i) { return uintBitsToFloat(texel_at(b, i)); }
+
+ShadeTriangle load_shade_triangle(uint i) {
+  const uvec4 a = texel_at(shade_triangles, 8u * i);
+  const uvec4 b = texel_at(shade_triangles, 8u * i + 1u);
+  const uvec4 c = texel_at(shade_triangles, 8u * i + 2u);
+  return ShadeTriangle(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
+                       uintBitsToFloat(c.xyz), c.w, float_texel(shade_triangles, 8u * i + 3u),
+                       float_texel(shade_triangles, 8u * i + 4u),
+                       float_texel(shade_triangles, 8u * i + 5u),
+                       float_texel(shade_triangles, 8u * i + 6u),
+                       float_texel(shade_triangles, 8u * i + 7u));
+}
+
 GpuMaterial load_material(uint i) {
   const uvec4 a = texel_at(material_texels, 3u * i);
   const uvec4 b = texel_at(material_texels, 3u * i + 1u);

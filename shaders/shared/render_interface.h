@@ -1,5 +1,6 @@
 // Interface of the wavefront path tracer's kernels (shaders/render_generate.comp,
-// render_shade.comp, render_accumulate.comp): binding slots, specialization constants, push
+// render_shade.comp, render_accumulate.comp) and of the shading code they share with the CPU
+// reference renderer (path_vertex.h): binding slots, specialization constants, push
 // constants and every struct they share with host/render/. One definition; the host
 // static_asserts the sizes (host/render/render_scene.cpp).
 //
@@ -52,6 +53,18 @@ namespace hrpp::gpu {
 #define HRPP_FEATURE_METAL 6
 #define HRPP_FEATURE_GLASS 7
 #define HRPP_FEATURE_COUNT 8
+#ifdef __cplusplus
+// The CPU reference renderer (host/cpu_render/) compiles every feature in: a feature that is
+// off only removes code the scene's data cannot reach (make_render_scene sets them).
+inline constexpr bool kTextures = true;
+inline constexpr bool kEmissiveTriangles = true;
+inline constexpr bool kPointLights = true;
+inline constexpr bool kSpotLights = true;
+inline constexpr bool kDirectionalLights = true;
+inline constexpr bool kEnvironment = true;
+inline constexpr bool kMetal = true;
+inline constexpr bool kGlass = true;
+#endif
 
 #define HRPP_LIGHT_TRIANGLE 0u
 #define HRPP_LIGHT_POINT 1u

@@ -1,0 +1,131 @@
+#include "cpu_render/cpu_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <thread>
+#include <vector>
+
+#include "cpu_render/scene_lookups.h"
+#include "path_vertex.h"
+#include "render/render_params.h"
+#include "trace/cpu_traversal.h"
+
+namespace hrpp {
+namespace {
+
+using gpu::vec3;
+
+struct PathTracer {
+  const GpuBvh& bvh;
+  const RenderScene& rs;
+  const gpu::RenderParams& params;
+  PerClass<TraversalCounters>& counters;
+
+  // render_shade's next-event estimation: the payload render_accumulate adds when trace_any
+  // finds the shadow ray unoccluded.
+  void add_light(const gpu::PathState& path, const gpu::Lobe& lobe, const gpu::SurfaceHit& s,
+                 vec3 wo, const gpu::VertexSamples& u, glm::vec4& pixel) {
+    if (lobe.delta || params.light_count == 0u) return;
+    float prob = 0.0f;
+    const gpu::GpuLight& light = rs.lights[pick_light(rs, u.light, prob)];
+    const gpu::LightSample ls = gpu::sample_light(light, s, u.light_u1, u.light_u2);
+    const vec3 contribution = gpu::light_contribution(path, lobe, s, wo, ls, prob);
+    if (!gpu::traces_shadow_ray(contribution, ls)) return;
+    if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow]))
+      pixel += glm::vec4(contribution, 0.0f);
+  }
+
+  // One path vertex at a hit (render_shade): adds what it sees to `pixel`; false when the path
+  // ends, otherwise ray and path become the continuation's.
+  bool shade_hit(gpu::Ray& ray, const gpu::Hit& hit, gpu::PathState& path, glm::vec4& pixel) {
+    const gpu::ShadeTriangle& t = rs.triangles[static_cast<std::size_t>(hit.prim)];
+    const gpu::SurfaceHit s = gpu::make_surface_hit(t, hit, ray.dir);
+    const gpu::GpuMaterial& m = rs.materials[s.material];
+    const vec3 wo = -ray.dir;
+    vec3 radiance(0.0f);
+    if (gpu::counts_emission(path) && gpu::kEmissiveTriangles)
+      radiance += path.throughput * m.emission;
+    vec3 albedo = m.base_color;
+    if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
+    if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
+    const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed);
+    const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, u.lobe);
+    add_light(path, lobe, s, wo, u, pixel);
+    if (path.depth + 1u >= params.max_depth) return false;
+    const gpu::Bounce b = gpu::sample_bounce(lobe, m, s, wo, u.u1, u.u2);
+    vec3 throughput = path.throughput * b.weight;
+    if (!gpu::survives(throughput, path.depth + 1u, params.rr_depth, u.rr)) return false;
+    ray = gpu::continuation_ray(s, b);
+    path = gpu::continuation_path(path, throughput, lobe);
+    return true;
+  }
+
+  // The path of one pixel and sample, from the camera to its end (render_generate, then
+  // trace_closest and render_shade per bounce).
+  void trace_path(std::uint32_t pixel_index, std::uint32_t sample, glm::vec4& pixel) {
+    gpu::Ray ray = gpu::camera_ray(params, pixel_index, sample);
+    gpu::PathState path = gpu::camera_path(pixel_index, sample);
+    for (;;) {
+      const RayClass cls = path.depth == 0 ? RayClass::kCamera : RayClass::kBounce;
+      const gpu::Hit hit = trace_closest(bvh, ray, &counters[cls]);
+      if (hit.prim < 0) {
+        vec3 radiance(0.0f);
+        if (gpu::kEnvironment) radiance += path.throughput * vec3(params.environment);
+        if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
+        return;
+      }
+      if (!shade_hit(ray, hit, path, pixel)) return;
+    }
+  }
+};
+
+}  // namespace
+
+CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
+    : bvh_(bvh),
+      cfg_((check_render_config(config, scene), config)),
+      rs_(make_render_scene(scene)),
+      params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {}
+
+RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progress) const {
+  const auto start = std::chrono::steady_clock::now();
+  RenderResult out;
+  out.width = cfg_.width;
+  out.height = cfg_.height;
+  const std::uint32_t pixels = cfg_.width * cfg_.height;
+  std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
+  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
+    const auto frame_start = std::chrono::steady_clock::now();
+    std::vector<PerClass<TraversalCounters>> counters(threads);
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t)
+      pool.emplace_back([&, t] {
+        PathTracer tracer{bvh_, rs_, params_, counters[t]};
+        for (std::uint32_t p = t; p < pixels; p += threads) tracer.trace_path(p, sample, sum[p]);
+      });
+    for (std::thread& t : pool) t.join();
+    FrameStats frame;
+    for (const auto& c : counters)
+      for (RayClass k : kRayClasses) frame.classes[k].counters += c[k];
+    frame.wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+    out.stats += frame;
+    out.stats.frames.push_back(std::move(frame));
+    if (progress) progress(sample + 1);
+  }
+  out.rgb.resize(std::size_t{pixels} * 3);
+  const float inv = 1.0f / static_cast<float>(cfg_.spp);
+  for (std::uint32_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) out.rgb[std::size_t{i} * 3 + c] = sum[i][c] * inv;
+  out.stats.features = rs_.features.names_on();
+  out.stats.triangles = rs_.triangles.size();
+  out.stats.emissive_triangles = rs_.emissive_triangles;
+  out.stats.delta_lights = rs_.delta_lights;
+  out.stats.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,40 @@
+// The CPU reference renderer: a scalar path tracer that runs the wavefront renderer's own
+// shading code (shaders/shared/path_vertex.h: the same camera rays, PCG streams, lobes, light
+// samples, offsets and Russian roulette) one path at a time, tracing with the CPU traversal
+// (trace/cpu_traversal.h, which answers as the trace kernels do). It adds light to a pixel in
+// the order the kernels do (per sample and bounce: emission, then the shadow ray's payload), so
+// its image equals the device's up to the device's own sqrt, sin, cos and pow, and the path
+// decisions those can flip (tests/cpu_render_test.cpp). The ground truth of render_generate,
+// render_shade and render_accumulate; `hrpp render --backend cpu`.
+#pragma once
+
+#include <functional>
+
+#include "bvh/gpu_layout.h"
+#include "render/render_scene.h"
+#include "render/wavefront_renderer.h"
+#include "scene/scene.h"
+
+namespace hrpp {
+
+class CpuRenderer {
+ public:
+  // Throws hrpp::Error on a bad configuration, as WavefrontRenderer does. Of the config only
+  // the image, samples, depths, seed and camera apply (no wavefronts, tracer or HRPP).
+  CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config);
+
+  // Renders config.spp samples per pixel on every hardware thread. `progress(samples_done)` is
+  // called after each sample pass. The stats hold the traversal counters per ray class (camera,
+  // bounce, shadow) and wall times; no kernel times.
+  RenderResult render(const std::function<void(std::uint32_t)>& progress = {}) const;
+
+  const RenderScene& render_scene() const { return rs_; }
+
+ private:
+  const GpuBvh& bvh_;
+  RenderConfig cfg_;
+  RenderScene rs_;
+  gpu::RenderParams params_;
+};
+
+}  // namespace hrpp

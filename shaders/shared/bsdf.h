@@ -1,0 +1,107 @@
+// The material lobes of the path tracer, in a local frame around the shading normal n:
+// Lambertian diffuse, GGX microfacet metal (Walter et al. 2007; visible-normal sampling, Heitz,
+// "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018; Schlick Fresnel) and a
+// smooth dielectric (exact Fresnel, reflect or refract). Vectors point away from the surface.
+// Shared by render_shade and the CPU reference renderer (glsl_cpp.h).
+#ifndef HRPP_BSDF_H
+#define HRPP_BSDF_H
+
+#include "glsl_cpp.h"
+
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
+
+const float kPi = 3.14159265358979f;
+// Below this GGX roughness a metal is a perfect mirror (a delta lobe): the microfacet terms
+// overflow float and no light sample could land in the lobe anyway.
+const float kMirrorRoughness = 0.02f;
+
+// Orthonormal basis around unit n (Duff et al., "Building an Orthonormal Basis, Revisited",
+// JCGT 6(1), 2017).
+HRPP_INLINE void basis(vec3 n, HRPP_OUT(vec3) t, HRPP_OUT(vec3) b) {
+  const float s = n.z >= 0.0f ? 1.0f : -1.0f;
+  const float a = -1.0f / (s + n.z);
+  const float c = n.x * n.y * a;
+  t = vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+  b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+HRPP_INLINE vec3 cosine_hemisphere(vec3 n, float u1, float u2) {
+  vec3 t, b;
+  basis(n, t, b);
+  const float r = sqrt(u1);
+  const float phi = 2.0f * kPi * u2;
+  return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0f, 1.0f - u1)) * n);
+}
+
+HRPP_INLINE vec3 fresnel_schlick(vec3 f0, float cos_theta) {
+  const float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
+  const float m2 = m * m;
+  return f0 + (vec3(1.0f) - f0) * (m2 * m2 * m);
+}
+
+// Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
+HRPP_INLINE float fresnel_dielectric(float cos_i, float eta) {
+  const float sin2_t = eta * eta * max(0.0f, 1.0f - cos_i * cos_i);
+  if (sin2_t >= 1.0f) return 1.0f;  // total internal reflection
+  const float cos_t = sqrt(1.0f - sin2_t);
+  const float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
+HRPP_INLINE float ggx_d(float n_h, float a2) {
+  const float d = n_h * n_h * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * d * d);
+}
+
+// Smith G1 for GGX.
+HRPP_INLINE float ggx_g1(float n_v, float a2) {
+  return 2.0f * n_v / (n_v + sqrt(a2 + (1.0f - a2) * n_v * n_v));
+}
+
+// GGX metal: f(wo, wi) · cos(wi) for light sampling.
+HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float alpha) {
+  const float n_o = dot(n, wo), n_i = dot(n, wi);
+  if (n_o <= 0.0f || n_i <= 0.0f) return vec3(0.0f);
+  const vec3 h = normalize(wo + wi);
+  const float a2 = alpha * alpha;
+  const float d = ggx_d(max(dot(n, h), 0.0f), a2);
+  const float g = ggx_g1(n_o, a2) * ggx_g1(n_i, a2);
+  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * (d * g / (4.0f * n_o));
+}
+
+// GGX metal: samples wi from the visible normals; returns f·cos/pdf = F · G1(wi), or 0 when
+// wi falls below the surface.
+HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, float u2,
+                            HRPP_OUT(vec3) wi) {
+  vec3 t, b;
+  basis(n, t, b);
+  const vec3 v = vec3(dot(wo, t), dot(wo, b), dot(wo, n));
+  // Heitz 2018, listing 1: stretch, sample the projected disk, unstretch.
+  const vec3 vh = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
+  const float len2 = vh.x * vh.x + vh.y * vh.y;
+  const vec3 t1 =
+      len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
+  const vec3 t2 = cross(vh, t1);
+  const float r = sqrt(u1);
+  const float phi = 2.0f * kPi * u2;
+  const float p1 = r * cos(phi);
+  float p2 = r * sin(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
+  const vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  const vec3 m = normalize(vec3(alpha * nh.x, alpha * nh.y, max(0.0f, nh.z)));
+  const vec3 h = m.x * t + m.y * b + m.z * n;
+  wi = reflect(-wo, h);
+  const float n_i = dot(n, wi);
+  if (n_i <= 0.0f) return vec3(0.0f);
+  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * ggx_g1(n_i, alpha * alpha);
+}
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_BSDF_H

@@ -1,0 +1,55 @@
+// GLSL's names in C++: lets a header of shaders/shared/ hold functions, not only structs, that
+// compile as GLSL 4.60 and as C++20 with glm, so the CPU reference renderer (host/cpu_render/)
+// runs the render kernels' own shading code (docs/ARCHITECTURE.md, "Shared C++/GLSL headers").
+// Rules for such code: float literals with an f suffix (a bare 1.0 is a double in C++), no
+// swizzles (glm has none by default), functions marked HRPP_INLINE (one definition in every C++
+// translation unit), out and inout parameters through HRPP_OUT / HRPP_INOUT, structs filled
+// member by member (GLSL's T(...) needs C++20 parenthesised aggregates, which clang has only
+// from 16), and no `precise` (C++ is built with -ffp-contract=off: no fused multiply-adds).
+// What still differs is the device's own sqrt, sin, cos and pow; tests/cpu_render_test.cpp
+// measures the images' agreement.
+#ifndef HRPP_GLSL_CPP_H
+#define HRPP_GLSL_CPP_H
+
+#ifdef __cplusplus
+#include <cmath>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/packing.hpp>
+
+namespace hrpp::gpu {
+using vec2 = glm::vec2;
+using ivec2 = glm::ivec2;
+using glm::abs;
+using glm::clamp;
+using glm::cross;
+using glm::dot;
+using glm::floor;
+using glm::fract;
+using glm::greaterThan;
+using glm::inversesqrt;
+using glm::length;
+using glm::max;
+using glm::min;
+using glm::mix;
+using glm::normalize;
+using glm::pow;
+using glm::reflect;
+using glm::refract;
+using glm::smoothstep;
+using glm::unpackUnorm4x8;
+using std::cos;
+using std::sin;
+using std::sqrt;
+}  // namespace hrpp::gpu
+
+#define HRPP_INLINE inline
+#define HRPP_OUT(T) T&
+#define HRPP_INOUT(T) T&
+#else
+#define HRPP_INLINE
+#define HRPP_OUT(T) out T
+#define HRPP_INOUT(T) inout T
+#endif
+
+#endif  // HRPP_GLSL_CPP_H

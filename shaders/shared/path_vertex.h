@@ -1,0 +1,195 @@
+// One vertex of a path, the decisions render_shade makes at a hit: the random numbers it
+// draws, the lobe it picks, the light it adds through next-event estimation, the direction it
+// continues in and Russian roulette; and the camera ray render_generate starts a path with.
+// Shared by the render kernels and the CPU reference renderer (glsl_cpp.h): what differs
+// between the two is only how they read the scene's arrays and queue the rays.
+#ifndef HRPP_PATH_VERTEX_H
+#define HRPP_PATH_VERTEX_H
+
+#include "bsdf.h"
+#include "glsl_cpp.h"
+#include "light_sample.h"
+#include "render_interface.h"
+#include "rng.h"
+#include "surface_hit.h"
+
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
+
+// The camera ray of pixel `pixel` for sample `sample_index`: pinhole camera, the position in
+// the pixel jittered by the path's own stream (depth 0xFFFFFFFF, apart from every vertex's).
+HRPP_INLINE Ray camera_ray(RenderParams params, uint pixel, uint sample_index) {
+  const uint x = pixel % params.width;
+  const uint y = pixel / params.width;
+  uint rng = rng_init(pixel, sample_index, 0xFFFFFFFFu, params.seed);
+  const float sx = (float(x) + rng_next(rng)) / float(params.width);
+  const float sy = (float(y) + rng_next(rng)) / float(params.height);
+  const float tan_half = params.cam_position.w;
+  const float aspect = params.cam_forward.w;
+  const vec3 d = vec3(params.cam_forward) +
+                 (2.0f * sx - 1.0f) * tan_half * aspect * vec3(params.cam_right) +
+                 (1.0f - 2.0f * sy) * tan_half * vec3(params.cam_up);  // image rows top down
+  return ray_from(vec3(params.cam_position), normalize(d), float(HRPP_RAY_TMAX_FAR));
+}
+
+// A path of pixel and sample at depth `depth` carrying `throughput`; specular: 1 after a delta
+// bounce.
+HRPP_INLINE PathState path_state(vec3 throughput, uint pixel, uint sample_index, uint depth,
+                                 uint specular) {
+  PathState p;
+  p.throughput = throughput;
+  p.pixel = pixel;
+  p.sample_index = sample_index;
+  p.depth = depth;
+  p.specular = specular;
+  p.pad = 0u;
+  return p;
+}
+
+HRPP_INLINE PathState camera_path(uint pixel, uint sample_index) {
+  return path_state(vec3(1.0f), pixel, sample_index, 0u, 0u);
+}
+
+// The random numbers of one vertex, drawn from its stream in this order whatever is used.
+struct VertexSamples {
+  float lobe;
+  float light;     // which light
+  float light_u1;  // where on it
+  float light_u2;
+  float u1;  // the continuation direction
+  float u2;
+  float rr;  // Russian roulette
+};
+
+HRPP_INLINE VertexSamples vertex_samples(PathState path, uint seed) {
+  uint rng = rng_init(path.pixel, path.sample_index, path.depth, seed);
+  VertexSamples u;
+  u.lobe = rng_next(rng);
+  u.light = rng_next(rng);
+  u.light_u1 = rng_next(rng);
+  u.light_u2 = rng_next(rng);
+  u.u1 = rng_next(rng);
+  u.u2 = rng_next(rng);
+  u.rr = rng_next(rng);
+  return u;
+}
+
+// Emission is counted on camera hits and after delta bounces only: every other bounce's light
+// comes from next-event estimation.
+HRPP_INLINE bool counts_emission(PathState path) {
+  return path.depth == 0u || path.specular != 0u;
+}
+
+const uint kLobeDiffuse = 0u;
+const uint kLobeMetal = 1u;
+const uint kLobeGlass = 2u;
+
+// The lobe a vertex samples (one of the material's, picked with u_lobe) and its parameters.
+struct Lobe {
+  uint kind;  // kLobe*
+  bool delta;  // a mirror or glass: no light sample can land in it
+  vec3 albedo;  // base colour × texture
+  float alpha;  // GGX roughness parameter
+};
+
+HRPP_INLINE Lobe choose_lobe(GpuMaterial m, vec3 albedo, float u_lobe) {
+  Lobe l;
+  l.kind = kLobeDiffuse;
+  if (kGlass && m.transmission > 0.5f) l.kind = kLobeGlass;
+  else if (kMetal && u_lobe < m.metallic) l.kind = kLobeMetal;
+  l.delta = l.kind == kLobeGlass || (l.kind == kLobeMetal && m.roughness < kMirrorRoughness);
+  l.albedo = albedo;
+  l.alpha = max(m.roughness * m.roughness, 1e-4f);
+  return l;
+}
+
+// f · cos(wi) of the chosen lobe (the lobe choice probability cancels its mixture weight).
+HRPP_INLINE vec3 eval_lobe_cos(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
+  if (dot(wi, s.ng) <= 0.0f) return vec3(0.0f);
+  if (kMetal && lobe.kind == kLobeMetal) return ggx_eval_cos(s.ns, wo, wi, lobe.albedo, lobe.alpha);
+  return lobe.albedo * (max(dot(s.ns, wi), 0.0f) / kPi);
+}
+
+// Next-event estimation: what light sample ls (of a light picked with probability prob) adds
+// through the path's vertex at s when its shadow ray is unoccluded.
+HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec3 wo,
+                                    LightSample ls, float prob) {
+  return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li / prob;
+}
+
+// A shadow ray is traced only when it carries light; one turned away from the light (offsets
+// crossed, or the point on the light) is not.
+HRPP_INLINE bool traces_shadow_ray(vec3 contribution, LightSample ls) {
+  return max(contribution.r, max(contribution.g, contribution.b)) > 0.0f &&
+         dot(ls.shadow.dir, ls.wi) > 0.0f;
+}
+
+// The continuation of a path: its direction, the lobe's f·cos/pdf, and the geometric normal on
+// the side it leaves into (zero weight: the path ends).
+struct Bounce {
+  vec3 wi;
+  vec3 weight;
+  vec3 leave_normal;
+};
+
+HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo, float u1,
+                                 float u2) {
+  Bounce b;
+  b.wi = vec3(0.0f);
+  b.weight = vec3(0.0f);
+  b.leave_normal = s.ng;
+  if (kGlass && lobe.kind == kLobeGlass) {
+    const float eta = s.front ? 1.0f / m.ior : m.ior;
+    const float cos_i = dot(s.ns, wo);
+    const float f = fresnel_dielectric(abs(cos_i), eta);
+    if (u1 < f) {
+      b.wi = reflect(-wo, s.ns);
+      b.weight = vec3(1.0f);
+    } else {
+      b.wi = refract(-wo, s.ns, eta);
+      b.weight = lobe.albedo;
+      b.leave_normal = -s.ng;
+    }
+  } else if (kMetal && lobe.kind == kLobeMetal) {
+    if (lobe.delta) {
+      b.wi = reflect(-wo, s.ns);
+      b.weight = fresnel_schlick(lobe.albedo, max(dot(s.ns, b.wi), 0.0f));
+    } else {
+      b.weight = ggx_sample(s.ns, wo, lobe.albedo, lobe.alpha, u1, u2, b.wi);
+    }
+  } else {
+    b.wi = cosine_hemisphere(s.ns, u1, u2);
+    b.weight = lobe.albedo;
+  }
+  // A direction on the wrong side of the geometric surface ends the path.
+  if (dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
+  return b;
+}
+
+// The throughput after the bounce, divided by the survival probability q when Russian
+// roulette applies (from rr_depth interactions on); false: the path ends here.
+HRPP_INLINE bool survives(HRPP_INOUT(vec3) throughput, uint next_depth, uint rr_depth, float u_rr) {
+  bool alive = max(throughput.r, max(throughput.g, throughput.b)) > 0.0f;
+  if (alive && next_depth >= rr_depth) {
+    const float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95f);
+    alive = u_rr < q;
+    throughput /= q;
+  }
+  return alive;
+}
+
+HRPP_INLINE Ray continuation_ray(SurfaceHit s, Bounce b) {
+  return ray_from(offset_ray_origin(s.p, b.leave_normal), b.wi, float(HRPP_RAY_TMAX_FAR));
+}
+
+HRPP_INLINE PathState continuation_path(PathState path, vec3 throughput, Lobe lobe) {
+  return path_state(throughput, path.pixel, path.sample_index, path.depth + 1u,
+                    lobe.delta ? 1u : 0u);
+}
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_PATH_VERTEX_H

@@ -1,0 +1,88 @@
+// The surface a closest hit found: position, normals and texture coordinates interpolated from
+// the triangle's shading data (ShadeTriangle), and the texture lookups of its base colour.
+// Shared by render_shade and the CPU reference renderer (glsl_cpp.h); each side reads the
+// arrays its own way and hands the records to these functions.
+#ifndef HRPP_SURFACE_HIT_H
+#define HRPP_SURFACE_HIT_H
+
+#include "glsl_cpp.h"
+#include "render_interface.h"
+
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
+
+struct SurfaceHit {
+  vec3 p;
+  vec3 ng;  // unit geometric normal facing the incoming ray
+  vec3 ns;  // unit shading normal on the side of ng
+  vec2 uv;
+  bool front;  // the ray hit the side the triangle's winding faces (glass: entering)
+  uint material;
+};
+
+// Triangle t hit at barycentrics (h.u, h.v) by a ray along dir.
+HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
+  const float w = 1.0f - h.u - h.v;
+  SurfaceHit s;
+  s.p = w * t.v0 + h.u * t.v1 + h.v * t.v2;  // from barycentrics, not o + t·d (offset_ray.h)
+  const vec3 ng = normalize(cross(t.v1 - t.v0, t.v2 - t.v0));
+  s.front = dot(ng, dir) < 0.0f;
+  s.ng = s.front ? ng : -ng;
+  s.ns = s.ng;
+  if (t.has_normals != 0u) {
+    const vec3 n = w * vec3(t.n0) + h.u * vec3(t.n1) + h.v * vec3(t.n2);
+    if (dot(n, n) > 0.0f) {
+      s.ns = normalize(n);
+      if (dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
+    }
+  }
+  s.uv = w * vec2(t.uv01) + h.u * vec2(t.uv01.z, t.uv01.w) + h.v * vec2(t.uv2);
+  s.material = t.material;
+  return s;
+}
+
+HRPP_INLINE vec3 srgb_to_linear(vec3 c) {
+  return mix(c / 12.92f, pow((c + 0.055f) / 1.055f, vec3(2.4f)), greaterThan(c, vec3(0.04045f)));
+}
+
+// An RGBA8 texel (R in the low byte; glTF base colour, sRGB) as linear RGB.
+HRPP_INLINE vec3 decode_texel(uint rgba8) { return srgb_to_linear(vec3(unpackUnorm4x8(rgba8))); }
+
+// The four texels of a bilinear lookup at uv (repeat wrap): their indices in the texel array,
+// and the weights of the second column and row.
+struct TextureFootprint {
+  uint i00;
+  uint i10;
+  uint i01;
+  uint i11;
+  vec2 f;
+};
+
+HRPP_INLINE uint texel_index(GpuTexture t, int x, int y) {
+  x = ((x % t.width) + t.width) % t.width;
+  y = ((y % t.height) + t.height) % t.height;
+  return t.offset + uint(y * t.width + x);
+}
+
+HRPP_INLINE TextureFootprint texture_footprint(GpuTexture t, vec2 uv) {
+  const vec2 p = uv * vec2(t.width, t.height) - 0.5f;
+  const ivec2 i = ivec2(floor(p));
+  TextureFootprint f;
+  f.i00 = texel_index(t, i.x, i.y);
+  f.i10 = texel_index(t, i.x + 1, i.y);
+  f.i01 = texel_index(t, i.x, i.y + 1);
+  f.i11 = texel_index(t, i.x + 1, i.y + 1);
+  f.f = fract(p);
+  return f;
+}
+
+HRPP_INLINE vec3 bilerp(vec3 c00, vec3 c10, vec3 c01, vec3 c11, vec2 f) {
+  return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#endif
+
+#endif  // HRPP_SURFACE_HIT_H

@@ -1,0 +1,265 @@
+// host/cpu_render/: the CPU reference renderer against the wavefront renderer on the Vulkan
+// device (lavapipe here, under the validation layer), pixel by pixel, on the suite's scenes and
+// on a scene with every material lobe, light type and a texture; and `hrpp render --backend
+// cpu`. Both run the shading code of shaders/shared/path_vertex.h; what may differ is the
+// device's sqrt, sin, cos and pow (last-bit differences), and the few path decisions such a bit
+// can flip (a Russian-roulette or lobe choice, a ray grazing an edge). So the images agree to
+// float rounding on nearly every pixel, and a change to a BSDF or light on one side only (a
+// 1% albedo change in render_shade.comp alone, tried) fails on most pixels.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "cli_runner.h"
+#include "common/error.h"
+#include "cpu_render/cpu_renderer.h"
+#include "cpu_render/scene_lookups.h"
+#include "gpu/vulkan_context.h"
+#include "render/wavefront_renderer.h"
+#include "scene/load_scene.h"
+#include "test_scenes.h"
+
+namespace hrpp {
+namespace {
+
+using V = glm::vec3;
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+struct BothImages {
+  RenderResult device, cpu;
+};
+
+BothImages render_both(const Scene& scene, const RenderConfig& config) {
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  BothImages r;
+  r.device = WavefrontRenderer(context(), scene, bvh, config).render();
+  r.cpu = CpuRenderer(scene, bvh, config).render();
+  return r;
+}
+
+RenderConfig small(std::uint32_t size, std::uint32_t spp) {
+  RenderConfig c;
+  c.width = c.height = size;
+  c.spp = spp;
+  c.seed = 5;
+  return c;
+}
+
+// Per pixel: every channel within kAbs + kRel × the larger value. Rounding differences stay
+// orders of magnitude below this; a flipped path decision or a changed albedo does not.
+constexpr double kAbs = 1e-5;
+constexpr double kRel = 1e-4;
+
+struct Agreement {
+  double close = 0.0;     // fraction of pixels within the tolerance
+  double mean_rel = 0.0;  // |mean(device) - mean(cpu)| / mean(cpu), all channels
+};
+
+Agreement compare(const std::vector<float>& device, const std::vector<float>& cpu) {
+  std::size_t close = 0;
+  double sum_d = 0.0, sum_c = 0.0;
+  for (std::size_t p = 0; p < device.size(); p += 3) {
+    bool ok = true;
+    for (std::size_t c = p; c < p + 3; ++c) {
+      const double a = device[c], b = cpu[c];
+      ok = ok && std::abs(a - b) <= kAbs + kRel * std::max(std::abs(a), std::abs(b));
+      sum_d += a;
+      sum_c += b;
+    }
+    close += ok ? 1 : 0;
+  }
+  Agreement g;
+  g.close = static_cast<double>(close) / static_cast<double>(device.size() / 3);
+  g.mean_rel = sum_d == sum_c ? 0.0 : std::abs(sum_d - sum_c) / std::abs(sum_c);
+  return g;
+}
+
+// At least 99% of the pixels agree to rounding, and the image means within 0.2%: room for a
+// few flipped paths out of thousands, none for a change in what a path carries.
+void expect_agreement(const BothImages& r, const std::string& what) {
+  ASSERT_EQ(r.device.rgb.size(), r.cpu.rgb.size());
+  const Agreement g = compare(r.device.rgb, r.cpu.rgb);
+  std::printf("%s: %.2f%% of pixels within rounding, image means %.2g apart (relative)\n",
+              what.c_str(), 100.0 * g.close, g.mean_rel);
+  EXPECT_GE(g.close, 0.99) << what << ": pixels within rounding";
+  EXPECT_LE(g.mean_rel, 2e-3) << what << ": image means";
+  // The CPU traversal answers as the kernels do: the same camera rays, and as many hits.
+  EXPECT_EQ(r.cpu.stats.camera_rays(), r.device.stats.camera_rays()) << what;
+}
+
+class CpuReferenceScenes : public testing::TestWithParam<std::string> {};
+
+// The bare meshes have no light of their own: a sky (environment) and a sun (directional)
+// light them, so their images are not black.
+void light_if_dark(Scene& s) {
+  if (!s.lights.empty()) return;
+  Light sky;
+  sky.type = LightType::kEnvironment;
+  sky.color = V(0.3f, 0.35f, 0.4f);
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.direction = glm::normalize(V(0.3f, -1.0f, -0.5f));
+  sun.color = V(2.0f, 1.9f, 1.7f);
+  s.lights = {sky, sun};
+}
+
+TEST_P(CpuReferenceScenes, AgreesWithTheDevicePerPixel) {
+  Scene scene = test::load_test_scene(GetParam());
+  light_if_dark(scene);
+  const BothImages r = render_both(scene, small(32, 4));
+  expect_agreement(r, GetParam());
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(TestScenes, CpuReferenceScenes,
+                         testing::ValuesIn(test::reference_scene_names()), test::scene_param_name);
+
+// builtin:cornell with every lobe, light type and a texture: the short block glass, the tall
+// block a rough metal chosen with probability 0.7 (the rest diffuse), the back wall a mirror,
+// the green wall textured (4 × 4 sRGB checker); a point light, a spot light, a directional
+// light through the open front and a constant environment beside the ceiling's emitter.
+Scene every_feature_cornell() {
+  Scene s = load_scene("builtin:cornell");
+  const auto add = [&](Material m) {
+    s.materials.push_back(m);
+    return static_cast<std::uint32_t>(s.materials.size() - 1);
+  };
+  Material glass;
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  glass.base_color = V(0.95f, 0.9f, 0.85f);
+  Material metal;
+  metal.metallic = 0.7f;
+  metal.roughness = 0.35f;
+  metal.base_color = V(0.9f, 0.7f, 0.5f);
+  Material mirror;
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  Texture checker;
+  checker.width = checker.height = 4;
+  for (int i = 0; i < 16; ++i) {
+    const bool dark = ((i % 4) + (i / 4)) % 2 == 1;
+    for (std::uint8_t c : {std::uint8_t(dark ? 30 : 220), std::uint8_t(dark ? 90 : 200),
+                           std::uint8_t(dark ? 20 : 60), std::uint8_t(255)})
+      checker.rgba.push_back(c);
+  }
+  s.textures.push_back(checker);
+  Material textured;
+  textured.base_color_texture = 0;
+  const std::uint32_t ids[] = {add(glass), add(metal), add(mirror), add(textured)};
+  // Triangles of builtin:cornell: back wall 6-7, green wall 10-11, short block 12-21, tall 22-31.
+  for (std::size_t t = 12; t < 22; ++t) s.shading[t].material = ids[0];
+  for (std::size_t t = 22; t < 32; ++t) s.shading[t].material = ids[1];
+  for (std::size_t t : {6, 7}) s.shading[t].material = ids[2];
+  for (std::size_t t : {10, 11}) s.shading[t].material = ids[3];
+  Light point;
+  point.type = LightType::kPoint;
+  point.position = V(150.0f, 450.0f, 150.0f);
+  point.color = V(3e4f, 4e4f, 5e4f);
+  Light spot = point;
+  spot.type = LightType::kSpot;
+  spot.position = V(400.0f, 500.0f, 100.0f);
+  spot.direction = V(-0.3f, -1.0f, 0.4f);
+  spot.inner_cone = 0.3f;
+  spot.outer_cone = 0.6f;
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.direction = V(0.2f, -0.3f, 1.0f);
+  sun.color = V(0.8f);
+  Light env;
+  env.type = LightType::kEnvironment;
+  env.color = V(0.05f, 0.07f, 0.1f);
+  for (const Light& l : {point, spot, sun, env}) s.lights.push_back(l);
+  return s;
+}
+
+TEST(CpuReference, AgreesWithTheDeviceOnEveryLobeLightAndTexture) {
+  const Scene scene = every_feature_cornell();
+  const BothImages r = render_both(scene, small(48, 4));
+  expect_agreement(r, "every feature");
+  // Every feature was compiled into the kernels, so every one was compared.
+  EXPECT_EQ(r.device.stats.features.size(), 8u);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// The light choice by cdf (scene_lookups.h; render_shade's pick_light): each light with the
+// probability its cdf step gives, the boundaries to the light above, u just below 1 to the
+// last, a zero-power light never.
+TEST(CpuReference, PickLightFollowsTheCdf) {
+  RenderScene rs;
+  for (float cdf : {0.25f, 0.25f, 0.75f, 1.0f}) {
+    gpu::GpuLight l{};
+    l.cdf = cdf;
+    rs.lights.push_back(l);
+  }
+  const struct {
+    float u;
+    std::uint32_t light;
+    float prob;
+  } cases[] = {{0.0f, 0, 0.25f},  {0.2499f, 0, 0.25f}, {0.25f, 2, 0.5f},
+               {0.5f, 2, 0.5f},   {0.75f, 3, 0.25f},   {0.99999994f, 3, 0.25f}};
+  for (const auto& c : cases) {
+    float prob = -1.0f;
+    EXPECT_EQ(pick_light(rs, c.u, prob), c.light) << "u " << c.u;
+    EXPECT_EQ(prob, c.prob) << "u " << c.u;
+  }
+  rs.lights.resize(1);
+  rs.lights[0].cdf = 1.0f;
+  float prob = 0.0f;
+  EXPECT_EQ(pick_light(rs, 0.7f, prob), 0u);
+  EXPECT_EQ(prob, 1.0f);
+}
+
+// The same seed gives the same image however the work is split: the CPU reference is a pure
+// function of the scene and configuration, as the device's image is.
+TEST(CpuReference, SameSeedSameImageOtherSeedDiffers) {
+  const Scene scene = load_scene("builtin:cornell");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  RenderConfig c = small(24, 2);
+  const RenderResult a = CpuRenderer(scene, bvh, c).render();
+  const RenderResult b = CpuRenderer(scene, bvh, c).render();
+  EXPECT_EQ(a.rgb, b.rgb);
+  c.seed = 6;
+  EXPECT_NE(CpuRenderer(scene, bvh, c).render().rgb, a.rgb);
+  c.camera = 3;
+  EXPECT_THROW(CpuRenderer(scene, bvh, c), Error);
+}
+
+TEST(CpuReferenceCli, BackendFlag) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("hrpp_cpu_render_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "c.exr").string(), stats = (dir / "c.json").string();
+  test::CliResult r = test::run_hrpp(
+      "render --backend cpu --size 16x16 --spp 1 --out " + out + " --stats " + stats, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_GT(std::filesystem::file_size(out), 0u);
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(stats));
+  EXPECT_EQ(j["backend"], "cpu");
+  EXPECT_EQ(j["rays"]["camera"].get<int>(), 16 * 16);
+
+  r = test::run_hrpp("render --backend cpu --hrpp on --size 8x8 --out " + out, dir);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--backend cpu"), std::string::npos) << r.err;
+  r = test::run_hrpp("render --backend tpu --size 8x8 --out " + out, dir);
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--backend"), std::string::npos) << r.err;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hrpp
