@@ -18,6 +18,7 @@
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "render/render_stats.h"
 #include "scene/load_scene.h"
 
 namespace hrpp::app {
@@ -118,7 +119,8 @@ void run_trace(const TraceOptions& o) {
                               {"interior_visited", c.interior_visited},
                               {"leaves_visited", c.leaves_visited},
                               {"triangles_tested", c.triangles_tested},
-                              {"hrpp", hrpp_json}};
+                              {"hrpp", hrpp_json},
+                              {"memory", memory_json(ctx.memory().report())}};
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write --stats");
   }
 }

@@ -17,7 +17,10 @@ MemoryLimits memory_limits(const DeviceInfo& d) {
   m.allocation = d.max_memory_allocation_size;
   m.buffer = d.max_buffer_size;
   m.heap = d.heap_bytes;
-  m.heap_name = d.heap_budget ? "memory budget (VK_EXT_memory_budget)" : "memory heap";
+  m.heap_name = d.heap_capped    ? "memory heap as capped by HRPP_DEVICE_HEAP_MIB"
+                : d.heap_budget  ? "memory budget (VK_EXT_memory_budget)"
+                : d.heap_is_host ? "memory (a CPU device: the host's physical memory)"
+                                 : "memory heap";
   return m;
 }
 

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <unistd.h>
+
 #include "common/error.h"
 
 namespace hrpp {
@@ -238,6 +240,30 @@ void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
   }
   const std::uint32_t heap = mp.memoryTypes[type].heapIndex;
   info->heap_bytes = info->heap_budget ? budget.heapBudget[heap] : mp.memoryHeaps[heap].size;
+  info->reported_heap_bytes = mp.memoryHeaps[heap].size;
+  // A CPU device's buffers are the host's memory. Mesa 22.3's lavapipe reports a fixed 2 GiB
+  // heap but allocates beyond it (5 GiB of buffers at once, measured), so the host's physical
+  // memory is the real limit there (docs/ARCHITECTURE.md, "Device memory").
+  if (!info->heap_budget && info->type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) {
+      info->heap_bytes = static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
+      info->heap_is_host = true;
+    }
+  }
+}
+
+// HRPP_DEVICE_HEAP_MIB=N caps the heap every check uses at N MiB (to leave room for other
+// processes, or to try the limit). Throws hrpp::Error on a value that is not a number.
+void apply_heap_cap(DeviceInfo* info) {
+  const char* env = std::getenv("HRPP_DEVICE_HEAP_MIB");
+  if (env == nullptr || *env == '\0') return;
+  char* end = nullptr;
+  const unsigned long long mib = std::strtoull(env, &end, 10);
+  if (*end != '\0' || mib == 0)
+    throw Error(std::string("HRPP_DEVICE_HEAP_MIB=") + env + ": not a positive whole number of MiB");
+  info->heap_bytes = std::min<std::uint64_t>(info->heap_bytes, mib * 1024 * 1024);
+  info->heap_capped = true;
 }
 
 DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
@@ -451,6 +477,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   s.h.physical = physical[chosen];
   s.info = s.devices[chosen];
   s.info.timestamps = timestamp_bits(s.h.physical, s.h.family) > 0;
+  apply_heap_cap(&s.info);
   s.ledger.set_heap(s.info.heap_bytes);
   create_device(s.h, s.info);
   create_command_objects(s.h);

@@ -39,10 +39,15 @@ struct DeviceInfo {
   std::uint32_t max_texel_buffer_elements = 0;  // texels one texel-buffer view may span
   std::uint64_t max_memory_allocation_size = 0;  // bytes of one allocation (one buffer here)
   std::uint64_t max_buffer_size = 0;             // bytes of one VkBuffer
-  // The heap of the memory type buffers use (pick_memory_type), or its budget where the device
-  // has VK_EXT_memory_budget: what all of a scene's buffers together must fit (gpu/memory_plan.h).
+  // What all of a scene's buffers together must fit (gpu/memory_plan.h): the heap of the memory
+  // type buffers use (pick_memory_type), or its budget where the device has
+  // VK_EXT_memory_budget, or on a CPU device the host's physical memory; at most
+  // HRPP_DEVICE_HEAP_MIB when that is set.
   std::uint64_t heap_bytes = 0;
-  bool heap_budget = false;  // heap_bytes is VK_EXT_memory_budget's budget
+  std::uint64_t reported_heap_bytes = 0;  // the heap's size as the device reports it
+  bool heap_budget = false;               // heap_bytes is VK_EXT_memory_budget's budget
+  bool heap_is_host = false;              // heap_bytes is the host's memory (a CPU device)
+  bool heap_capped = false;               // HRPP_DEVICE_HEAP_MIB applied
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps
