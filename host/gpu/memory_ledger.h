@@ -21,6 +21,7 @@ class MemoryLedger {
   void add(const std::string& name, std::uint64_t bytes);
   void remove(const std::string& name, std::uint64_t bytes);
   MemoryReport report() const { return report_; }
+  std::uint64_t total() const { return report_.total; }
   void set_heap(std::uint64_t bytes) { report_.heap = bytes; }
 
  private:

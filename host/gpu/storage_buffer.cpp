@@ -12,7 +12,15 @@ namespace hrpp {
 StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
                              BufferBinding binding)
     : device_(ctx.device()), bytes_(bytes), name_(std::move(name)), binding_(binding) {
-  check_buffer(BufferNeed{name_, bytes, binding}, memory_limits(ctx.info()));
+  const MemoryLimits limits = memory_limits(ctx.info());
+  check_buffer(BufferNeed{name_, bytes, binding}, limits);
+  // Buffers made after the scene's check (arrays that grow with a batch) still fit the heap.
+  const std::uint64_t held = ctx.memory().total();
+  if (held + bytes > limits.heap)
+    throw Error(name_ + " (" + format_bytes(bytes) + ") does not fit beside the " +
+                format_bytes(held) + " already allocated in the device's " + limits.heap_name +
+                " of " + format_bytes(limits.heap) + " (" + std::to_string(limits.heap) +
+                " bytes)");
   const std::size_t alloc = std::max<std::size_t>(bytes, 16);  // Vulkan forbids size 0
   VkBufferCreateInfo bci{};
   bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;

@@ -23,7 +23,8 @@ class StorageBuffer {
   // the kernels see it; a kTexelOnly buffer is read through TexelViews only, so its limit is
   // maxTexelBufferElements, not maxStorageBufferRange (gpu/memory_plan.h), and
   // ComputePipeline refuses to bind it as a storage buffer. Throws hrpp::Error when `bytes`
-  // exceeds the limit of its binding (naming the array and the limit) or memory runs out.
+  // exceeds the limit of its binding (naming the array and the limit), when it would take the
+  // context's buffers past the device's heap (DeviceInfo::heap_bytes), or memory runs out.
   StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
                 BufferBinding binding = BufferBinding::kStorage);
   StorageBuffer(VulkanContext& ctx, const BufferNeed& need)
