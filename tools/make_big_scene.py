@@ -8,10 +8,10 @@ scenes/fetched/stanford_dragon.glb (871,414 triangles each; tools/fetch-scenes.s
 grid over a floor, with an area light and a camera that sees them all. The loader flattens each
 copy into the scene, so 12 copies (the default) are 10,456,968 dragon triangles + 4 (floor,
 light). The glTF path is written relative to the manifest's folder, so the default output
-scenes/big_dragons.scene.json works from any directory:
+scenes/fetched/big_dragons.scene.json (not committed, like the dragon) works from any directory:
 
     tools/fetch-scenes.sh && tools/make_big_scene.py
-    build/release/host/hrpp render scenes/big_dragons.scene.json --size 256x256 --spp 1
+    build/release/host/hrpp render scenes/fetched/big_dragons.scene.json --size 256x256 --spp 1
 """
 import argparse
 import json
@@ -59,8 +59,10 @@ def manifest(copies, dragon_path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--copies", type=int, default=12, help="dragons (1..64, default 12)")
-    ap.add_argument("--out", default=os.path.join(REPO, "scenes", "big_dragons.scene.json"),
-                    help="manifest to write (default scenes/big_dragons.scene.json)")
+    ap.add_argument("--out",
+                    default=os.path.join(REPO, "scenes", "fetched", "big_dragons.scene.json"),
+                    help="manifest to write (default scenes/fetched/big_dragons.scene.json, "
+                         "beside the dragon and, like it, not committed)")
     a = ap.parse_args()
     if not 1 <= a.copies <= 64:
         sys.exit(f"make_big_scene: --copies {a.copies}: must be 1..64")
