@@ -207,14 +207,15 @@ bool has_device_extension(VkPhysicalDevice pd, const char* name) {
 }
 
 // The buffer and memory limits of DeviceInfo (gpu/memory_plan.h): maxMemoryAllocationSize
-// (Vulkan 1.1), maxBufferSize (1.3; no limit below it) and the heap of the memory type
+// (Vulkan 1.1), maxBufferSize (VK_KHR_maintenance4; no limit without it: the instance asks for
+// Vulkan 1.2, so the 1.3 core query is not ours to make) and the heap of the memory type
 // StorageBuffer picks, or that heap's budget with VK_EXT_memory_budget.
 void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
   VkPhysicalDeviceMaintenance4Properties m4{};
   m4.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES;
   VkPhysicalDeviceMaintenance3Properties m3{};
   m3.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES;
-  const bool has_m4 = info->api_version >= VK_API_VERSION_1_3;
+  const bool has_m4 = has_device_extension(pd, VK_KHR_MAINTENANCE_4_EXTENSION_NAME);
   m3.pNext = has_m4 ? &m4 : nullptr;
   VkPhysicalDeviceProperties2 p2{};
   p2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
