@@ -210,6 +210,34 @@ TEST_F(BadInputCli, RayFilesMustBeWhole32ByteRecords) {
   expect_error("trace --rays " + dir_.string() + " --hits h.bin", dir_.string());
 }
 
+// A render or trace that cannot fit the device is refused before any upload with one line
+// naming the scene, the bytes and the limit, and leaves no output. The heap check runs against
+// the device's heap capped by HRPP_DEVICE_HEAP_MIB (the real heap is the host's memory on
+// lavapipe); the image's own limit is the device's real maxStorageBufferRange.
+TEST_F(BadInputCli, ScenesOverTheDeviceMemoryAreRefusedBeforeUpload) {
+  const fs::path image = dir_ / "i.png", stats = dir_ / "s.json", hits = dir_ / "h.bin";
+  const std::string outputs = " --out " + image.string() + " --stats " + stats.string();
+  ::setenv("HRPP_DEVICE_HEAP_MIB", "1", 1);
+  expect_error("render builtin:cornell --size 512x512 --spp 1" + outputs,
+               "more than the device's memory heap as capped by HRPP_DEVICE_HEAP_MIB of 1.00 MiB "
+               "(1048576 bytes)");
+  expect_error("render builtin:cornell --size 512x512 --spp 1" + outputs, "largest: hit-all ray array 8.00 MiB");
+  expect_absent(image);
+  expect_absent(stats);
+  const fs::path rays = write_bytes("r.bin", 32 * 100000);
+  expect_error("trace builtin:cornell --rays " + rays.string() + " --hits " + hits.string(),
+               "hit-all ray array (3.05 MiB) does not fit beside the");
+  expect_absent(hits);
+  ::setenv("HRPP_DEVICE_HEAP_MIB", "lots", 1);
+  expect_error("render builtin:cornell --size 8x8 --spp 1" + outputs,
+               "HRPP_DEVICE_HEAP_MIB=lots: not a positive whole number of MiB");
+  ::unsetenv("HRPP_DEVICE_HEAP_MIB");
+  expect_error("render builtin:cornell --size 16384x16384 --spp 1" + outputs,
+               "image is 4.00 GiB (4294967296 bytes), over the device's maxStorageBufferRange");
+  expect_absent(image);
+  expect_absent(stats);
+}
+
 // Output paths are checked before any work: nothing is written when one of them is bad.
 TEST_F(BadInputCli, UnwritableOutputsFailFirstAndLeaveNothing) {
   const fs::path rays = write_bytes("r.bin", 64);

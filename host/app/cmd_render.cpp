@@ -157,6 +157,7 @@ void run_render(RenderOptions& o) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["backend"] = "gpu";
     j["hrpp_predictor"] = hrpp_json;
+    j["memory"] = memory_json(ctx.memory().report());
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
 
@@ -167,6 +168,7 @@ void run_render(RenderOptions& o) {
   std::printf("hrpp        %s\n%s",
               o.render.predictor.enabled ? describe(o.render.predictor).c_str() : "off",
               hrpp_text.c_str());
+  std::printf("memory      %s\n", memory_text(ctx.memory().report()).c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
 }

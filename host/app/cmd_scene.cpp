@@ -12,6 +12,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
+#include "common/bytes.h"
 #include "scene/load_scene.h"
 
 namespace hrpp::app {
@@ -98,9 +99,9 @@ void run_scene(const SceneOptions& o) {
               s.interior_nodes, s.leaves, s.max_depth, s.mean_leaf_depth);
   std::printf("            triangles/leaf mean %.2f max %u, SAH cost %.3f\n", s.mean_leaf_size,
               s.max_leaf_size, s.sah_cost);
-  std::printf("            built in %.1f ms (%d bins, leaves <= %d), GPU layout %.2f MiB\n",
+  std::printf("            built in %.1f ms (%d bins, leaves <= %d), GPU layout %s\n",
               s.build_ms, o.bvh.bin_count, o.bvh.max_leaf_size,
-              static_cast<double>(layout.bytes()) / (1024.0 * 1024.0));
+              format_bytes(layout.bytes()).c_str());
 }
 
 }  // namespace

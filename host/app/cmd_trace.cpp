@@ -19,6 +19,7 @@
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
+#include "render/render_stats.h"
 #include "scene/load_scene.h"
 #include "trace/ray_order.h"
 
@@ -148,7 +149,8 @@ void run_trace(const TraceOptions& o) {
                               {"interior_visited", c.interior_visited},
                               {"leaves_visited", c.leaves_visited},
                               {"triangles_tested", c.triangles_tested},
-                              {"hrpp", hrpp_json}};
+                              {"hrpp", hrpp_json},
+                              {"memory", memory_json(ctx.memory().report())}};
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write --stats");
   }
 }

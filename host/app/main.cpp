@@ -2,6 +2,7 @@
 // errors the user can fix end here as one line on stderr and exit status 1.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "app/commands.h"
@@ -38,6 +39,10 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const hrpp::Error& e) {
     std::fprintf(stderr, "hrpp: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "hrpp: error: out of host memory (the scene or the image is too big for "
+                         "this machine)\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hrpp: internal error: %s\n", e.what());

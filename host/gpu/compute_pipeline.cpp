@@ -131,6 +131,9 @@ ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;
 ComputePipeline& ComputePipeline::operator=(ComputePipeline&&) noexcept = default;
 
 void ComputePipeline::bind(std::uint32_t binding, const StorageBuffer& buffer) {
+  if (buffer.binding() == BufferBinding::kTexelOnly)
+    throw Error(s_->name + ": " + buffer.name() +
+                " is read through texel views only and cannot be bound as a storage buffer");
   VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
   VkWriteDescriptorSet w{};
   w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;

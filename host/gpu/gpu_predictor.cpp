@@ -238,6 +238,23 @@ struct GpuPredictor::State {
   }
 };
 
+std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
+                                                   std::size_t capacity) {
+  std::uint64_t prims = 0;  // leaf_of_prim's length: the largest triangle id + 1
+  for (const gpu::TriangleRecord& t : bvh.triangles) prims = std::max<std::uint64_t>(prims, t.prim + 1);
+  std::vector<BufferNeed> needs{{"node of triangle", prims * sizeof(std::int32_t)}};
+  std::uint64_t request_bytes = 0;
+  for (RayClass c : kRayClasses) {
+    if (!config.predicts(c)) continue;
+    needs.push_back({std::string(ray_class_name(c)) + " predictor table", config.table.bytes()});
+    request_bytes += capacity * sizeof(gpu::InsertRequest);
+  }
+  const std::uint64_t queue = capacity * (sizeof(gpu::Ray) + sizeof(gpu::QueueEntry) + sizeof(gpu::Hit));
+  needs.push_back({"HRPP queues (rays, entries, hits)", 2 * queue});
+  needs.push_back({"insert requests", request_bytes});
+  return needs;
+}
+
 GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
                            const TexelView& nodes, const TexelView& leaves,
                            const TexelView& triangles)

@@ -13,10 +13,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
+#include "gpu/memory_plan.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/predictor_stats.h"
 #include "hrpp/ray_class.h"
@@ -54,6 +56,12 @@ inline constexpr const char* kSampleLabel = "sample_";
 
 class GpuPredictor {
  public:
+  // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
+  // node-of-triangle array (a storage buffer: 4 bytes per triangle), each predicting class's
+  // table and the queues. For check_fits (gpu/memory_plan.h).
+  static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
+                                              std::size_t capacity);
+
   // Throws hrpp::Error when the device lacks 64-bit integer atomics or the table exceeds a
   // storage buffer (naming the table and the limit), or the configuration is invalid.
   GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,

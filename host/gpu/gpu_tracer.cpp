@@ -43,7 +43,35 @@ void to_occlusion_records(std::span<gpu::Hit> hits) {
   for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
 }
 
+std::array<BufferNeed, 3> bvh_buffer_needs(const GpuBvh& bvh) {
+  constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
+  return {{{"BVH node array", bvh.nodes.size() * sizeof(gpu::BvhNode), kTexel},
+           {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel},
+           {"BVH triangle array", bvh.triangles.size() * sizeof(gpu::TriangleRecord), kTexel}}};
+}
+
+// Before anything is allocated: the tracer's buffers against the device (gpu/memory_plan.h).
+void check_tracer_fits(const VulkanContext& ctx, const GpuBvh& bvh,
+                       const PredictorConfig& predictor) {
+  check_fits("the BVH of " + std::to_string(bvh.triangles.size()) + " triangles",
+             GpuTracer::buffer_needs(bvh, predictor, 0), memory_limits(ctx.info()));
+}
+
 }  // namespace
+
+std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const PredictorConfig& predictor,
+                                                std::size_t resident_rays) {
+  const std::array<BufferNeed, 3> bvh_needs = bvh_buffer_needs(bvh);
+  std::vector<BufferNeed> needs(bvh_needs.begin(), bvh_needs.end());
+  if (predictor.enabled)
+    for (BufferNeed& n : GpuPredictor::buffer_needs(bvh, predictor, resident_rays))
+      needs.push_back(std::move(n));
+  for (const char* kind : {"hit-all", "hit-any"}) {
+    needs.push_back({std::string(kind) + " ray array", resident_rays * sizeof(gpu::Ray)});
+    needs.push_back({std::string(kind) + " hit array", resident_rays * sizeof(gpu::Hit)});
+  }
+  return needs;
+}
 
 // The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
 // rays), its trace kernel (HRPP off, or a class that does not probe) and its counters.
@@ -81,10 +109,10 @@ struct GpuTracer::State {
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
         const PredictorConfig& predictor_config)
       : ctx(&c),
-        config(cfg),
-        nodes(c, bvh.nodes.size() * sizeof(gpu::BvhNode), "BVH node array"),
-        leaves(c, bvh.leaves.size() * sizeof(gpu::BvhLeaf), "BVH leaf array"),
-        triangles(c, bvh.triangles.size() * sizeof(gpu::TriangleRecord), "BVH triangle array"),
+        config((check_tracer_fits(c, bvh, predictor_config), cfg)),
+        nodes(c, bvh_buffer_needs(bvh)[0]),
+        leaves(c, bvh_buffer_needs(bvh)[1]),
+        triangles(c, bvh_buffer_needs(bvh)[2]),
         node_view(c, nodes),
         leaf_view(c, leaves),
         triangle_view(c, triangles),
@@ -127,18 +155,7 @@ struct GpuTracer::State {
     return HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
   }
 
-  // Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
-  // workgroups reach.
-  std::size_t chunk_rays() const {
-    const DeviceInfo& d = ctx->info();
-    const std::uint64_t by_range =
-        std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
-                                std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
-                                    sizeof(gpu::Ray));
-    const std::uint64_t by_groups = static_cast<std::uint64_t>(d.max_workgroup_count_x) *
-                                    HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
-    return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
-  }
+  std::size_t chunk_rays() const { return GpuTracer::max_dispatch_rays(ctx->info(), config); }
 
   void ensure_capacity(RayClass c, std::size_t n) {
     QueryArrays& a = query(c);
@@ -330,6 +347,18 @@ bool GpuTracer::records_indirect(RayClass c) const { return s_->records_indirect
 std::uint32_t GpuTracer::rays_per_workgroup() const { return s_->rays_per_workgroup(); }
 
 std::size_t GpuTracer::max_dispatch_rays() const { return s_->chunk_rays(); }
+
+// Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
+// workgroups reach.
+std::size_t GpuTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerConfig& config) {
+  const std::uint64_t by_range =
+      std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
+                              std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
+                                  sizeof(gpu::Ray));
+  const std::uint64_t by_groups = static_cast<std::uint64_t>(d.max_workgroup_count_x) *
+                                  HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
+  return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
+}
 
 GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c) {
   if (count == 0) return {};

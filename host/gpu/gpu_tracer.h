@@ -12,6 +12,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_predictor.h"
+#include "gpu/memory_plan.h"
 #include "gpu_types.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
@@ -21,6 +22,7 @@
 namespace hrpp {
 
 class VulkanContext;
+struct DeviceInfo;
 class StorageBuffer;
 class KernelTimer;
 
@@ -45,7 +47,15 @@ struct GpuTraceResult {
 
 class GpuTracer {
  public:
-  // Uploads the BVH. Throws hrpp::Error when an array exceeds maxStorageBufferRange. With
+  // The device buffers a tracer over `bvh` allocates with `resident_rays` rays of each query
+  // kind resident (0: none yet): the BVH arrays (read through texel views only), with HRPP on
+  // the GpuPredictor's, then the ray and hit arrays. For check_fits (gpu/memory_plan.h).
+  static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& predictor,
+                                              std::size_t resident_rays);
+
+  // Checks buffer_needs(bvh, predictor, 0) against the device (check_fits, naming the BVH by its
+  // triangle count), then uploads the BVH. Throws hrpp::Error when an array exceeds its limit
+  // (gpu/memory_plan.h) or all of them the device's heap, before anything is allocated. With
   // predictor.enabled (HRPP on), the classes it names trace through the HRPP stage
   // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
@@ -96,6 +106,8 @@ class GpuTracer {
   std::uint32_t rays_per_workgroup() const;
   // Most rays one dispatch reaches (storage-buffer range, texel-buffer size, workgroup count).
   std::size_t max_dispatch_rays() const;
+  // The same for a device and configuration, before a tracer exists.
+  static std::size_t max_dispatch_rays(const DeviceInfo& device, const GpuTracerConfig& config);
 
   // begin + record + submit + finish of ray_buffer(c)[0..count).
   GpuTraceResult trace_resident(std::size_t count, RayClass c);

@@ -1,49 +1,26 @@
 #include "gpu/storage_buffer.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cstring>
 #include <utility>
 
+#include "common/bytes.h"
 #include "common/error.h"
 #include "gpu/vulkan_context.h"
 
 namespace hrpp {
-namespace {
-
-// Host-visible memory the buffer accepts, best first: device-local and coherent (a GPU's BAR or
-// unified memory; all of lavapipe's), coherent, then any host-visible type.
-std::uint32_t pick_memory_type(VkPhysicalDevice pd, std::uint32_t allowed, bool* coherent) {
-  VkPhysicalDeviceMemoryProperties mp;
-  vkGetPhysicalDeviceMemoryProperties(pd, &mp);
-  const VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-  const VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  const VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  const VkMemoryPropertyFlags wanted[] = {kHost | kCoherent | kLocal, kHost | kCoherent, kHost};
-  for (VkMemoryPropertyFlags want : wanted)
-    for (std::uint32_t i = 0; i < mp.memoryTypeCount; ++i)
-      if ((allowed & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) {
-        *coherent = (mp.memoryTypes[i].propertyFlags & kCoherent) != 0;
-        return i;
-      }
-  throw Error("the Vulkan device offers no host-visible memory for storage buffers");
-}
-
-}  // namespace
-
-std::string format_bytes(std::uint64_t bytes) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
-  return buf;
-}
-
-StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name)
-    : device_(ctx.device()), bytes_(bytes), name_(std::move(name)) {
-  const std::uint64_t limit = ctx.info().max_storage_buffer_range;
-  if (bytes > limit)
-    throw Error(name_ + " is " + format_bytes(bytes) + " (" + std::to_string(bytes) +
-                " bytes), over the device's maxStorageBufferRange of " + format_bytes(limit) +
-                " (" + std::to_string(limit) + " bytes)");
+StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
+                             BufferBinding binding)
+    : device_(ctx.device()), bytes_(bytes), name_(std::move(name)), binding_(binding) {
+  const MemoryLimits limits = memory_limits(ctx.info());
+  check_buffer(BufferNeed{name_, bytes, binding}, limits);
+  // Buffers made after the scene's check (arrays that grow with a batch) still fit the heap.
+  const std::uint64_t held = ctx.memory().total();
+  if (held + bytes > limits.heap)
+    throw Error(name_ + " (" + format_bytes(bytes) + ") does not fit beside the " +
+                format_bytes(held) + " already allocated in the device's " + limits.heap_name +
+                " of " + format_bytes(limits.heap) + " (" + std::to_string(limits.heap) +
+                " bytes)");
   const std::size_t alloc = std::max<std::size_t>(bytes, 16);  // Vulkan forbids size 0
   VkBufferCreateInfo bci{};
   bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
@@ -61,9 +38,14 @@ StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string 
     VkMemoryAllocateInfo ai{};
     ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     ai.allocationSize = req.size;
-    ai.memoryTypeIndex = pick_memory_type(ctx.physical_device(), req.memoryTypeBits, &coherent_);
+    VkPhysicalDeviceMemoryProperties mp;
+    vkGetPhysicalDeviceMemoryProperties(ctx.physical_device(), &mp);
+    ai.memoryTypeIndex = pick_memory_type(mp, req.memoryTypeBits, &coherent_);
     check_vk(vkAllocateMemory(device_, &ai, nullptr, &memory_),
              "vkAllocateMemory (" + name_ + ", " + format_bytes(req.size) + ")");
+    ledger_ = &ctx.memory();
+    allocated_ = req.size;
+    ledger_->add(name_, allocated_);
     check_vk(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory (" + name_ + ")");
     check_vk(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_),
              "vkMapMemory (" + name_ + ")");
@@ -82,7 +64,10 @@ StorageBuffer::StorageBuffer(StorageBuffer&& o) noexcept
       mapped_(std::exchange(o.mapped_, nullptr)),
       coherent_(o.coherent_),
       bytes_(std::exchange(o.bytes_, 0)),
-      name_(std::move(o.name_)) {}
+      name_(std::move(o.name_)),
+      binding_(o.binding_),
+      ledger_(std::exchange(o.ledger_, nullptr)),
+      allocated_(std::exchange(o.allocated_, 0)) {}
 
 StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
   if (this != &o) {
@@ -94,6 +79,9 @@ StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
     coherent_ = o.coherent_;
     bytes_ = std::exchange(o.bytes_, 0);
     name_ = std::move(o.name_);
+    binding_ = o.binding_;
+    ledger_ = std::exchange(o.ledger_, nullptr);
+    allocated_ = std::exchange(o.allocated_, 0);
   }
   return *this;
 }
@@ -102,6 +90,9 @@ void StorageBuffer::release() noexcept {
   if (mapped_) vkUnmapMemory(device_, memory_);
   if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
   if (memory_) vkFreeMemory(device_, memory_, nullptr);
+  if (ledger_) ledger_->remove(name_, allocated_);
+  ledger_ = nullptr;
+  allocated_ = 0;
   mapped_ = nullptr;
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;

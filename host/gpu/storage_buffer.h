@@ -9,16 +9,26 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/memory_plan.h"
+
 namespace hrpp {
 
 class VulkanContext;
+class MemoryLedger;
 
 class StorageBuffer {
  public:
   StorageBuffer() = default;
-  // `name` says what the array is in errors. Throws hrpp::Error when `bytes` exceeds the
-  // device's maxStorageBufferRange (naming the array and the limit) or memory runs out.
-  StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name);
+  // `name` says what the array is in errors and in the context's memory ledger. `binding`: how
+  // the kernels see it; a kTexelOnly buffer is read through TexelViews only, so its limit is
+  // maxTexelBufferElements, not maxStorageBufferRange (gpu/memory_plan.h), and
+  // ComputePipeline refuses to bind it as a storage buffer. Throws hrpp::Error when `bytes`
+  // exceeds the limit of its binding (naming the array and the limit), when it would take the
+  // context's buffers past the device's heap (DeviceInfo::heap_bytes), or memory runs out.
+  StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
+                BufferBinding binding = BufferBinding::kStorage);
+  StorageBuffer(VulkanContext& ctx, const BufferNeed& need)
+      : StorageBuffer(ctx, need.bytes, need.name, need.binding) {}
   ~StorageBuffer();
   StorageBuffer(StorageBuffer&& o) noexcept;
   StorageBuffer& operator=(StorageBuffer&& o) noexcept;
@@ -41,6 +51,7 @@ class StorageBuffer {
   VkBuffer handle() const { return buffer_; }
   std::size_t size() const { return bytes_; }
   const std::string& name() const { return name_; }
+  BufferBinding binding() const { return binding_; }
 
  private:
   void release() noexcept;
@@ -52,9 +63,10 @@ class StorageBuffer {
   bool coherent_ = true;
   std::size_t bytes_ = 0;
   std::string name_;
+  BufferBinding binding_ = BufferBinding::kStorage;
+  MemoryLedger* ledger_ = nullptr;  // the context's, while memory is allocated
+  std::uint64_t allocated_ = 0;     // bytes of memory_, as the ledger has them
 };
 
-// Bytes as "12.3 MiB" for messages.
-std::string format_bytes(std::uint64_t bytes);
 
 }  // namespace hrpp

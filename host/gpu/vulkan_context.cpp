@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <unistd.h>
+
 #include "common/error.h"
 
 namespace hrpp {
@@ -39,7 +41,26 @@ void check_vk(VkResult r, const std::string& what) {
   if (r == VK_ERROR_DEVICE_LOST)
     throw Error("Vulkan device lost during " + what +
                 " (driver crash or a kernel that ran too long); results are unusable");
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    throw Error("out of device memory during " + what + " (VK_ERROR_OUT_OF_DEVICE_MEMORY)");
+  if (r == VK_ERROR_OUT_OF_HOST_MEMORY)
+    throw Error("out of host memory during " + what + " (VK_ERROR_OUT_OF_HOST_MEMORY)");
   throw Error(what + " failed: " + vk_result_name(r));
+}
+
+std::uint32_t pick_memory_type(const VkPhysicalDeviceMemoryProperties& mp, std::uint32_t allowed,
+                               bool* coherent) {
+  const VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+  const VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  const VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  const VkMemoryPropertyFlags wanted[] = {kHost | kCoherent | kLocal, kHost | kCoherent, kHost};
+  for (VkMemoryPropertyFlags want : wanted)
+    for (std::uint32_t i = 0; i < mp.memoryTypeCount; ++i)
+      if ((allowed & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) {
+        *coherent = (mp.memoryTypes[i].propertyFlags & kCoherent) != 0;
+        return i;
+      }
+  throw Error("the Vulkan device offers no host-visible memory for storage buffers");
 }
 
 const char* DeviceInfo::type_name() const {
@@ -52,7 +73,10 @@ const char* DeviceInfo::type_name() const {
   }
 }
 
-struct VulkanContext::State {
+namespace {
+
+// The Vulkan objects of a context, made in order by the constructor's steps below.
+struct Handles {
   VkInstance instance = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
   VkPhysicalDevice physical = VK_NULL_HANDLE;
@@ -62,23 +86,30 @@ struct VulkanContext::State {
   VkCommandPool pool = VK_NULL_HANDLE;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
+};
+
+}  // namespace
+
+struct VulkanContext::State {
+  Handles h;
   DeviceInfo info;
   std::vector<DeviceInfo> devices;
   std::atomic<std::uint64_t> messages{0};
+  MemoryLedger ledger;
 
   ~State() {
-    if (device) {
-      vkDeviceWaitIdle(device);
-      if (fence) vkDestroyFence(device, fence, nullptr);
-      if (pool) vkDestroyCommandPool(device, pool, nullptr);
-      vkDestroyDevice(device, nullptr);
+    if (h.device) {
+      vkDeviceWaitIdle(h.device);
+      if (h.fence) vkDestroyFence(h.device, h.fence, nullptr);
+      if (h.pool) vkDestroyCommandPool(h.device, h.pool, nullptr);
+      vkDestroyDevice(h.device, nullptr);
     }
-    if (messenger) {
+    if (h.messenger) {
       auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
-      if (destroy) destroy(instance, messenger, nullptr);
+          vkGetInstanceProcAddr(h.instance, "vkDestroyDebugUtilsMessengerEXT"));
+      if (destroy) destroy(h.instance, h.messenger, nullptr);
     }
-    if (instance) vkDestroyInstance(instance, nullptr);
+    if (h.instance) vkDestroyInstance(h.instance, nullptr);
   }
 };
 
@@ -165,6 +196,77 @@ std::string unsuitable(VkPhysicalDevice pd, const DeviceInfo& info, std::uint32_
   return "";
 }
 
+bool has_device_extension(VkPhysicalDevice pd, const char* name) {
+  std::uint32_t n = 0;
+  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+  std::vector<VkExtensionProperties> exts(n);
+  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+  for (const auto& e : exts)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
+
+// The buffer and memory limits of DeviceInfo (gpu/memory_plan.h): maxMemoryAllocationSize
+// (Vulkan 1.1), maxBufferSize (VK_KHR_maintenance4; no limit without it: the instance asks for
+// Vulkan 1.2, so the 1.3 core query is not ours to make) and the heap of the memory type
+// StorageBuffer picks, or that heap's budget with VK_EXT_memory_budget.
+void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
+  VkPhysicalDeviceMaintenance4Properties m4{};
+  m4.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES;
+  VkPhysicalDeviceMaintenance3Properties m3{};
+  m3.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES;
+  const bool has_m4 = has_device_extension(pd, VK_KHR_MAINTENANCE_4_EXTENSION_NAME);
+  m3.pNext = has_m4 ? &m4 : nullptr;
+  VkPhysicalDeviceProperties2 p2{};
+  p2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  p2.pNext = &m3;
+  vkGetPhysicalDeviceProperties2(pd, &p2);
+  info->max_memory_allocation_size = m3.maxMemoryAllocationSize;
+  info->max_buffer_size = has_m4 ? m4.maxBufferSize : ~std::uint64_t{0};
+
+  VkPhysicalDeviceMemoryBudgetPropertiesEXT budget{};
+  budget.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_BUDGET_PROPERTIES_EXT;
+  info->heap_budget = has_device_extension(pd, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
+  VkPhysicalDeviceMemoryProperties2 mp2{};
+  mp2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MEMORY_PROPERTIES_2;
+  mp2.pNext = info->heap_budget ? &budget : nullptr;
+  vkGetPhysicalDeviceMemoryProperties2(pd, &mp2);
+  const VkPhysicalDeviceMemoryProperties& mp = mp2.memoryProperties;
+  bool coherent = false;
+  std::uint32_t type = 0;
+  try {
+    type = pick_memory_type(mp, ~0u, &coherent);
+  } catch (const Error&) {
+    return;  // no host-visible memory: heap_bytes 0, every buffer refused by name
+  }
+  const std::uint32_t heap = mp.memoryTypes[type].heapIndex;
+  info->heap_bytes = info->heap_budget ? budget.heapBudget[heap] : mp.memoryHeaps[heap].size;
+  info->reported_heap_bytes = mp.memoryHeaps[heap].size;
+  // A CPU device's buffers are the host's memory. Mesa 22.3's lavapipe reports a fixed 2 GiB
+  // heap but allocates beyond it (5 GiB of buffers at once, measured), so the host's physical
+  // memory is the real limit there (docs/ARCHITECTURE.md, "Device memory").
+  if (!info->heap_budget && info->type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) {
+      info->heap_bytes = static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
+      info->heap_is_host = true;
+    }
+  }
+}
+
+// HRPP_DEVICE_HEAP_MIB=N caps the heap every check uses at N MiB (to leave room for other
+// processes, or to try the limit). Throws hrpp::Error on a value that is not a number.
+void apply_heap_cap(DeviceInfo* info) {
+  const char* env = std::getenv("HRPP_DEVICE_HEAP_MIB");
+  if (env == nullptr || *env == '\0') return;
+  char* end = nullptr;
+  const unsigned long long mib = std::strtoull(env, &end, 10);
+  if (*end != '\0' || mib == 0)
+    throw Error(std::string("HRPP_DEVICE_HEAP_MIB=") + env + ": not a positive whole number of MiB");
+  info->heap_bytes = std::min<std::uint64_t>(info->heap_bytes, mib * 1024 * 1024);
+  info->heap_capped = true;
+}
+
 DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
   VkPhysicalDeviceSubgroupProperties sub{};
   sub.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
@@ -197,7 +299,16 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
   info.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   info.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   info.timestamp_period_ns = p.limits.timestampPeriod;
+  describe_memory(pd, &info);
   return info;
+}
+
+std::uint32_t timestamp_bits(VkPhysicalDevice pd, std::uint32_t family) {
+  std::uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> families(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, families.data());
+  return family < n ? families[family].timestampValidBits : 0;
 }
 
 int type_rank(VkPhysicalDeviceType t) {
@@ -219,16 +330,15 @@ std::string device_list(const std::vector<DeviceInfo>& devices) {
 
 }  // namespace
 
-VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique<State>()) {
-  // HRPP_VALIDATE=1 turns validation on for every context of the process (CI's GPU tests, and
-  // the hrpp commands they run, whose --validate check then fails on any message).
-  const char* env = std::getenv("HRPP_VALIDATE");
-  const bool validate = options.validate || (env != nullptr && std::string(env) == "1");
-  State& s = *s_;
-  constexpr const char* kInstall =
-      "install a Vulkan driver (Debian: apt-get install mesa-vulkan-drivers, for lavapipe)";
+namespace {
 
-  // Instance (+ validation).
+constexpr const char* kInstall =
+    "install a Vulkan driver (Debian: apt-get install mesa-vulkan-drivers, for lavapipe)";
+
+// The instance, with VK_LAYER_KHRONOS_validation and a messenger counting into `messages` when
+// `validate`.
+void create_instance(Handles& h, bool validate,
+                     std::atomic<std::uint64_t>* messages) {
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "hrpp";
@@ -236,7 +346,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   app.pEngineName = "hrpp";
   app.apiVersion = VK_API_VERSION_1_2;
   std::vector<const char*> layers, extensions;
-  VkDebugUtilsMessengerCreateInfoEXT dbg = messenger_info(&s.messages);
+  VkDebugUtilsMessengerCreateInfoEXT dbg = messenger_info(messages);
   VkInstanceCreateInfo ici{};
   ici.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   ici.pApplicationInfo = &app;
@@ -254,79 +364,75 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   ici.ppEnabledLayerNames = layers.data();
   ici.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
   ici.ppEnabledExtensionNames = extensions.data();
-  const VkResult ir = vkCreateInstance(&ici, nullptr, &s.instance);
+  const VkResult ir = vkCreateInstance(&ici, nullptr, &h.instance);
   if (ir == VK_ERROR_INCOMPATIBLE_DRIVER || ir == VK_ERROR_INITIALIZATION_FAILED)
     throw Error(std::string("no usable Vulkan driver (vkCreateInstance: ") + vk_result_name(ir) +
                 "); " + kInstall);
   check_vk(ir, "vkCreateInstance");
-  if (validate) {
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(s.instance, "vkCreateDebugUtilsMessengerEXT"));
-    if (!create) throw Error("--validate: vkCreateDebugUtilsMessengerEXT is missing");
-    check_vk(create(s.instance, &dbg, nullptr, &s.messenger), "vkCreateDebugUtilsMessengerEXT");
-  }
+  if (!validate) return;
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(h.instance, "vkCreateDebugUtilsMessengerEXT"));
+  if (!create) throw Error("--validate: vkCreateDebugUtilsMessengerEXT is missing");
+  check_vk(create(h.instance, &dbg, nullptr, &h.messenger), "vkCreateDebugUtilsMessengerEXT");
+}
 
-  // Devices.
+// Every device of the instance, in Vulkan's order.
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
   std::uint32_t count = 0;
-  const VkResult er = vkEnumeratePhysicalDevices(s.instance, &count, nullptr);
+  const VkResult er = vkEnumeratePhysicalDevices(instance, &count, nullptr);
   if (er != VK_SUCCESS || count == 0)
     throw Error(std::string("no Vulkan device found (vkEnumeratePhysicalDevices: ") +
                 vk_result_name(er) + ", " + std::to_string(count) + " devices); " + kInstall);
   std::vector<VkPhysicalDevice> physical(count);
-  check_vk(vkEnumeratePhysicalDevices(s.instance, &count, physical.data()),
+  check_vk(vkEnumeratePhysicalDevices(instance, &count, physical.data()),
            "vkEnumeratePhysicalDevices");
   physical.resize(count);
-  for (std::uint32_t i = 0; i < count; ++i) s.devices.push_back(describe(physical[i], i));
+  return physical;
+}
 
+// The index of the device --device names (see VulkanOptions::device) that can run the kernels,
+// real GPUs first; fills its compute queue family.
+std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
+                            const std::vector<DeviceInfo>& devices, const std::string& want,
+                            std::uint32_t* family) {
+  const bool by_index = !want.empty() && std::all_of(want.begin(), want.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
   std::vector<std::uint32_t> candidates;
-  const std::string& want = options.device;
-  const bool by_index =
-      !want.empty() && std::all_of(want.begin(), want.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
-  for (std::uint32_t i = 0; i < count; ++i) {
+  for (std::uint32_t i = 0; i < devices.size(); ++i)
     if (by_index ? want == std::to_string(i)
-                 : lower(s.devices[i].name).find(lower(want)) != std::string::npos)
+                 : lower(devices[i].name).find(lower(want)) != std::string::npos)
       candidates.push_back(i);
-  }
   if (candidates.empty())
-    throw Error("--device " + want + ": no such Vulkan device (found: " + device_list(s.devices) +
+    throw Error("--device " + want + ": no such Vulkan device (found: " + device_list(devices) +
                 ")");
   std::stable_sort(candidates.begin(), candidates.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return type_rank(s.devices[a].type) < type_rank(s.devices[b].type);
+    return type_rank(devices[a].type) < type_rank(devices[b].type);
   });
   std::string why;
-  int chosen = -1;
   for (std::uint32_t i : candidates) {
-    const std::string reason = unsuitable(physical[i], s.devices[i], &s.family);
-    if (reason.empty()) {
-      chosen = static_cast<int>(i);
-      break;
-    }
-    why += (why.empty() ? "" : "; ") + s.devices[i].name + ": " + reason;
+    const std::string reason = unsuitable(physical[i], devices[i], family);
+    if (reason.empty()) return i;
+    why += (why.empty() ? "" : "; ") + devices[i].name + ": " + reason;
   }
-  if (chosen < 0)
-    throw Error("no Vulkan device can run the compute kernels (" + why + "); " + kInstall);
-  s.physical = physical[chosen];
-  s.info = s.devices[chosen];
+  throw Error("no Vulkan device can run the compute kernels (" + why + "); " + kInstall);
+}
 
-  std::uint32_t nf = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(s.physical, &nf, nullptr);
-  std::vector<VkQueueFamilyProperties> families(nf);
-  vkGetPhysicalDeviceQueueFamilyProperties(s.physical, &nf, families.data());
-  s.info.timestamps = families[s.family].timestampValidBits > 0;
-
-  // Logical device: float64 (watertight fallback), int64 and int64 atomics when offered.
+// The logical device with float64 (watertight fallback), int64 and int64 atomics when offered,
+// and its one compute queue.
+void create_device(Handles& h, const DeviceInfo& info) {
   VkPhysicalDeviceVulkan12Features f12{};
   f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
-  f12.shaderBufferInt64Atomics = s.info.int64_atomics;
+  f12.shaderBufferInt64Atomics = info.int64_atomics;
   VkPhysicalDeviceFeatures2 f2{};
   f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
   f2.pNext = &f12;
   f2.features.shaderFloat64 = VK_TRUE;
-  f2.features.shaderInt64 = s.info.int64;
+  f2.features.shaderInt64 = info.int64;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{};
   qci.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-  qci.queueFamilyIndex = s.family;
+  qci.queueFamilyIndex = h.family;
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
   VkDeviceCreateInfo dci{};
@@ -334,23 +440,48 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   dci.pNext = &f2;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
-  check_vk(vkCreateDevice(s.physical, &dci, nullptr, &s.device), "vkCreateDevice");
-  vkGetDeviceQueue(s.device, s.family, 0, &s.queue);
+  check_vk(vkCreateDevice(h.physical, &dci, nullptr, &h.device), "vkCreateDevice");
+  vkGetDeviceQueue(h.device, h.family, 0, &h.queue);
+}
 
+// The command pool, the one reusable command buffer and the fence of submit_and_wait.
+void create_command_objects(Handles& h) {
   VkCommandPoolCreateInfo pci{};
   pci.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pci.queueFamilyIndex = s.family;
-  check_vk(vkCreateCommandPool(s.device, &pci, nullptr, &s.pool), "vkCreateCommandPool");
+  pci.queueFamilyIndex = h.family;
+  check_vk(vkCreateCommandPool(h.device, &pci, nullptr, &h.pool), "vkCreateCommandPool");
   VkCommandBufferAllocateInfo cai{};
   cai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cai.commandPool = s.pool;
+  cai.commandPool = h.pool;
   cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cai.commandBufferCount = 1;
-  check_vk(vkAllocateCommandBuffers(s.device, &cai, &s.cmd), "vkAllocateCommandBuffers");
+  check_vk(vkAllocateCommandBuffers(h.device, &cai, &h.cmd), "vkAllocateCommandBuffers");
   VkFenceCreateInfo fci{};
   fci.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  check_vk(vkCreateFence(s.device, &fci, nullptr, &s.fence), "vkCreateFence");
+  check_vk(vkCreateFence(h.device, &fci, nullptr, &h.fence), "vkCreateFence");
+}
+
+}  // namespace
+
+VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique<State>()) {
+  // HRPP_VALIDATE=1 turns validation on for every context of the process (CI's GPU tests, and
+  // the hrpp commands they run, whose --validate check then fails on any message).
+  const char* env = std::getenv("HRPP_VALIDATE");
+  const bool validate = options.validate || (env != nullptr && std::string(env) == "1");
+  State& s = *s_;
+  create_instance(s.h, validate, &s.messages);
+  const std::vector<VkPhysicalDevice> physical = physical_devices(s.h.instance);
+  for (std::uint32_t i = 0; i < physical.size(); ++i)
+    s.devices.push_back(describe(physical[i], i));
+  const std::uint32_t chosen = choose_device(physical, s.devices, options.device, &s.h.family);
+  s.h.physical = physical[chosen];
+  s.info = s.devices[chosen];
+  s.info.timestamps = timestamp_bits(s.h.physical, s.h.family) > 0;
+  apply_heap_cap(&s.info);
+  s.ledger.set_heap(s.info.heap_bytes);
+  create_device(s.h, s.info);
+  create_command_objects(s.h);
 }
 
 VulkanContext::~VulkanContext() = default;
@@ -360,13 +491,15 @@ VulkanContext& VulkanContext::operator=(VulkanContext&&) noexcept = default;
 const DeviceInfo& VulkanContext::info() const { return s_->info; }
 const std::vector<DeviceInfo>& VulkanContext::devices() const { return s_->devices; }
 std::uint64_t VulkanContext::validation_messages() const { return s_->messages.load(); }
-VkDevice VulkanContext::device() const { return s_->device; }
-VkPhysicalDevice VulkanContext::physical_device() const { return s_->physical; }
-std::uint32_t VulkanContext::queue_family() const { return s_->family; }
+MemoryLedger& VulkanContext::memory() { return s_->ledger; }
+const MemoryLedger& VulkanContext::memory() const { return s_->ledger; }
+VkDevice VulkanContext::device() const { return s_->h.device; }
+VkPhysicalDevice VulkanContext::physical_device() const { return s_->h.physical; }
+std::uint32_t VulkanContext::queue_family() const { return s_->h.family; }
 
 void VulkanContext::submit_and_wait(const std::function<void(VkCommandBuffer)>& record,
                                     const std::string& what) {
-  State& s = *s_;
+  Handles& s = s_->h;
   check_vk(vkResetCommandBuffer(s.cmd, 0), "vkResetCommandBuffer (" + what + ")");
   VkCommandBufferBeginInfo bi{};
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -386,8 +519,9 @@ void VulkanContext::submit_and_wait(const std::function<void(VkCommandBuffer)>& 
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   si.commandBufferCount = 1;
   si.pCommandBuffers = &s.cmd;
-  check_vk(vkQueueSubmit(s.queue, 1, &si, s.fence), what);
-  check_vk(vkWaitForFences(s.device, 1, &s.fence, VK_TRUE, UINT64_MAX), what);
+  check_vk(vkQueueSubmit(s.queue, 1, &si, s.fence), "vkQueueSubmit (" + what + ")");
+  check_vk(vkWaitForFences(s.device, 1, &s.fence, VK_TRUE, UINT64_MAX),
+           "vkWaitForFences (" + what + ")");
 }
 
 }  // namespace hrpp

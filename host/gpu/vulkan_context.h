@@ -10,6 +10,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/memory_ledger.h"
+
 namespace hrpp {
 
 struct VulkanOptions {
@@ -35,6 +37,17 @@ struct DeviceInfo {
   bool int64_atomics = false;       // shaderBufferInt64Atomics
   std::uint64_t max_storage_buffer_range = 0;  // bytes one storage-buffer binding may span
   std::uint32_t max_texel_buffer_elements = 0;  // texels one texel-buffer view may span
+  std::uint64_t max_memory_allocation_size = 0;  // bytes of one allocation (one buffer here)
+  std::uint64_t max_buffer_size = 0;             // bytes of one VkBuffer
+  // What all of a scene's buffers together must fit (gpu/memory_plan.h): the heap of the memory
+  // type buffers use (pick_memory_type), or its budget where the device has
+  // VK_EXT_memory_budget, or on a CPU device the host's physical memory; at most
+  // HRPP_DEVICE_HEAP_MIB when that is set.
+  std::uint64_t heap_bytes = 0;
+  std::uint64_t reported_heap_bytes = 0;  // the heap's size as the device reports it
+  bool heap_budget = false;               // heap_bytes is VK_EXT_memory_budget's budget
+  bool heap_is_host = false;              // heap_bytes is the host's memory (a CPU device)
+  bool heap_capped = false;               // HRPP_DEVICE_HEAP_MIB applied
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps
@@ -64,6 +77,10 @@ class VulkanContext {
   // waits on a fence. `what` names the work in errors (device lost).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
 
+  // The buffers allocated now, by name (StorageBuffer keeps it), and their peak.
+  MemoryLedger& memory();
+  const MemoryLedger& memory() const;
+
   VkDevice device() const;
   VkPhysicalDevice physical_device() const;
   std::uint32_t queue_family() const;
@@ -73,9 +90,15 @@ class VulkanContext {
   std::unique_ptr<State> s_;
 };
 
-// Throws hrpp::Error("<what>: <VkResult name>") when r is not VK_SUCCESS; a lost device gets its
-// own message.
+// Throws hrpp::Error("<what> failed: <VkResult name>") when r is not VK_SUCCESS; a lost device
+// and running out of device or host memory get their own one-line messages naming `what`.
 void check_vk(VkResult r, const std::string& what);
+
+// The host-visible memory type for buffers that allow `allowed` (a memoryTypeBits mask), best
+// first: device-local and coherent (a GPU's BAR or unified memory; all of lavapipe's),
+// coherent, then any host-visible type. Throws hrpp::Error when there is none.
+std::uint32_t pick_memory_type(const VkPhysicalDeviceMemoryProperties& mp, std::uint32_t allowed,
+                               bool* coherent);
 const char* vk_result_name(VkResult r);
 
 }  // namespace hrpp

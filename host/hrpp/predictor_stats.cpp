@@ -2,19 +2,12 @@
 
 #include <cstdio>
 
+#include "common/bytes.h"
+
 namespace hrpp {
 namespace {
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
-
-std::string bytes_text(std::uint64_t b) {
-  char buf[32];
-  if (b >= (1u << 20))
-    std::snprintf(buf, sizeof buf, "%.2f MiB", static_cast<double>(b) / (1u << 20));
-  else
-    std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(b) / 1024.0);
-  return buf;
-}
 
 }  // namespace
 
@@ -49,7 +42,7 @@ std::string describe(const PredictorConfig& config) {
                 "hash %s N=%u, go-up %u, %s, table %ux%ux%u %s (%s per ray class), %s",
                 hash_kind_name(config.hash.kind), config.hash.bits, config.go_up,
                 predictor_mode_name(config.mode), t.sets, t.ways, t.nodes,
-                table_policy_name(t.policy), bytes_text(t.bytes()).c_str(),
+                table_policy_name(t.policy), format_bytes(t.bytes()).c_str(),
                 config.batch == 0 ? "inserts during the trace"
                                   : ("batches of " + std::to_string(config.batch) +
                                      (config.serial ? ", one ray per subgroup" : ""))
@@ -73,7 +66,7 @@ std::string format_summary(const std::string& label, const PredictorSummary& s, 
       u(c[HRPP_PC_NEGATIVES]), "", u(c[HRPP_PC_INSERTS]), u(c[HRPP_PC_INSERT_REQUESTS]),
       u(c[HRPP_PC_INSERT_PRESENT]), u(c[HRPP_PC_INSERT_DROPS]), u(c[HRPP_PC_EVICTIONS]),
       u(s.occupancy.entries), u(s.occupancy.capacity), u(s.occupancy.nodes),
-      bytes_text(s.occupancy.bytes).c_str(), "", u(c[HRPP_PC_VERIFY_INTERIOR]),
+      format_bytes(s.occupancy.bytes).c_str(), "", u(c[HRPP_PC_VERIFY_INTERIOR]),
       u(c[HRPP_PC_VERIFY_LEAVES]), u(c[HRPP_PC_VERIFY_TRIANGLES]));
   if (s.baseline && n > 0 && static_cast<std::size_t>(n) < sizeof buf) {
     n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n),

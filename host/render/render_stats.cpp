@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "common/bytes.h"
 #include "hrpp_types.h"
 
 namespace hrpp {
@@ -148,6 +149,30 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
                 config.height, config.spp);
   out += line;
   return out;
+}
+
+json memory_json(const MemoryReport& memory) {
+  json buffers = json::object();
+  for (const auto& [name, bytes] : memory.buffers) buffers[name] = bytes;
+  return json{{"buffers", buffers},
+              {"total_bytes", memory.total},
+              {"peak_bytes", memory.peak},
+              {"heap_bytes", memory.heap}};
+}
+
+std::string memory_text(const MemoryReport& memory) {
+  std::string largest;
+  std::uint64_t most = 0;
+  for (const auto& [name, bytes] : memory.buffers)
+    if (bytes > most) {
+      most = bytes;
+      largest = name;
+    }
+  std::string s = format_bytes(memory.total) + " in " + std::to_string(memory.buffers.size()) +
+                  " buffers (peak " + format_bytes(memory.peak) + ", device heap " +
+                  format_bytes(memory.heap) + ")";
+  if (!largest.empty()) s += "; largest " + largest + " " + format_bytes(most);
+  return s;
 }
 
 }  // namespace hrpp

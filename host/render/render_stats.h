@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gpu/memory_ledger.h"
 #include "gpu/vulkan_context.h"
 #include "render/wavefront_renderer.h"
 
@@ -14,6 +15,13 @@ namespace hrpp {
 
 nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& config,
                                  const DeviceInfo& device, const RenderResult& result);
+
+// The "memory" object of the stats: bytes allocated per named device buffer ("buffers"), their
+// total, the peak total and the device heap they were checked against (gpu/memory_plan.h).
+nlohmann::json memory_json(const MemoryReport& memory);
+
+// One terminal line: "<total> in <n> buffers (peak <peak>, heap <heap>); largest <name> <size>".
+std::string memory_text(const MemoryReport& memory);
 
 // The same as lines of text for the terminal.
 std::string render_stats_text(const RenderConfig& config, const RenderResult& result);

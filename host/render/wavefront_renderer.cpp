@@ -13,6 +13,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/ray_sorter.h"
+#include "gpu/memory_plan.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
@@ -38,11 +39,66 @@ constexpr auto kBindingTypes = [] {
   return t;
 }();
 
+// A scene array as a buffer (at least one element: Vulkan has no empty buffers).
 template <class T>
-StorageBuffer upload_array(VulkanContext& ctx, const std::vector<T>& items, const char* name) {
-  StorageBuffer b(ctx, std::max<std::size_t>(items.size(), 1) * sizeof(T), name);
+BufferNeed array_need(const std::vector<T>& items, const char* name, BufferBinding binding) {
+  return {name, std::max<std::size_t>(items.size(), 1) * sizeof(T), binding};
+}
+
+template <class T>
+StorageBuffer upload_array(VulkanContext& ctx, const BufferNeed& need, const std::vector<T>& items) {
+  StorageBuffer b(ctx, need);
   if (!items.empty()) b.upload(items.data(), items.size() * sizeof(T));
   return b;
+}
+
+// The render's own buffers (the tracer's are GpuTracer::buffer_needs): the scene's shading data
+// (triangles, materials and lights read through texel views only), the image and the wavefront's
+// arrays.
+struct RenderBufferNeeds {
+  BufferNeed params, paths, next_paths, next_rays, shadows, image, queues;
+  BufferNeed shade_triangles, materials, lights, textures, texels;
+
+  RenderBufferNeeds(const RenderScene& rs, const RenderConfig& c, std::uint32_t wave)
+      : params{"render parameters", sizeof(gpu::RenderParams)},
+        paths{"path states", std::size_t{wave} * sizeof(gpu::PathState)},
+        next_paths{"continuation path states", std::size_t{wave} * sizeof(gpu::PathState)},
+        next_rays{"continuation rays", std::size_t{wave} * sizeof(gpu::Ray)},
+        shadows{"shadow records", std::size_t{wave} * sizeof(gpu::ShadowRecord)},
+        image{"image", std::size_t{c.width} * c.height * sizeof(glm::vec4)},
+        queues{"render queues", sizeof(gpu::RenderQueues)},
+        shade_triangles(array_need(rs.triangles, "shading triangles", BufferBinding::kTexelOnly)),
+        materials(array_need(rs.materials, "materials", BufferBinding::kTexelOnly)),
+        lights(array_need(rs.lights, "lights", BufferBinding::kTexelOnly)),
+        textures(array_need(rs.textures, "texture table", BufferBinding::kStorage)),
+        texels(array_need(rs.texels, "texels", BufferBinding::kStorage)) {}
+
+  std::vector<BufferNeed> all() const {
+    return {params, paths, next_paths, next_rays, shadows, image, queues,
+            shade_triangles, materials, lights, textures, texels};
+  }
+};
+
+// Paths per wavefront: one dispatch per kernel and wavefront reaches at most
+// max_workgroup_count_x workgroups, and the tracer's ray arrays hold them.
+std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config) {
+  return static_cast<std::uint32_t>(std::min<std::size_t>(
+      {config.wavefront_paths, std::size_t{config.width} * config.height,
+       std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
+       GpuTracer::max_dispatch_rays(c.info(), config.tracer)}));
+}
+
+// Before anything is allocated: every buffer of the render against the device's limits and
+// heap, naming the scene (gpu/memory_plan.h).
+const RenderBufferNeeds& check_render_fits(const VulkanContext& c, const Scene& scene,
+                                           const GpuBvh& bvh, const RenderConfig& config,
+                                           std::uint32_t wave, const RenderBufferNeeds& needs) {
+  std::vector<BufferNeed> all = GpuTracer::buffer_needs(bvh, config.predictor, wave);
+  for (BufferNeed& n : needs.all()) all.push_back(std::move(n));
+  check_fits("scene '" + scene.name + "' (" + std::to_string(scene.triangles.size()) +
+                 " triangles)",
+             all, memory_limits(c.info()));
+  return needs;
 }
 
 std::array<SpecializationConstant, HRPP_FEATURE_COUNT> specialization(const RenderFeatures& f) {
@@ -126,8 +182,9 @@ struct WavefrontRenderer::State {
   VulkanContext& ctx;
   RenderConfig cfg;
   RenderScene rs;
-  GpuTracer tracer;
   std::uint32_t wave;  // paths per wavefront
+  RenderBufferNeeds needs;
+  GpuTracer tracer;
   StorageBuffer params, paths, next_paths, next_rays, shadows, image, queues;
   StorageBuffer shade_triangles, materials, lights, textures, texels;
   TexelView shade_view, material_view, light_view;
@@ -143,24 +200,21 @@ struct WavefrontRenderer::State {
       : ctx(c),
         cfg((check_render_config(config, scene), config)),
         rs(make_render_scene(scene)),
+        wave(wavefront_paths(c, config)),
+        needs(check_render_fits(c, scene, bvh, config, wave, RenderBufferNeeds(rs, config, wave))),
         tracer(c, bvh, config.tracer, config.predictor),
-        // One dispatch per kernel and wavefront: at most max_workgroup_count_x workgroups.
-        wave(static_cast<std::uint32_t>(std::min<std::size_t>(
-            {config.wavefront_paths, std::size_t{config.width} * config.height,
-             std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
-             tracer.max_dispatch_rays()}))),
-        params(c, sizeof(gpu::RenderParams), "render parameters"),
-        paths(c, std::size_t{wave} * sizeof(gpu::PathState), "path states"),
-        next_paths(c, std::size_t{wave} * sizeof(gpu::PathState), "continuation path states"),
-        next_rays(c, std::size_t{wave} * sizeof(gpu::Ray), "continuation rays"),
-        shadows(c, std::size_t{wave} * sizeof(gpu::ShadowRecord), "shadow records"),
-        image(c, std::size_t{config.width} * config.height * sizeof(glm::vec4), "image"),
-        queues(c, sizeof(gpu::RenderQueues), "render queues"),
-        shade_triangles(upload_array(c, rs.triangles, "shading triangles")),
-        materials(upload_array(c, rs.materials, "materials")),
-        lights(upload_array(c, rs.lights, "lights")),
-        textures(upload_array(c, rs.textures, "texture table")),
-        texels(upload_array(c, rs.texels, "texels")),
+        params(c, needs.params),
+        paths(c, needs.paths),
+        next_paths(c, needs.next_paths),
+        next_rays(c, needs.next_rays),
+        shadows(c, needs.shadows),
+        image(c, needs.image),
+        queues(c, needs.queues),
+        shade_triangles(upload_array(c, needs.shade_triangles, rs.triangles)),
+        materials(upload_array(c, needs.materials, rs.materials)),
+        lights(upload_array(c, needs.lights, rs.lights)),
+        textures(upload_array(c, needs.textures, rs.textures)),
+        texels(upload_array(c, needs.texels, rs.texels)),
         shade_view(c, shade_triangles),
         material_view(c, materials),
         light_view(c, lights),

@@ -1,0 +1,143 @@
+// Device memory on the Vulkan device (lavapipe here), under the validation layer: arrays read
+// only through texel views may pass maxStorageBufferRange, the context's ledger follows every
+// buffer a render makes and frees, and a scene whose BVH node array is bigger than the old
+// 128 MiB storage range traces as the CPU reference does (docs/ARCHITECTURE.md, "Device memory").
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/kernel_bindings.h"
+#include "gpu/storage_buffer.h"
+#include "gpu/texel_view.h"
+#include "gpu/vulkan_context.h"
+#include "render/wavefront_renderer.h"
+#include "scene/load_scene.h"
+#include "trace/cpu_traversal.h"
+#include "trace_interface.h"
+
+namespace hrpp {
+namespace {
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
+  VulkanContext& ctx = context();
+  const std::size_t bytes = ctx.info().max_storage_buffer_range + TexelView::kTexelBytes;
+  ASSERT_LE(bytes, std::uint64_t{ctx.info().max_texel_buffer_elements} * TexelView::kTexelBytes);
+  const std::string storage = error_of([&] { StorageBuffer(ctx, bytes, "wide storage array"); });
+  EXPECT_NE(storage.find("wide storage array is"), std::string::npos) << storage;
+  EXPECT_NE(storage.find("maxStorageBufferRange"), std::string::npos) << storage;
+
+  StorageBuffer texels(ctx, bytes, "wide texel array", BufferBinding::kTexelOnly);
+  const TexelView view(ctx, texels);  // the whole array in one view
+  EXPECT_NE(view.handle(), VkBufferView{VK_NULL_HANDLE});
+  EXPECT_EQ(ctx.memory().report().buffers.at("wide texel array"), bytes);
+
+  // Bound as a storage buffer it would be cut at the range: refused by name.
+  ComputePipeline kernel(ctx, "trace_closest", embedded_spirv("trace_closest"), kTraceBindingTypes,
+                         sizeof(gpu::TracePushConstants));
+  const std::string bind = error_of([&] { kernel.bind(HRPP_TRACE_BINDING_COUNTERS, texels); });
+  EXPECT_NE(bind.find("wide texel array is read through texel views only"), std::string::npos)
+      << bind;
+}
+
+TEST(DeviceMemory, TheLedgerFollowsEveryBufferOfARender) {
+  VulkanContext& ctx = context();
+  const std::uint64_t before = ctx.memory().report().total;
+  const Scene scene = load_scene("builtin:cornell");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  RenderConfig config;
+  config.width = 24;
+  config.height = 16;
+  config.spp = 1;
+  {
+    WavefrontRenderer renderer(ctx, scene, bvh, config);
+    renderer.render();
+    const MemoryReport r = ctx.memory().report();
+    std::uint64_t sum = 0;
+    for (const auto& [name, bytes] : r.buffers) sum += bytes;
+    EXPECT_EQ(sum, r.total);
+    EXPECT_GE(r.peak, r.total);
+    EXPECT_GE(r.heap, ctx.info().heap_bytes);
+    // Every buffer the tracer plans for the wavefront is there, at least as big as planned.
+    const std::size_t wave = std::size_t{config.width} * config.height;
+    for (const BufferNeed& n : GpuTracer::buffer_needs(bvh, {}, wave)) {
+      ASSERT_TRUE(r.buffers.count(n.name)) << n.name;
+      EXPECT_GE(r.buffers.at(n.name), n.bytes) << n.name;
+    }
+    EXPECT_EQ(r.buffers.at("image"), wave * 16);
+    EXPECT_GE(r.buffers.at("shading triangles"), scene.triangles.size() * 128);
+  }
+  EXPECT_EQ(ctx.memory().report().total, before);  // all freed
+}
+
+// A soup of small random triangles in a 100-unit box whose BVH node array is bigger than
+// lavapipe's 128 MiB storage range: refused before the arrays became texel-only.
+Scene triangle_soup(std::size_t count) {
+  Scene scene;
+  scene.name = "soup";
+  scene.materials.emplace_back();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> pos(0.0f, 100.0f), off(-0.05f, 0.05f);
+  scene.triangles.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const glm::vec3 c(pos(rng), pos(rng), pos(rng));
+    scene.triangles.push_back({c + glm::vec3(off(rng), off(rng), off(rng)),
+                               c + glm::vec3(off(rng), off(rng), off(rng)),
+                               c + glm::vec3(off(rng), off(rng), off(rng))});
+  }
+  scene.shading.resize(count);
+  return scene;
+}
+
+TEST(DeviceMemory, ANodeArrayPastTheStorageRangeTracesAsTheCpu) {
+  VulkanContext& ctx = context();
+  const Scene scene = triangle_soup(2'300'000);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
+  ASSERT_GT(bvh.nodes.size() * sizeof(gpu::BvhNode), ctx.info().max_storage_buffer_range);
+  GpuTracer tracer(ctx, bvh);
+  std::mt19937 rng(5);
+  // Rays from random points at random triangles' centroids: they reach leaves all over the tree.
+  std::uniform_real_distribution<float> pos(0.0f, 100.0f);
+  std::uniform_int_distribution<std::size_t> pick(0, scene.triangles.size() - 1);
+  std::vector<gpu::Ray> rays(2048);
+  for (gpu::Ray& r : rays) {
+    const Triangle& t = scene.triangles[pick(rng)];
+    const glm::vec3 origin(pos(rng), pos(rng), pos(rng));
+    r = {origin, 0.0f, (t.v0 + t.v1 + t.v2) / 3.0f - origin, 1e30f};
+  }
+  const GpuTraceResult gpu = tracer.trace(rays, RayClass::kCamera);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const gpu::Hit cpu = trace_closest(bvh, rays[i]);
+    ASSERT_EQ(gpu.hits[i].prim, cpu.prim) << "ray " << i;
+    ASSERT_EQ(gpu.hits[i].t, cpu.t) << "ray " << i;
+    hits += cpu.prim >= 0;
+  }
+  EXPECT_GT(hits, rays.size() / 2);
+}
+
+}  // namespace
+}  // namespace hrpp
