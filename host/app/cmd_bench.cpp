@@ -22,6 +22,7 @@
 #include "app/commands.h"
 #include "app/output_path.h"
 #include "app/hrpp_options.h"
+#include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -36,7 +37,7 @@ namespace hrpp::app {
 namespace {
 
 struct BenchOptions {
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   std::size_t rays = std::size_t{1} << 20;
   std::vector<std::string> kinds = {"primary", "ao", "diffuse"};
   std::string json;
@@ -49,9 +50,6 @@ struct BenchOptions {
   bool no_embree = false;
   bool no_gpu = false;
   bool strict = false;
-  VulkanOptions vulkan;
-  GpuTracerConfig tracer;
-  BvhConfig bvh;
   HrppOptions hrpp;
 };
 
@@ -205,7 +203,7 @@ void run_bench(const BenchOptions& o) {
   std::unique_ptr<VulkanContext> ctx;
   if (!o.no_gpu) {
     try {
-      ctx = std::make_unique<VulkanContext>(o.vulkan);
+      ctx = std::make_unique<VulkanContext>(o.shared.vulkan);
       const DeviceInfo& d = ctx->info();
       std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
                   d.driver.c_str(), d.subgroup_size);
@@ -220,16 +218,16 @@ void run_bench(const BenchOptions& o) {
     std::printf("vulkan      off (--no-gpu)\n");
   }
 
-  const Scene scene = load_scene(o.scene);
-  const Bvh base = build_bvh(scene, o.bvh);
-  const BvhStats stats = compute_bvh_stats(base, o.bvh);
+  const Scene scene = load_scene(o.shared.scene);
+  const Bvh base = build_bvh(scene, o.shared.bvh);
+  const BvhStats stats = compute_bvh_stats(base, o.shared.bvh);
   const GpuBvh bvh = make_gpu_layout(base, scene);
   std::printf("scene       %s: %zu triangles (%u degenerate), BVH %.1f ms, %u interior, %u leaves, "
               "depth %u\n",
               scene.name.c_str(), scene.triangles.size(), stats.degenerate, base.build_ms,
               stats.interior_nodes, stats.leaves, stats.max_depth);
   report["scene"] = {{"name", scene.name},
-                     {"spec", o.scene},
+                     {"spec", o.shared.scene},
                      {"triangles", scene.triangles.size()},
                      {"degenerate", stats.degenerate},
                      {"bvh_build_ms", base.build_ms},
@@ -252,7 +250,7 @@ void run_bench(const BenchOptions& o) {
 
   std::unique_ptr<GpuTracer> gpu_tracer;
   if (ctx) {
-    gpu_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer);
+    gpu_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
     gpu_tracer->warm_up();
   }
   // HRPP on: a second GPU tracer ("gpu-hrpp") that probes the predictor; each timed run starts
@@ -260,7 +258,7 @@ void run_bench(const BenchOptions& o) {
   const PredictorConfig predictor = o.hrpp.config();
   std::unique_ptr<GpuTracer> hrpp_tracer;
   if (ctx && predictor.enabled) {
-    hrpp_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer, predictor);
+    hrpp_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, predictor);
     hrpp_tracer->warm_up();
     std::printf("hrpp        %s; ray classes: %s\n", describe(predictor).c_str(),
                 o.hrpp.rays.c_str());
@@ -458,9 +456,7 @@ void run_bench(const BenchOptions& o) {
   if (o.strict && total_mismatches > 0)
     throw Error("--strict: " + std::to_string(total_mismatches) +
                 " mismatches against the CPU reference");
-  if (ctx && ctx->validation_messages() != 0)  // HRPP_VALIDATE=1 (bench has no --validate)
-    throw Error("HRPP_VALIDATE: " + std::to_string(ctx->validation_messages()) +
-                " Vulkan validation messages (printed above)");
+  if (ctx) check_validation_messages(*ctx);
 }
 
 }  // namespace
@@ -470,10 +466,6 @@ void add_bench_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench",
       "Mrays/s on fixed primary / AO / diffuse batches: CPU reference, Embree, Vulkan device");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
   cmd->add_option("--rays", o->rays,
                   "Rays per batch; primaries on the smallest near-square grid with >= N pixels "
                   "(2^20: 1024x1024)")
@@ -498,16 +490,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-embree", o->no_embree, "Skip Embree");
   cmd->add_flag("--no-gpu", o->no_gpu, "Skip the Vulkan device");
   cmd->add_flag("--strict", o->strict, "Exit with status 1 when any tracer mismatches");
-  cmd->add_option("--device", o->vulkan.device,
-                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  cmd->add_option("--rays-per-invocation", o->tracer.rays_per_invocation,
-                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 24));
-  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
-      ->capture_default_str();
-  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_bench(*o); });
 }

@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -23,13 +24,11 @@ namespace hrpp::app {
 namespace {
 
 struct RenderOptions {
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   std::string size = "256x256";
   std::string out = "render.png";
   std::string stats;
   RenderConfig render;
-  VulkanOptions vulkan;
-  BvhConfig bvh;
   HrppOptions hrpp;
 };
 
@@ -82,15 +81,15 @@ void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
   check_range("--spp", o.render.spp, 1, 1u << 20);
   check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
-  check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
   check_output_path(o.out, "--out");
   check_output_path(o.stats, "--stats");
+  o.render.tracer = o.shared.tracer;
   o.render.predictor = o.hrpp.config();
-  const Scene scene = load_scene(o.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
-  VulkanContext ctx(o.vulkan);
+  const Scene scene = load_scene(o.shared.scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene);
+  VulkanContext ctx(o.shared.vulkan);
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);
 
   // A progress line on stderr once the render has taken more than a second.
@@ -106,9 +105,7 @@ void run_render(RenderOptions& o) {
     if (done == spp) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   });
-  if (ctx.validation_messages() != 0)
-    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
-                " Vulkan validation messages (printed above)");
+  check_validation_messages(ctx);
   write_image(o.out, result.width, result.height, result.rgb);
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
@@ -138,10 +135,7 @@ void add_render_command(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand(
       "render", "Render an image with the wavefront path tracer on the Vulkan device");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
@@ -155,13 +149,6 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Image: .exr (linear float) or .png (sRGB, clamped)")
       ->capture_default_str();
   cmd->add_option("--stats", o->stats, "Write configuration, kernel times and counters as JSON");
-  cmd->add_option("--device", o->vulkan.device,
-                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  cmd->add_flag("--validate", o->vulkan.validate,
-                "Vulkan validation layer on; any message fails the command");
-  cmd->add_option("--rays-per-invocation", o->render.tracer.rays_per_invocation,
-                  "Most rays one trace invocation traces (lavapipe loop limiter)")
-      ->capture_default_str();
   cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
       ->capture_default_str();
   add_hrpp_options(cmd, o->hrpp);
