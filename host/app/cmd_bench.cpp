@@ -346,13 +346,8 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
 // HRPP: one more run from empty tables that counts the savings (outside the timings).
 std::optional<PredictorSummary> count_hrpp(Backends& b, std::span<const gpu::Ray> rays,
                                            bool any_hit) {
-  if (!b.hrpp || !b.predictor.predicts(ray_file_class(any_hit))) return std::nullopt;
-  b.hrpp->clear_predictor();
-  b.hrpp->set_count_baseline(true);
-  const GpuTraceResult counted = b.hrpp->trace(rays, any_hit);
-  b.hrpp->set_count_baseline(false);
-  return summarize(counted.predictor, counted.counters,
-                   b.hrpp->predictor_occupancy(ray_file_class(any_hit)), true);
+  if (!b.hrpp) return std::nullopt;
+  return count_savings(*b.hrpp, b.predictor, rays, any_hit);
 }
 
 const TracerResult* find(const std::vector<TracerResult>& results, TracerKind kind) {

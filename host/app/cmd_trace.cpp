@@ -14,6 +14,7 @@
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
 #include "app/shared_options.h"
+#include "app/tracer.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -61,25 +62,20 @@ void run_trace(const TraceOptions& o) {
   GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
   if (o.repeat > 1) tracer.warm_up();
 
-  // Every run starts from an empty table; HRPP's figures come from one more run that also
-  // counts what full traversals would visit (outside the timings).
-  GpuTraceResult result;
+  // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come
+  // from one more run that also counts what full traversals would visit (outside the timings).
+  GpuBackend backend(tracer, predictor.enabled, predictor.batch != 0);
+  TracerRun result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
-    tracer.clear_predictor();
-    result = tracer.trace(rays, o.any_hit);
-    ms.push_back(result.kernel_ms);
+    result = backend.trace(rays, o.any_hit);
+    ms.push_back(result.ms);
   }
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (predictor.predicts(ray_file_class(o.any_hit))) {
-    tracer.clear_predictor();
-    tracer.set_count_baseline(true);
-    const GpuTraceResult counted = tracer.trace(rays, o.any_hit);
-    const PredictorSummary s = summarize(counted.predictor, counted.counters,
-                                         tracer.predictor_occupancy(ray_file_class(o.any_hit)), true);
-    hrpp_text = describe(predictor) + "\n" + format_summary("", s, o.any_hit);
-    hrpp_json["summary"] = predictor_summary_json(s);
+  if (const auto s = count_savings(tracer, predictor, rays, o.any_hit)) {
+    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.any_hit);
+    hrpp_json["summary"] = predictor_summary_json(*s);
   }
   check_validation_messages(ctx);
   write_file_atomically(o.hits,
@@ -89,7 +85,7 @@ void run_trace(const TraceOptions& o) {
 
   std::sort(ms.begin(), ms.end());
   const double median = ms[ms.size() / 2];
-  const TraversalCounters& c = result.counters;
+  const TraversalCounters& c = *result.counters;
   const double n = static_cast<double>(rays.size());
   std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
               ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);

@@ -42,4 +42,15 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
 }
 
+std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
+                                              std::span<const gpu::Ray> rays, bool any_hit) {
+  const RayClass c = ray_file_class(any_hit);
+  if (!predictor.predicts(c)) return std::nullopt;
+  tracer.clear_predictor();
+  tracer.set_count_baseline(true);
+  const GpuTraceResult counted = tracer.trace(rays, any_hit);
+  tracer.set_count_baseline(false);
+  return summarize(counted.predictor, counted.counters, tracer.predictor_occupancy(c), true);
+}
+
 }  // namespace hrpp::app

@@ -1,6 +1,6 @@
 // A tracer: one backend that answers a batch of rays with one hit per ray (closest or any hit),
 // behind `hrpp bench`. A new backend is one class here: a TracerKind, a name, what its times
-// measure and trace().
+// measure and trace(). `hrpp trace` runs the GPU backend through it too.
 #pragma once
 
 #include <optional>
@@ -10,6 +10,7 @@
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu_types.h"
+#include "hrpp/predictor_stats.h"
 #include "reference/embree_tracer.h"
 #include "trace/traversal_counters.h"
 
@@ -78,5 +79,10 @@ class GpuBackend final : public Tracer {
   bool hrpp_;
   bool batched_;  // HRPP batches: not timed
 };
+
+// HRPP: one more run from empty tables that also counts what full traversals would visit
+// (outside the timings); nothing when `predictor` does not predict the query's ray class.
+std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
+                                              std::span<const gpu::Ray> rays, bool any_hit);
 
 }  // namespace hrpp::app
