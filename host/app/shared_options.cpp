@@ -27,8 +27,8 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
 
 void check_validation_messages(const VulkanContext& ctx) {
   if (ctx.validation_messages() != 0)
-    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
-                " Vulkan validation messages (printed above)");
+    throw Error("Vulkan validation layer (--validate, --vulkan-validate or HRPP_VALIDATE=1): " +
+                std::to_string(ctx.validation_messages()) + " messages (printed above)");
 }
 
 }  // namespace hrpp::app
