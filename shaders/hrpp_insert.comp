@@ -15,18 +15,15 @@ layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
 layout(push_constant) uniform PushConstants { InsertPushConstants pc; };
 
 void main() {
-  uint inserted = 0u, present = 0u, dropped = 0u, evictions = 0u;
+  HRPP_INSERT_OUTCOME_COUNTERS(HRPP_DECLARE_COUNT)
   for (uint i = 0u; i < pc.count; ++i) {
     const InsertRequest r = hrpp_requests[pc.first + i];
     if (r.node == HRPP_EMPTY_NODE) continue;
     const uint64_t key = uint64_t(r.key_lo) | (uint64_t(r.key_hi) << 32);
-    const uint outcome = hrpp_table_insert(key, r.node, pc.clock + i, evictions);
-    if (outcome == kHrppInserted) ++inserted;
-    else if (outcome == kHrppPresent) ++present;
-    else ++dropped;
+    const uint outcome = hrpp_table_insert(key, r.node, pc.clock + i, count_evictions);
+    if (outcome == kHrppInserted) ++count_inserts;
+    else if (outcome == kHrppPresent) ++count_insert_present;
+    else ++count_insert_drops;
   }
-  hrpp_add_counter(HRPP_PC_INSERTS, inserted);
-  hrpp_add_counter(HRPP_PC_INSERT_PRESENT, present);
-  hrpp_add_counter(HRPP_PC_INSERT_DROPS, dropped);
-  hrpp_add_counter(HRPP_PC_EVICTIONS, evictions);
+  HRPP_INSERT_OUTCOME_COUNTERS(HRPP_ADD_COUNT)
 }

@@ -22,7 +22,7 @@ layout(push_constant) uniform PushConstants { StagePushConstants pc; };
 
 #include "lib/hrpp_stage.glsl"
 
-uint r_requests = 0u, r_inserted = 0u, r_present = 0u, r_dropped = 0u, r_evictions = 0u;
+HRPP_INSERT_COUNTERS(HRPP_DECLARE_COUNT)
 
 Hit answer_of(QueueEntry e, Hit traced) {
   if ((e.flags & HRPP_QUEUE_BOUNDED) == 0u) return traced;
@@ -34,17 +34,17 @@ Hit answer_of(QueueEntry e, Hit traced) {
 }
 
 void insert(QueueEntry e, Hit answer) {
-  ++r_requests;
+  ++count_insert_requests;
   const int node = hrpp_node_of_prim[answer.prim];
   if (hrpp.insert_deferred != 0u) {
     hrpp_requests[e.ray] = InsertRequest(e.key_lo, e.key_hi, node, 0u);
     return;
   }
   const uint64_t key = uint64_t(e.key_lo) | (uint64_t(e.key_hi) << 32);
-  const uint outcome = hrpp_table_insert(key, node, hrpp.clock + e.ray, r_evictions);
-  if (outcome == kHrppInserted) ++r_inserted;
-  else if (outcome == kHrppPresent) ++r_present;
-  else ++r_dropped;
+  const uint outcome = hrpp_table_insert(key, node, hrpp.clock + e.ray, count_evictions);
+  if (outcome == kHrppInserted) ++count_inserts;
+  else if (outcome == kHrppPresent) ++count_insert_present;
+  else ++count_insert_drops;
 }
 
 void main() {
@@ -58,16 +58,10 @@ void main() {
     done = 1u;
     hit = answer.prim >= 0 ? 1u : 0u;
   }
-  const uint sums[7] = uint[](subgroupAdd(done), subgroupAdd(hit), subgroupAdd(r_requests),
-                              subgroupAdd(r_inserted), subgroupAdd(r_present),
-                              subgroupAdd(r_dropped), subgroupAdd(r_evictions));
+  const uint queue_sums[2] = uint[](subgroupAdd(done), subgroupAdd(hit));
   if (subgroupElect()) {
-    if (sums[0] != 0u) atomicAdd(queue.resolve_done, sums[0]);
-    if (sums[1] != 0u) atomicAdd(queue.queue_hits, sums[1]);
-    hrpp_add_counter(HRPP_PC_INSERT_REQUESTS, sums[2]);
-    hrpp_add_counter(HRPP_PC_INSERTS, sums[3]);
-    hrpp_add_counter(HRPP_PC_INSERT_PRESENT, sums[4]);
-    hrpp_add_counter(HRPP_PC_INSERT_DROPS, sums[5]);
-    hrpp_add_counter(HRPP_PC_EVICTIONS, sums[6]);
+    if (queue_sums[0] != 0u) atomicAdd(queue.resolve_done, queue_sums[0]);
+    if (queue_sums[1] != 0u) atomicAdd(queue.queue_hits, queue_sums[1]);
   }
+  HRPP_FLUSH_COUNTS(HRPP_INSERT_COUNTERS)
 }

@@ -193,6 +193,10 @@ TEST_F(BadInputCli, BadValuesNameTheFlag) {
       {"bench --frobnicate", "--frobnicate"},
       {"scene --bvh-bins 1000", "--bvh-bins"},
       {"scene --bvh-max-leaf -1", "--bvh-max-leaf"},
+      {"render --bvh-bins 1000", "--bvh-bins"},
+      {"render --bvh-max-leaf 0", "--bvh-max-leaf"},
+      {"render --rays-per-invocation 0", "--rays-per-invocation"},
+      {"bench --rays-per-invocation 0", "--rays-per-invocation"},
       {"frobnicate", "frobnicate"},
   };
   for (const auto& [args, needle] : cases) expect_error(args, needle);

@@ -50,6 +50,22 @@ TEST_F(Cli, HelpListsTheSubcommandAndItsOptions) {
     EXPECT_NE(sub.out.find(opt), std::string::npos) << opt;
 }
 
+// One shared option group (host/app/shared_options.h): the scene and --bvh-* everywhere, the
+// device's options on the commands that open it.
+TEST_F(Cli, EverySceneCommandListsTheSharedOptions) {
+  for (const char* command : {"scene", "trace", "bench", "render"}) {
+    const Result r = run(std::string(command) + " --help");
+    ASSERT_EQ(r.status, 0) << command;
+    for (const char* opt : {"scene TEXT=builtin:cornell", "--bvh-bins", "--bvh-max-leaf"})
+      EXPECT_NE(r.out.find(opt), std::string::npos) << command << " " << opt;
+    if (std::string(command) == "scene") continue;
+    for (const char* opt : {"--device", "--vulkan-validate", "--rays-per-invocation"})
+      EXPECT_NE(r.out.find(opt), std::string::npos) << command << " " << opt;
+  }
+  EXPECT_NE(run("render --help").out.find("--validate,--vulkan-validate"), std::string::npos);
+  EXPECT_NE(run("trace --help").out.find("--validate,--vulkan-validate"), std::string::npos);
+}
+
 TEST_F(Cli, SceneDefaultsToTheCornellBox) {
   const Result r = run("scene");
   ASSERT_EQ(r.status, 0) << r.err;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
+#include "hrpp/predictor_stats.h"
 #include "scene/load_scene.h"
 #include "trace/ray_batches.h"
 
@@ -90,6 +91,8 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   EXPECT_GT(s.at("true_positives").get<std::uint64_t>(), 0u);
   EXPECT_GT(s.at("savings").get<double>(), 0.0);  // true positives skip traversal
   EXPECT_LE(s.at("wrong_closest").get<std::uint64_t>(), s.at("true_positives").get<std::uint64_t>());
+  // Every counter of the one list (HRPP_PREDICTOR_COUNTERS) under its key.
+  for (const CounterKey& k : kPredictorCounterKeys) EXPECT_TRUE(s.contains(k.key)) << k.key;
 }
 
 TEST_F(HrppCli, BadValuesNameTheFlag) {
@@ -122,6 +125,15 @@ TEST_F(HrppCli, BenchPrintsPredictorFigures) {
   EXPECT_EQ(j.at("hrpp").at("mode"), "exact");
   EXPECT_EQ(j.at("total_mismatches"), 0);
   for (const auto& k : j.at("kinds")) EXPECT_TRUE(k.contains("hrpp")) << k.dump();
+}
+
+// bench has the shared options too: the validation layer (its own --validate counts rays checked
+// against the CPU reference) and the BVH build.
+TEST_F(HrppCli, BenchTakesTheSharedOptions) {
+  const Result r = run("bench --rays 1024 --kinds primary --no-embree --repeat 1 --strict "
+                       "--vulkan-validate --bvh-bins 8 --bvh-max-leaf 2 --rays-per-invocation 4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("Validation"), std::string::npos) << r.err;
 }
 
 }  // namespace

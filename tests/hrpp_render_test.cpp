@@ -106,8 +106,10 @@ TEST(HrppRender, SampleFramesRenderTheImageOfHrppOff) {
     EXPECT_EQ(f.classes[k].traced, f.classes[k].counters.rays) << what;  // every ray, plainly
     EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + "hrpp_predict"), 0u)
         << what;
-    EXPECT_EQ(f.classes[k].counters.interior_visited, off.stats.classes[k].counters.interior_visited)
-        << what;
+    // (Visit counts vary run to run by a few: a lane's extra steps depend on its subgroup's
+    // other rays, and the wavefront's queue order is not fixed.)
+    EXPECT_EQ(f.classes[k].counters.rays, off.stats.classes[k].counters.rays) << what;
+    EXPECT_EQ(f.classes[k].counters.hits, off.stats.classes[k].counters.hits) << what;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

@@ -325,7 +325,8 @@ TEST(RenderCli, ErrorsAndOutputs) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("hrpp_render_cli_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
-  ASSERT_EQ(run("render --size 16x16 --spp 1 --validate --out " + (dir / "c.exr").string() +
+  ASSERT_EQ(run("render --size 16x16 --spp 1 --validate --bvh-bins 8 --bvh-max-leaf 2 --out " +
+                (dir / "c.exr").string() +
                 " --stats " + (dir / "c.json").string(), &err), 0) << err;
   std::ifstream in(dir / "c.json");
   const nlohmann::json j = nlohmann::json::parse(in);

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -22,6 +21,8 @@
 #include "app/commands.h"
 #include "app/output_path.h"
 #include "app/hrpp_options.h"
+#include "app/shared_options.h"
+#include "app/tracer.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -36,7 +37,7 @@ namespace hrpp::app {
 namespace {
 
 struct BenchOptions {
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   std::size_t rays = std::size_t{1} << 20;
   std::vector<std::string> kinds = {"primary", "ao", "diffuse"};
   std::string json;
@@ -49,9 +50,6 @@ struct BenchOptions {
   bool no_embree = false;
   bool no_gpu = false;
   bool strict = false;
-  VulkanOptions vulkan;
-  GpuTracerConfig tracer;
-  BvhConfig bvh;
   HrppOptions hrpp;
 };
 
@@ -124,6 +122,7 @@ Validation validate(std::span<const gpu::Ray> rays, std::span<const gpu::Hit> re
 }
 
 struct TracerResult {
+  TracerKind kind = TracerKind::kCpuReference;
   std::string name;
   std::vector<double> ms;  // per timed run
   double median_ms = 0.0;
@@ -140,16 +139,20 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-// Warm-up on a slice, then `repeat` timed runs over the whole batch.
-TracerResult time_tracer(const std::string& name, std::span<const gpu::Ray> rays, int repeat,
-                         const std::function<double(std::span<const gpu::Ray>,
-                                                    std::vector<gpu::Hit>&)>& run,
+// Warm-up on a slice, then `repeat` timed runs over the whole batch; `hits`: the last run's.
+TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, bool any_hit, int repeat,
                          std::vector<gpu::Hit>& hits) {
   TracerResult r;
-  r.name = name;
-  std::vector<gpu::Hit> warm;
-  run(rays.first(std::min<std::size_t>(rays.size(), 65536)), warm);
-  for (int i = 0; i < repeat; ++i) r.ms.push_back(run(rays, hits));
+  r.kind = tracer.kind();
+  r.name = tracer.name();
+  r.timing = tracer.timing();
+  tracer.trace(rays.first(std::min<std::size_t>(rays.size(), 65536)), any_hit);
+  for (int i = 0; i < repeat; ++i) {
+    TracerRun run = tracer.trace(rays, any_hit);
+    r.ms.push_back(run.ms);
+    hits = std::move(run.hits);
+    r.counters = run.counters;
+  }
   r.median_ms = median(r.ms);
   r.mrays = r.median_ms > 0.0 ? static_cast<double>(rays.size()) / (r.median_ms * 1e3) : 0.0;
   r.hits = static_cast<std::size_t>(
@@ -186,89 +189,100 @@ nlohmann::json tracer_json(const TracerResult& t) {
   return j;
 }
 
-void run_bench(const BenchOptions& o) {
-  check_output_path(o.json, "--json");
-  std::vector<RayKind> kinds;
-  for (const std::string& k : o.kinds) kinds.push_back(parse_kind(k));
-  if (o.rays == 0) throw Error("--rays: must be at least 1");
-  const int threads = resolve_threads(o.threads);
-
-  // Machine first, so a crash later still says where it ran.
-  nlohmann::json report;
+// The machine, printed first so that a crash later still says where it ran.
+nlohmann::json probe_machine(int threads) {
   const std::string cpu = cpu_model();
   std::printf("machine     %s, %u hardware threads; CPU reference and Embree on %d threads\n",
               cpu.c_str(), std::thread::hardware_concurrency(), threads);
-  report["machine"] = {{"cpu", cpu},
-                       {"hardware_threads", std::thread::hardware_concurrency()},
-                       {"cpu_tracer_threads", threads}};
+  return {{"cpu", cpu},
+          {"hardware_threads", std::thread::hardware_concurrency()},
+          {"cpu_tracer_threads", threads}};
+}
 
-  std::unique_ptr<VulkanContext> ctx;
-  if (!o.no_gpu) {
-    try {
-      ctx = std::make_unique<VulkanContext>(o.vulkan);
-      const DeviceInfo& d = ctx->info();
-      std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
-                  d.driver.c_str(), d.subgroup_size);
-      report["machine"]["vulkan_device"] = d.name;
-      report["machine"]["vulkan_driver"] = d.driver;
-      report["machine"]["vulkan_device_type"] = d.type_name();
-    } catch (const Error& e) {
-      std::printf("vulkan      not available: %s (GPU skipped)\n", e.what());
-      report["machine"]["vulkan_device"] = nullptr;
-    }
-  } else {
+// The Vulkan device, or none (--no-gpu, or no device: the GPU tracers are skipped).
+std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json& machine) {
+  if (o.no_gpu) {
     std::printf("vulkan      off (--no-gpu)\n");
+    return nullptr;
   }
+  try {
+    auto ctx = std::make_unique<VulkanContext>(o.shared.vulkan);
+    const DeviceInfo& d = ctx->info();
+    std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
+                d.driver.c_str(), d.subgroup_size);
+    machine["vulkan_device"] = d.name;
+    machine["vulkan_driver"] = d.driver;
+    machine["vulkan_device_type"] = d.type_name();
+    return ctx;
+  } catch (const Error& e) {
+    std::printf("vulkan      not available: %s (GPU skipped)\n", e.what());
+    machine["vulkan_device"] = nullptr;
+    return nullptr;
+  }
+}
 
-  const Scene scene = load_scene(o.scene);
-  const Bvh base = build_bvh(scene, o.bvh);
-  const BvhStats stats = compute_bvh_stats(base, o.bvh);
-  const GpuBvh bvh = make_gpu_layout(base, scene);
+nlohmann::json describe_scene(const BenchOptions& o, const Scene& scene, const Bvh& base) {
+  const BvhStats stats = compute_bvh_stats(base, o.shared.bvh);
   std::printf("scene       %s: %zu triangles (%u degenerate), BVH %.1f ms, %u interior, %u leaves, "
               "depth %u\n",
               scene.name.c_str(), scene.triangles.size(), stats.degenerate, base.build_ms,
               stats.interior_nodes, stats.leaves, stats.max_depth);
-  report["scene"] = {{"name", scene.name},
-                     {"spec", o.scene},
-                     {"triangles", scene.triangles.size()},
-                     {"degenerate", stats.degenerate},
-                     {"bvh_build_ms", base.build_ms},
-                     {"bvh_interior_nodes", stats.interior_nodes},
-                     {"bvh_leaves", stats.leaves},
-                     {"bvh_max_depth", stats.max_depth},
-                     {"bvh_sah_cost", stats.sah_cost}};
+  return {{"name", scene.name},
+          {"spec", o.shared.scene},
+          {"triangles", scene.triangles.size()},
+          {"degenerate", stats.degenerate},
+          {"bvh_build_ms", base.build_ms},
+          {"bvh_interior_nodes", stats.interior_nodes},
+          {"bvh_leaves", stats.leaves},
+          {"bvh_max_depth", stats.max_depth},
+          {"bvh_sah_cost", stats.sah_cost}};
+}
 
+// The backends a bench compares and what they need to stay alive; tracers[0] is the CPU reference.
+struct Backends {
   std::unique_ptr<EmbreeTracer> embree;
+  std::unique_ptr<GpuTracer> gpu;
+  std::unique_ptr<GpuTracer> hrpp;  // HRPP on: a second GPU tracer that probes the predictor
+  PredictorConfig predictor;
+  std::vector<std::unique_ptr<Tracer>> tracers;
+};
+
+Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& bvh,
+                       VulkanContext* ctx, int threads, nlohmann::json& report) {
+  Backends b;
+  b.tracers.push_back(std::make_unique<CpuReferenceTracer>(bvh, threads));
   if (o.no_embree) {
     std::printf("embree      off (--no-embree)\n");
   } else if (!embree_available()) {
     std::printf("embree      Embree not available: skipped\n");
   } else {
-    embree = std::make_unique<EmbreeTracer>(scene);
+    b.embree = std::make_unique<EmbreeTracer>(scene);
     std::printf("embree      %s, build %.1f ms (quality high, rtcIntersect1/rtcOccluded1)\n",
-                embree_version().c_str(), embree->build_ms());
-    report["embree"] = {{"version", embree_version()}, {"build_ms", embree->build_ms()}};
+                embree_version().c_str(), b.embree->build_ms());
+    report["embree"] = {{"version", embree_version()}, {"build_ms", b.embree->build_ms()}};
+    b.tracers.push_back(std::make_unique<EmbreeBackend>(*b.embree, threads));
   }
-
-  std::unique_ptr<GpuTracer> gpu_tracer;
   if (ctx) {
-    gpu_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer);
-    gpu_tracer->warm_up();
+    b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
+    b.gpu->warm_up();
+    b.tracers.push_back(std::make_unique<GpuBackend>(*b.gpu, false, false));
   }
-  // HRPP on: a second GPU tracer ("gpu-hrpp") that probes the predictor; each timed run starts
-  // from empty tables, and one more run per batch counts the savings (outside the timings).
-  const PredictorConfig predictor = o.hrpp.config();
-  std::unique_ptr<GpuTracer> hrpp_tracer;
-  if (ctx && predictor.enabled) {
-    hrpp_tracer = std::make_unique<GpuTracer>(*ctx, bvh, o.tracer, predictor);
-    hrpp_tracer->warm_up();
-    std::printf("hrpp        %s; ray classes: %s\n", describe(predictor).c_str(),
+  b.predictor = o.hrpp.config();
+  if (ctx && b.predictor.enabled) {
+    b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
+    b.hrpp->warm_up();
+    std::printf("hrpp        %s; ray classes: %s\n", describe(b.predictor).c_str(),
                 o.hrpp.rays.c_str());
+    b.tracers.push_back(std::make_unique<GpuBackend>(*b.hrpp, true, b.predictor.batch != 0));
   }
-  report["hrpp"] = predictor_config_json(predictor);
+  report["hrpp"] = predictor_config_json(b.predictor);
   report["hrpp"]["rays"] = o.hrpp.rays;
+  return b;
+}
 
-  // Batches: the primary grid is the smallest near-square one with >= N pixels, cut to N rays.
+// Batches: the primary grid is the smallest near-square one with >= N pixels, cut to N rays.
+RayBatches make_batches(const BenchOptions& o, const Scene& scene, const GpuBvh& bvh, int threads,
+                        nlohmann::json& report) {
   RayBatchConfig bc;
   bc.width = static_cast<std::uint32_t>(std::ceil(std::sqrt(static_cast<double>(o.rays))));
   bc.height = static_cast<std::uint32_t>((o.rays + bc.width - 1) / bc.width);
@@ -298,148 +312,151 @@ void run_bench(const BenchOptions& o) {
                        {"seed", o.seed},
                        {"repeat", o.repeat},
                        {"validate", o.validate}};
+  return batches;
+}
+
+// Every tracer over one batch, each validated against the CPU reference (tracers[0]).
+std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
+                                       std::span<const gpu::Ray> rays, bool any_hit,
+                                       float scene_diagonal) {
+  std::vector<std::size_t> subset;  // evenly spread validation subset
+  const std::size_t want = o.validate == 0 ? rays.size() : std::min(o.validate, rays.size());
+  subset.reserve(want);
+  for (std::size_t k = 0; k < want; ++k) subset.push_back(k * rays.size() / want);
+
+  std::vector<TracerResult> results;
+  std::vector<gpu::Hit> ref_hits, hits;
+  for (const std::unique_ptr<Tracer>& t : b.tracers) {
+    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(any_hit)))
+      continue;
+    const bool reference = t->kind() == TracerKind::kCpuReference;
+    TracerResult r = time_tracer(*t, rays, any_hit, o.repeat, reference ? ref_hits : hits);
+    if (reference) {
+      r.validation.checked = r.validation.exact = subset.size();
+    } else {
+      r.validation = validate(rays, ref_hits, hits, subset, any_hit, scene_diagonal);
+    }
+    r.speculative = t->kind() == TracerKind::kGpuHrpp && !any_hit &&
+                    b.predictor.mode == PredictorMode::kSpeculative;
+    results.push_back(std::move(r));
+  }
+  return results;
+}
+
+// HRPP: one more run from empty tables that counts the savings (outside the timings).
+std::optional<PredictorSummary> count_hrpp(Backends& b, std::span<const gpu::Ray> rays,
+                                           bool any_hit) {
+  if (!b.hrpp) return std::nullopt;
+  return count_savings(*b.hrpp, b.predictor, rays, any_hit);
+}
+
+const TracerResult* find(const std::vector<TracerResult>& results, TracerKind kind) {
+  for (const TracerResult& r : results)
+    if (r.kind == kind) return &r;
+  return nullptr;
+}
+
+// The table rows of one batch (mismatch examples on stderr); returns the mismatches counted.
+std::size_t print_rows(const char* kname, std::size_t rays, bool any_hit,
+                       const std::vector<TracerResult>& results, nlohmann::json& kj) {
+  std::size_t mismatches = 0;
+  bool first = true;
+  for (const TracerResult& r : results) {
+    std::printf("%-8s %9s %-7s %-8s %9.2f %10.1f %9zu %9zu %6zu %10zu%s\n", first ? kname : "",
+                first ? std::to_string(rays).c_str() : "", first ? (any_hit ? "any" : "closest") : "",
+                r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
+                r.validation.ties, r.validation.mismatches,
+                !r.validation.mismatches ? ""
+                : r.speculative         ? "  (speculative HRPP: wrong predicted hits)"
+                                        : "  <-- MISMATCHES vs CPU reference");
+    first = false;
+    kj["tracers"].push_back(tracer_json(r));
+    if (!r.speculative) mismatches += r.validation.mismatches;
+    for (const std::string& ex : r.validation.examples)
+      std::fprintf(stderr, "hrpp bench: %s %s %s: %s\n",
+                   r.speculative ? "speculative HRPP, wrong prediction:" : "MISMATCH", kname,
+                   r.name.c_str(), ex.c_str());
+  }
+  return mismatches;
+}
+
+// Per ray work, HRPP figures and ratios under the rows of one batch.
+void print_ratios(const std::vector<TracerResult>& results,
+                  const std::optional<PredictorSummary>& hrpp_summary, bool any_hit,
+                  nlohmann::json& kj) {
+  const TracerResult* emb = find(results, TracerKind::kEmbree);
+  const TracerResult* gpu = find(results, TracerKind::kGpu);
+  const TracerResult* gpu_hrpp = find(results, TracerKind::kGpuHrpp);
+  if (gpu && gpu->counters && gpu->counters->rays > 0) {
+    const double n = static_cast<double>(gpu->counters->rays);
+    std::printf("%-8s %9s %-7s gpu per ray: %.2f interior nodes, %.2f leaves, %.2f triangles\n",
+                "", "", "", static_cast<double>(gpu->counters->interior_visited) / n,
+                static_cast<double>(gpu->counters->leaves_visited) / n,
+                static_cast<double>(gpu->counters->triangles_tested) / n);
+  }
+  if (hrpp_summary) {
+    std::printf("%s", format_summary("  hrpp", *hrpp_summary, any_hit).c_str());
+    kj["hrpp"] = predictor_summary_json(*hrpp_summary);
+    if (gpu && gpu->mrays > 0.0 && gpu_hrpp) {
+      std::printf("  hrpp      gpu-hrpp/gpu %.3f (kernel time, same run)\n",
+                  gpu_hrpp->mrays / gpu->mrays);
+      kj["hrpp"]["speedup"] = gpu_hrpp->mrays / gpu->mrays;
+    }
+  }
+  if (gpu && emb && emb->mrays > 0.0) {
+    std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
+    kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
+  }
+}
+
+// One batch through every tracer: rows, figures, JSON; returns the mismatches counted.
+std::size_t bench_kind(const BenchOptions& o, Backends& b, const RayBatches& batches, RayKind kind,
+                       nlohmann::json& report) {
+  const bool any_hit = is_any_hit_kind(kind);
+  const std::span<const gpu::Ray> rays = kind == RayKind::kPrimary ? std::span<const gpu::Ray>(batches.primary)
+                                         : kind == RayKind::kAo ? std::span<const gpu::Ray>(batches.ao.rays)
+                                                                : std::span<const gpu::Ray>(batches.diffuse.rays);
+  const char* kname = ray_kind_name(kind);
+  if (rays.empty()) {
+    std::printf("%-8s no rays: no primary ray hit the scene\n", kname);
+    report["kinds"].push_back({{"kind", kname}, {"rays", 0}});
+    return 0;
+  }
+  const std::vector<TracerResult> results =
+      time_tracers(o, b, rays, any_hit, batches.scene_diagonal);
+  const std::optional<PredictorSummary> hrpp_summary = count_hrpp(b, rays, any_hit);
+  nlohmann::json kj = {{"kind", kname},
+                       {"rays", rays.size()},
+                       {"query", any_hit ? "any" : "closest"},
+                       {"tracers", nlohmann::json::array()}};
+  const std::size_t mismatches = print_rows(kname, rays.size(), any_hit, results, kj);
+  print_ratios(results, hrpp_summary, any_hit, kj);
+  report["kinds"].push_back(std::move(kj));
+  return mismatches;
+}
+
+void run_bench(const BenchOptions& o) {
+  check_output_path(o.json, "--json");
+  std::vector<RayKind> kinds;
+  for (const std::string& k : o.kinds) kinds.push_back(parse_kind(k));
+  if (o.rays == 0) throw Error("--rays: must be at least 1");
+  const int threads = resolve_threads(o.threads);
+
+  nlohmann::json report;
+  report["machine"] = probe_machine(threads);
+  const std::unique_ptr<VulkanContext> ctx = open_device(o, report["machine"]);
+  const Scene scene = load_scene(o.shared.scene);
+  const Bvh base = build_bvh(scene, o.shared.bvh);
+  report["scene"] = describe_scene(o, scene, base);
+  const GpuBvh bvh = make_gpu_layout(base, scene);
+  Backends backends = make_backends(o, scene, bvh, ctx.get(), threads, report);
+  const RayBatches batches = make_batches(o, scene, bvh, threads, report);
 
   std::printf("\n%-8s %9s %-7s %-8s %9s %10s %9s %9s %6s %10s\n", "kind", "rays", "query",
               "tracer", "Mrays/s", "median ms", "hits", "checked", "ties", "mismatches");
   std::size_t total_mismatches = 0;
   report["kinds"] = nlohmann::json::array();
-  for (const RayKind kind : kinds) {
-    const bool any_hit = is_any_hit_kind(kind);
-    std::span<const gpu::Ray> rays = kind == RayKind::kPrimary ? std::span<const gpu::Ray>(batches.primary)
-                                     : kind == RayKind::kAo   ? std::span<const gpu::Ray>(batches.ao.rays)
-                                                              : std::span<const gpu::Ray>(batches.diffuse.rays);
-    const char* kname = ray_kind_name(kind);
-    if (rays.empty()) {
-      std::printf("%-8s no rays: no primary ray hit the scene\n", kname);
-      report["kinds"].push_back({{"kind", kname}, {"rays", 0}});
-      continue;
-    }
-    // Evenly spread validation subset.
-    std::vector<std::size_t> subset;
-    const std::size_t want = o.validate == 0 ? rays.size() : std::min(o.validate, rays.size());
-    subset.reserve(want);
-    for (std::size_t k = 0; k < want; ++k) subset.push_back(k * rays.size() / want);
-
-    std::vector<TracerResult> results;
-    std::vector<gpu::Hit> ref_hits, hits;
-    TracerResult cpu_ref = time_tracer(
-        "cpu-ref", rays, o.repeat,
-        [&](std::span<const gpu::Ray> r, std::vector<gpu::Hit>& out) {
-          const auto start = Clock::now();
-          out = trace_batch_cpu(bvh, r, any_hit, threads);
-          return ms_since(start);
-        },
-        ref_hits);
-    cpu_ref.timing = "wall";
-    cpu_ref.validation.checked = subset.size();
-    cpu_ref.validation.exact = subset.size();
-    results.push_back(cpu_ref);
-
-    if (embree) {
-      TracerResult r = time_tracer(
-          "embree", rays, o.repeat,
-          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
-            const auto start = Clock::now();
-            out = embree->trace(rs, any_hit, threads);
-            return ms_since(start);
-          },
-          hits);
-      r.timing = "wall";
-      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
-      results.push_back(std::move(r));
-    }
-    if (gpu_tracer) {
-      TraversalCounters counters;
-      TracerResult r = time_tracer(
-          "gpu", rays, o.repeat,
-          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
-            GpuTraceResult g = gpu_tracer->trace(rs, any_hit);
-            out = std::move(g.hits);
-            counters = g.counters;
-            return g.kernel_ms;
-          },
-          hits);
-      r.timing = "device timestamps around the trace dispatches";
-      r.counters = counters;
-      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
-      results.push_back(std::move(r));
-    }
-    std::optional<PredictorSummary> hrpp_summary;
-    if (hrpp_tracer && predictor.predicts(ray_file_class(any_hit))) {
-      TraversalCounters counters;
-      TracerResult r = time_tracer(
-          "gpu-hrpp", rays, o.repeat,
-          [&](std::span<const gpu::Ray> rs, std::vector<gpu::Hit>& out) {
-            hrpp_tracer->clear_predictor();
-            GpuTraceResult g = hrpp_tracer->trace(rs, any_hit);
-            out = std::move(g.hits);
-            counters = g.counters;
-            return g.kernel_ms;
-          },
-          hits);
-      r.timing = predictor.batch ? "none (batched HRPP dispatches are not timed)"
-                                 : "device timestamps around the trace dispatches";
-      r.counters = counters;
-      r.speculative = !any_hit && predictor.mode == PredictorMode::kSpeculative;
-      r.validation = validate(rays, ref_hits, hits, subset, any_hit, batches.scene_diagonal);
-      results.push_back(std::move(r));
-      hrpp_tracer->clear_predictor();
-      hrpp_tracer->set_count_baseline(true);
-      const GpuTraceResult counted = hrpp_tracer->trace(rays, any_hit);
-      hrpp_tracer->set_count_baseline(false);
-      hrpp_summary = summarize(counted.predictor, counted.counters,
-                               hrpp_tracer->predictor_occupancy(ray_file_class(any_hit)), true);
-    }
-
-    nlohmann::json kj = {{"kind", kname},
-                         {"rays", rays.size()},
-                         {"query", any_hit ? "any" : "closest"},
-                         {"tracers", nlohmann::json::array()}};
-    const TracerResult* emb = nullptr;
-    const TracerResult* gpu = nullptr;
-    const TracerResult* gpu_hrpp = nullptr;
-    bool first = true;
-    for (const TracerResult& r : results) {
-      if (r.name == "embree") emb = &r;
-      if (r.name == "gpu") gpu = &r;
-      if (r.name == "gpu-hrpp") gpu_hrpp = &r;
-      std::printf("%-8s %9s %-7s %-8s %9.2f %10.1f %9zu %9zu %6zu %10zu%s\n", first ? kname : "",
-                  first ? std::to_string(rays.size()).c_str() : "", first ? (any_hit ? "any" : "closest") : "",
-                  r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
-                  r.validation.ties, r.validation.mismatches,
-                  !r.validation.mismatches ? ""
-                  : r.speculative         ? "  (speculative HRPP: wrong predicted hits)"
-                                          : "  <-- MISMATCHES vs CPU reference");
-      first = false;
-      kj["tracers"].push_back(tracer_json(r));
-      if (!r.speculative) total_mismatches += r.validation.mismatches;
-      for (const std::string& ex : r.validation.examples)
-        std::fprintf(stderr, "hrpp bench: %s %s %s: %s\n",
-                     r.speculative ? "speculative HRPP, wrong prediction:" : "MISMATCH", kname,
-                     r.name.c_str(), ex.c_str());
-    }
-    if (gpu && gpu->counters && gpu->counters->rays > 0) {
-      const double n = static_cast<double>(gpu->counters->rays);
-      std::printf("%-8s %9s %-7s gpu per ray: %.2f interior nodes, %.2f leaves, %.2f triangles\n",
-                  "", "", "", static_cast<double>(gpu->counters->interior_visited) / n,
-                  static_cast<double>(gpu->counters->leaves_visited) / n,
-                  static_cast<double>(gpu->counters->triangles_tested) / n);
-    }
-    if (hrpp_summary) {
-      std::printf("%s", format_summary("  hrpp", *hrpp_summary, any_hit).c_str());
-      kj["hrpp"] = predictor_summary_json(*hrpp_summary);
-      if (gpu && gpu->mrays > 0.0 && gpu_hrpp) {
-        std::printf("  hrpp      gpu-hrpp/gpu %.3f (kernel time, same run)\n",
-                    gpu_hrpp->mrays / gpu->mrays);
-        kj["hrpp"]["speedup"] = gpu_hrpp->mrays / gpu->mrays;
-      }
-    }
-    if (gpu && emb && emb->mrays > 0.0) {
-      std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
-      kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
-    }
-    report["kinds"].push_back(std::move(kj));
-  }
+  for (const RayKind kind : kinds) total_mismatches += bench_kind(o, backends, batches, kind, report);
 
   std::printf("\ntiming: median of %d runs after a warm-up; cpu-ref and embree: wall clock on %d "
               "threads; gpu: device timestamps (kernel time). validation: %s rays per kind vs the "
@@ -452,15 +469,11 @@ void run_bench(const BenchOptions& o) {
     std::fprintf(stderr, "hrpp bench: %zu mismatches against the CPU reference\n",
                  total_mismatches);
   }
-  if (!o.json.empty()) {
-    write_file_atomically(o.json, report.dump(2) + "\n", "cannot write --json");
-  }
+  if (!o.json.empty()) write_file_atomically(o.json, report.dump(2) + "\n", "cannot write --json");
   if (o.strict && total_mismatches > 0)
     throw Error("--strict: " + std::to_string(total_mismatches) +
                 " mismatches against the CPU reference");
-  if (ctx && ctx->validation_messages() != 0)  // HRPP_VALIDATE=1 (bench has no --validate)
-    throw Error("HRPP_VALIDATE: " + std::to_string(ctx->validation_messages()) +
-                " Vulkan validation messages (printed above)");
+  if (ctx) check_validation_messages(*ctx);
 }
 
 }  // namespace
@@ -470,10 +483,6 @@ void add_bench_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench",
       "Mrays/s on fixed primary / AO / diffuse batches: CPU reference, Embree, Vulkan device");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
   cmd->add_option("--rays", o->rays,
                   "Rays per batch; primaries on the smallest near-square grid with >= N pixels "
                   "(2^20: 1024x1024)")
@@ -498,16 +507,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-embree", o->no_embree, "Skip Embree");
   cmd->add_flag("--no-gpu", o->no_gpu, "Skip the Vulkan device");
   cmd->add_flag("--strict", o->strict, "Exit with status 1 when any tracer mismatches");
-  cmd->add_option("--device", o->vulkan.device,
-                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  cmd->add_option("--rays-per-invocation", o->tracer.rays_per_invocation,
-                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 24));
-  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
-      ->capture_default_str();
-  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_bench(*o); });
 }

@@ -16,6 +16,7 @@
 #include "app/commands.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -34,13 +35,11 @@ enum class RenderBackend { kGpu, kCpu };
 
 struct RenderOptions {
   RenderBackend backend = RenderBackend::kGpu;
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   std::string size = "256x256";
   std::string out = "render.png";
   std::string stats;
   RenderConfig render;
-  VulkanOptions vulkan;
-  BvhConfig bvh;
   HrppOptions hrpp;
 };
 
@@ -131,22 +130,20 @@ void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
   check_range("--spp", o.render.spp, 1, 1u << 20);
   check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
-  check_range("--rays-per-invocation", o.render.tracer.rays_per_invocation, 1, 1u << 24);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
   check_output_path(o.out, "--out");
   check_output_path(o.stats, "--stats");
+  o.render.tracer = o.shared.tracer;
   o.render.predictor = o.hrpp.config();
-  const Scene scene = load_scene(o.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene);
+  const Scene scene = load_scene(o.shared.scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene);
   if (o.backend == RenderBackend::kCpu) return run_cpu_render(o, scene, bvh);
-  VulkanContext ctx(o.vulkan);
+  VulkanContext ctx(o.shared.vulkan);
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);
 
   const RenderResult result = renderer.render(progress_line(o.render.spp));
-  if (ctx.validation_messages() != 0)
-    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
-                " Vulkan validation messages (printed above)");
+  check_validation_messages(ctx);
   write_image(o.out, result.width, result.height, result.rgb);
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
@@ -179,10 +176,7 @@ void add_render_command(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand(
       "render", "Render an image with the wavefront path tracer on the Vulkan device");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   cmd->add_option("--backend", o->backend,
                   "gpu: the wavefront kernels on the Vulkan device; cpu: the CPU reference "
                   "renderer (the same shading code, one path at a time; no HRPP)")
@@ -203,13 +197,6 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Image: .exr (linear float) or .png (sRGB, clamped)")
       ->capture_default_str();
   cmd->add_option("--stats", o->stats, "Write configuration, kernel times and counters as JSON");
-  cmd->add_option("--device", o->vulkan.device,
-                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  cmd->add_flag("--validate", o->vulkan.validate,
-                "Vulkan validation layer on; any message fails the command");
-  cmd->add_option("--rays-per-invocation", o->render.tracer.rays_per_invocation,
-                  "Most rays one trace invocation traces (lavapipe loop limiter)")
-      ->capture_default_str();
   cmd->add_option("--wavefront", o->render.wavefront_paths, "Paths in flight at once")
       ->capture_default_str();
   cmd->add_option("--reorder", o->render.reorder,

@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "app/output_path.h"
+#include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -19,10 +20,9 @@ namespace hrpp::app {
 namespace {
 
 struct SceneOptions {
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   bool json = false;
   std::string dump_triangles;
-  BvhConfig bvh;
 };
 
 nlohmann::json vec_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -40,10 +40,10 @@ const char* light_name(LightType t) {
 
 void run_scene(const SceneOptions& o) {
   check_output_path(o.dump_triangles, "--dump-triangles");
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.shared.scene);
   if (!o.dump_triangles.empty()) write_triangle_dump(scene, o.dump_triangles);
-  const Bvh bvh = build_bvh(scene, o.bvh);
-  const BvhStats s = compute_bvh_stats(bvh, o.bvh);
+  const Bvh bvh = build_bvh(scene, o.shared.bvh);
+  const BvhStats s = compute_bvh_stats(bvh, o.shared.bvh);
   const GpuBvh layout = make_gpu_layout(bvh, scene);
 
   std::size_t textured = 0, emissive = 0;
@@ -67,8 +67,8 @@ void run_scene(const SceneOptions& o) {
       {"default_camera", scene.default_camera},
       {"bounds", {{"lo", vec_json(layout.bounds.lo)}, {"hi", vec_json(layout.bounds.hi)}}},
       {"bvh",
-       {{"bins", o.bvh.bin_count},
-        {"max_leaf_size_limit", o.bvh.max_leaf_size},
+       {{"bins", o.shared.bvh.bin_count},
+        {"max_leaf_size_limit", o.shared.bvh.max_leaf_size},
         {"interior_nodes", s.interior_nodes},
         {"leaves", s.leaves},
         {"max_depth", s.max_depth},
@@ -100,7 +100,7 @@ void run_scene(const SceneOptions& o) {
   std::printf("            triangles/leaf mean %.2f max %u, SAH cost %.3f\n", s.mean_leaf_size,
               s.max_leaf_size, s.sah_cost);
   std::printf("            built in %.1f ms (%d bins, leaves <= %d), GPU layout %s\n",
-              s.build_ms, o.bvh.bin_count, o.bvh.max_leaf_size,
+              s.build_ms, o.shared.bvh.bin_count, o.shared.bvh.max_leaf_size,
               format_bytes(layout.bytes()).c_str());
 }
 
@@ -109,18 +109,11 @@ void run_scene(const SceneOptions& o) {
 void add_scene_command(CLI::App& app) {
   auto o = std::make_shared<SceneOptions>();
   CLI::App* cmd = app.add_subcommand("scene", "Load a scene, build its BVH and print statistics");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kScene);
   cmd->add_flag("--json", o->json, "Print the statistics as JSON");
   cmd->add_option("--dump-triangles", o->dump_triangles,
                   "Write the triangles (9 float32 each, id order) to FILE");
-  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
-      ->capture_default_str();
-  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
-      ->capture_default_str();
-  cmd->add_option("--threads", o->bvh.threads, "BVH build threads (0: all)")
+  cmd->add_option("--threads", o->shared.bvh.threads, "BVH build threads (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run_scene(*o); });

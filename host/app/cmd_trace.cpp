@@ -13,6 +13,8 @@
 #include "app/commands.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/shared_options.h"
+#include "app/tracer.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -29,14 +31,11 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the ray and hit files are little-endian");
 
 struct TraceOptions {
-  std::string scene = "builtin:cornell";
+  SharedOptions shared;
   std::string rays;
   std::string hits;
   bool any_hit = false;
-  VulkanOptions vulkan;
-  GpuTracerConfig tracer;
   int repeat = 1;
-  BvhConfig bvh;
   NodeLayout bvh_layout = NodeLayout::kDfs;
   RayOrder reorder = RayOrder::kOff;
   HrppOptions hrpp;
@@ -57,27 +56,15 @@ std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
   return rays;
 }
 
-// Traces the rays, sorted on the device first when `sorter` is given (its time added to
-// kernel_ms); the hits come back in the file's order.
-GpuTraceResult trace_rays(GpuTracer& tracer, RaySorter* sorter,
-                          const std::vector<gpu::Ray>& rays, bool any_hit) {
-  if (!sorter) return tracer.trace(rays, any_hit);
-  const RaySortResult sorted = sorter->sort(rays);
-  GpuTraceResult r = tracer.trace(sorted.rays, any_hit);
-  r.hits = hits_in_queue_order(r.hits, sorted.order);
-  r.kernel_ms += sorted.kernel_ms;
-  return r;
-}
-
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
-  const Scene scene = load_scene(o.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.bvh), scene, o.bvh_layout);
+  const Scene scene = load_scene(o.shared.scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout);
   const PredictorConfig predictor = o.hrpp.config();
-  VulkanContext ctx(o.vulkan);
-  GpuTracer tracer(ctx, bvh, o.tracer, predictor);
+  VulkanContext ctx(o.shared.vulkan);
+  GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
   std::unique_ptr<RaySorter> sorter;
   if (o.reorder != RayOrder::kOff) {
     if (rays.size() > RaySorter::kMaxRays)
@@ -90,29 +77,22 @@ void run_trace(const TraceOptions& o) {
     if (sorter) sorter->sort(rays);
   }
 
-  // Every run starts from an empty table; HRPP's figures come from one more run that also
-  // counts what full traversals would visit (outside the timings).
-  GpuTraceResult result;
+  // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come
+  // from one more run that also counts what full traversals would visit (outside the timings).
+  GpuBackend backend(tracer, predictor.enabled, predictor.batch != 0, sorter.get());
+  TracerRun result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
-    tracer.clear_predictor();
-    result = trace_rays(tracer, sorter.get(), rays, o.any_hit);
-    ms.push_back(result.kernel_ms);
+    result = backend.trace(rays, o.any_hit);
+    ms.push_back(result.ms);
   }
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (predictor.predicts(ray_file_class(o.any_hit))) {
-    tracer.clear_predictor();
-    tracer.set_count_baseline(true);
-    const GpuTraceResult counted = trace_rays(tracer, sorter.get(), rays, o.any_hit);
-    const PredictorSummary s = summarize(counted.predictor, counted.counters,
-                                         tracer.predictor_occupancy(ray_file_class(o.any_hit)), true);
-    hrpp_text = describe(predictor) + "\n" + format_summary("", s, o.any_hit);
-    hrpp_json["summary"] = predictor_summary_json(s);
+  if (const auto s = count_savings(tracer, predictor, rays, o.any_hit)) {
+    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.any_hit);
+    hrpp_json["summary"] = predictor_summary_json(*s);
   }
-  if (ctx.validation_messages() != 0)
-    throw Error("--validate: " + std::to_string(ctx.validation_messages()) +
-                " Vulkan validation messages (printed above)");
+  check_validation_messages(ctx);
   write_file_atomically(o.hits,
                         std::string_view(reinterpret_cast<const char*>(result.hits.data()),
                                          result.hits.size() * sizeof(gpu::Hit)),
@@ -120,7 +100,7 @@ void run_trace(const TraceOptions& o) {
 
   std::sort(ms.begin(), ms.end());
   const double median = ms[ms.size() / 2];
-  const TraversalCounters& c = result.counters;
+  const TraversalCounters& c = *result.counters;
   const double n = static_cast<double>(rays.size());
   std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
               ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
@@ -129,7 +109,7 @@ void run_trace(const TraceOptions& o) {
               o.any_hit ? " (occluded)" : "");
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
-              median > 0.0 ? n / (median * 1e3) : 0.0, static_cast<int>(o.tracer.rays_per_invocation));
+              median > 0.0 ? n / (median * 1e3) : 0.0, static_cast<int>(o.shared.tracer.rays_per_invocation));
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorter ? " (the sort's device time is in the kernel time)" : "");
   std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
@@ -139,7 +119,7 @@ void run_trace(const TraceOptions& o) {
   std::printf("hrpp        %s", hrpp_text.c_str());
   if (!predictor.predicts(ray_file_class(o.any_hit))) std::printf("\n");
   if (!o.stats.empty()) {
-    const nlohmann::json j = {{"scene", o.scene},
+    const nlohmann::json j = {{"scene", o.shared.scene},
                               {"rays", rays.size()},
                               {"query", o.any_hit ? "any" : "closest"},
                               {"kernel_ms_median", median},
@@ -161,10 +141,7 @@ void add_trace_command(CLI::App& app) {
   auto o = std::make_shared<TraceOptions>();
   CLI::App* cmd = app.add_subcommand(
       "trace", "Trace a file of rays on the GPU (32-byte records) and write hits (16-byte records)");
-  cmd->add_option("scene", o->scene,
-                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
-                  "manifest in scenes/")
-      ->capture_default_str();
+  add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   cmd->add_option("--rays", o->rays, "Rays: {float ox, oy, oz, tmin, dx, dy, dz, tmax} each")
       ->required();
   cmd->add_option("--hits", o->hits,
@@ -172,21 +149,9 @@ void add_trace_command(CLI::App& app) {
                   "occluded, -1 free")
       ->required();
   cmd->add_flag("--any-hit", o->any_hit, "Any-hit (occlusion) queries instead of closest hit");
-  cmd->add_option("--device", o->vulkan.device,
-                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  cmd->add_flag("--validate", o->vulkan.validate,
-                "Vulkan validation layer on; any message fails the command");
-  cmd->add_option("--rays-per-invocation", o->tracer.rays_per_invocation,
-                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
-      ->capture_default_str()
-      ->check(CLI::Range(1u, 1u << 24));
   cmd->add_option("--repeat", o->repeat, "Trace N times after a warm-up; report the median")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  cmd->add_option("--bvh-bins", o->bvh.bin_count, "SAH bins per axis (2..64)")
-      ->capture_default_str();
-  cmd->add_option("--bvh-max-leaf", o->bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
-      ->capture_default_str();
   cmd->add_option("--bvh-layout", o->bvh_layout,
                   "Node numbering: dfs (left subtree first) or dfs-large-first (the child with "
                   "the larger surface area first); answers are the same")

@@ -152,21 +152,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
 }
 
 nlohmann::json predictor_summary_json(const PredictorSummary& s) {
-  const auto& c = s.counters.c;
-  nlohmann::json j = {{"probes", c[HRPP_PC_PROBES]},
-                      {"predictor_hits", c[HRPP_PC_PREDICTOR_HITS]},
-                      {"true_positives", c[HRPP_PC_TRUE_POSITIVES]},
-                      {"false_positives", c[HRPP_PC_FALSE_POSITIVES]},
-                      {"negatives", c[HRPP_PC_NEGATIVES]},
-                      {"verify_interior", c[HRPP_PC_VERIFY_INTERIOR]},
-                      {"verify_leaves", c[HRPP_PC_VERIFY_LEAVES]},
-                      {"verify_triangles", c[HRPP_PC_VERIFY_TRIANGLES]},
-                      {"insert_requests", c[HRPP_PC_INSERT_REQUESTS]},
-                      {"inserts", c[HRPP_PC_INSERTS]},
-                      {"insert_present", c[HRPP_PC_INSERT_PRESENT]},
-                      {"insert_drops", c[HRPP_PC_INSERT_DROPS]},
-                      {"evictions", c[HRPP_PC_EVICTIONS]},
-                      {"interior_visited", s.trace.interior_visited},
+  nlohmann::json j = {{"interior_visited", s.trace.interior_visited},
                       {"leaves_visited", s.trace.leaves_visited},
                       {"triangles_tested", s.trace.triangles_tested},
                       {"table_entries", s.occupancy.entries},
@@ -176,12 +162,12 @@ nlohmann::json predictor_summary_json(const PredictorSummary& s) {
                       {"hit_rate", s.hit_rate},
                       {"true_positive_rate", s.tp_rate},
                       {"false_positive_rate", s.fp_rate}};
+  for (const CounterKey& k : kPredictorCounterKeys)
+    if (s.baseline || !is_baseline_counter(k.index)) j[k.key] = s.counters.c[k.index];
   if (s.baseline) {
-    j["baseline_interior"] = c[HRPP_PC_BASELINE_INTERIOR];
     j["skipped_interior"] = s.skipped_interior;
     j["savings"] = s.savings;
     j["net_savings"] = s.net_savings;
-    j["wrong_closest"] = c[HRPP_PC_WRONG_CLOSEST];
   }
   return j;
 }

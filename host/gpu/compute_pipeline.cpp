@@ -22,6 +22,13 @@ struct ComputePipeline::State {
   VkDescriptorSet set = VK_NULL_HANDLE;
   std::vector<VkDescriptorType> types;  // per binding
 
+  // The constructor's steps, in order; each throws naming the kernel.
+  void create_module(std::span<const std::uint32_t> spirv);
+  void create_layouts();
+  void create_pipeline(std::span<const SpecializationConstant> specialization);
+  void create_descriptor_set();
+  std::string what() const { return " (" + name + ")"; }
+
   ~State() {
     if (!device) return;
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
@@ -40,31 +47,22 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
                       std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
                       push_constant_bytes, specialization) {}
 
-ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
-                                 std::span<const std::uint32_t> spirv,
-                                 std::span<const VkDescriptorType> binding_types,
-                                 std::uint32_t push_constant_bytes,
-                                 std::span<const SpecializationConstant> specialization)
-    : s_(std::make_unique<State>()) {
-  const auto binding_count = static_cast<std::uint32_t>(binding_types.size());
-  State& s = *s_;
-  s.device = ctx.device();
-  s.name = std::move(name);
-  s.push_bytes = push_constant_bytes;
-  const std::string what = " (" + s.name + ")";
-
+void ComputePipeline::State::create_module(std::span<const std::uint32_t> spirv) {
   VkShaderModuleCreateInfo mci{};
   mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
   mci.codeSize = spirv.size_bytes();
   mci.pCode = spirv.data();
-  check_vk(vkCreateShaderModule(s.device, &mci, nullptr, &s.module), "vkCreateShaderModule" + what);
+  check_vk(vkCreateShaderModule(device, &mci, nullptr, &module), "vkCreateShaderModule" + what());
+}
 
-  s.types.assign(binding_types.begin(), binding_types.end());
+// One descriptor set layout (binding i: types[i]) and the pipeline layout with the push range.
+void ComputePipeline::State::create_layouts() {
+  const auto binding_count = static_cast<std::uint32_t>(types.size());
   std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
   for (std::uint32_t i = 0; i < binding_count; ++i) {
     bindings[i] = {};
     bindings[i].binding = i;
-    bindings[i].descriptorType = binding_types[i];
+    bindings[i].descriptorType = types[i];
     bindings[i].descriptorCount = 1;
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -72,19 +70,22 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   dli.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
   dli.bindingCount = binding_count;
   dli.pBindings = bindings.data();
-  check_vk(vkCreateDescriptorSetLayout(s.device, &dli, nullptr, &s.set_layout),
-           "vkCreateDescriptorSetLayout" + what);
+  check_vk(vkCreateDescriptorSetLayout(device, &dli, nullptr, &set_layout),
+           "vkCreateDescriptorSetLayout" + what());
 
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
   VkPipelineLayoutCreateInfo pli{};
   pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
   pli.setLayoutCount = 1;
-  pli.pSetLayouts = &s.set_layout;
-  pli.pushConstantRangeCount = push_constant_bytes ? 1 : 0;
+  pli.pSetLayouts = &set_layout;
+  pli.pushConstantRangeCount = push_bytes ? 1 : 0;
   pli.pPushConstantRanges = &range;
-  check_vk(vkCreatePipelineLayout(s.device, &pli, nullptr, &s.layout),
-           "vkCreatePipelineLayout" + what);
+  check_vk(vkCreatePipelineLayout(device, &pli, nullptr, &layout),
+           "vkCreatePipelineLayout" + what());
+}
 
+void ComputePipeline::State::create_pipeline(
+    std::span<const SpecializationConstant> specialization) {
   std::vector<VkSpecializationMapEntry> entries;
   std::vector<std::uint32_t> values;
   for (const SpecializationConstant& c : specialization) {
@@ -100,15 +101,18 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   cpi.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
   cpi.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  cpi.stage.module = s.module;
+  cpi.stage.module = module;
   cpi.stage.pName = "main";
   cpi.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
-  cpi.layout = s.layout;
-  check_vk(vkCreateComputePipelines(s.device, VK_NULL_HANDLE, 1, &cpi, nullptr, &s.pipeline),
-           "vkCreateComputePipelines" + what);
+  cpi.layout = layout;
+  check_vk(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &cpi, nullptr, &pipeline),
+           "vkCreateComputePipelines" + what());
+}
 
+// A pool sized for one set of these bindings, and the set.
+void ComputePipeline::State::create_descriptor_set() {
   std::map<VkDescriptorType, std::uint32_t> per_type;
-  for (VkDescriptorType t : binding_types) ++per_type[t];
+  for (VkDescriptorType t : types) ++per_type[t];
   std::vector<VkDescriptorPoolSize> sizes;
   for (const auto& [type, count] : per_type) sizes.push_back({type, count});
   if (sizes.empty()) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1});
@@ -117,13 +121,30 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
   dpi.maxSets = 1;
   dpi.poolSizeCount = static_cast<std::uint32_t>(sizes.size());
   dpi.pPoolSizes = sizes.data();
-  check_vk(vkCreateDescriptorPool(s.device, &dpi, nullptr, &s.pool), "vkCreateDescriptorPool" + what);
+  check_vk(vkCreateDescriptorPool(device, &dpi, nullptr, &pool), "vkCreateDescriptorPool" + what());
   VkDescriptorSetAllocateInfo dai{};
   dai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  dai.descriptorPool = s.pool;
+  dai.descriptorPool = pool;
   dai.descriptorSetCount = 1;
-  dai.pSetLayouts = &s.set_layout;
-  check_vk(vkAllocateDescriptorSets(s.device, &dai, &s.set), "vkAllocateDescriptorSets" + what);
+  dai.pSetLayouts = &set_layout;
+  check_vk(vkAllocateDescriptorSets(device, &dai, &set), "vkAllocateDescriptorSets" + what());
+}
+
+ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
+                                 std::span<const std::uint32_t> spirv,
+                                 std::span<const VkDescriptorType> binding_types,
+                                 std::uint32_t push_constant_bytes,
+                                 std::span<const SpecializationConstant> specialization)
+    : s_(std::make_unique<State>()) {
+  State& s = *s_;
+  s.device = ctx.device();
+  s.name = std::move(name);
+  s.push_bytes = push_constant_bytes;
+  s.types.assign(binding_types.begin(), binding_types.end());
+  s.create_module(spirv);
+  s.create_layouts();
+  s.create_pipeline(specialization);
+  s.create_descriptor_set();
 }
 
 ComputePipeline::~ComputePipeline() = default;
@@ -241,13 +262,21 @@ void bind_and_push(VkCommandBuffer cmd, const ComputePipeline& pipeline, const v
                        pipeline.push_constant_bytes(), push);
 }
 
-void compute_to_compute_barrier(VkCommandBuffer cmd) {
+// One global memory barrier: writes of `src_stages` (`src_access`) made visible to `dst_stages`.
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stages,
+                    VkAccessFlags src_access, VkPipelineStageFlags dst_stages,
+                    VkAccessFlags dst_access) {
   VkMemoryBarrier b{};
   b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &b, 0, nullptr, 0, nullptr);
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cmd, src_stages, dst_stages, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+void compute_to_compute_barrier(VkCommandBuffer cmd) {
+  memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 }  // namespace
@@ -283,28 +312,21 @@ void record_copy(VkCommandBuffer cmd, const StorageBuffer& src, VkDeviceSize src
 }
 
 void transfer_compute_barrier(VkCommandBuffer cmd) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                    VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
-                    VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
-                           VK_PIPELINE_STAGE_HOST_BIT,
-                       0, 1, &b, 0, nullptr, 0, nullptr);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                     VK_PIPELINE_STAGE_HOST_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                     VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                     VK_ACCESS_HOST_READ_BIT);
 }
 
 void indirect_args_barrier(VkCommandBuffer cmd) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       0, 1, &b, 0, nullptr, 0, nullptr);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 }  // namespace hrpp

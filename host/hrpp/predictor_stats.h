@@ -27,6 +27,31 @@ struct TableOccupancy {
   }
 };
 
+// The predictor counters' JSON keys by index: HRPP_PREDICTOR_COUNTERS, the one list.
+struct CounterKey {
+  std::uint32_t index;  // HRPP_PC_*
+  const char* key;
+};
+inline constexpr CounterKey kPredictorCounterKeys[] = {
+#define HRPP_COUNTER_KEY(NAME, key, index) {index, #key},
+    HRPP_PREDICTOR_COUNTERS(HRPP_COUNTER_KEY)
+#undef HRPP_COUNTER_KEY
+};
+
+// The list's indices are 0, 1, 2, ... in list order and fit the counters block.
+constexpr bool counter_indices_in_order() {
+  std::uint32_t next = 0;
+  for (const CounterKey& k : kPredictorCounterKeys)
+    if (k.index != next++) return false;
+  return next <= HRPP_PC_COUNT;
+}
+static_assert(counter_indices_in_order());
+
+// Counters that only a count_baseline run fills.
+constexpr bool is_baseline_counter(std::uint32_t index) {
+  return index == HRPP_PC_BASELINE_INTERIOR || index == HRPP_PC_WRONG_CLOSEST;
+}
+
 struct PredictorSummary {
   gpu::PredictorCounters counters{};
   TraversalCounters trace;    // the predicted run's work, verification included

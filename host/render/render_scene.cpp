@@ -94,8 +94,10 @@ std::vector<std::string> RenderFeatures::names_on() const {
   return n;
 }
 
-RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes) {
-  RenderScene out;
+namespace {
+
+// The materials and the features they need (textures, metal, glass).
+void add_materials(const Scene& scene, RenderScene& out) {
   bool& f_tex = out.features.on[HRPP_FEATURE_TEXTURES];
   bool& f_metal = out.features.on[HRPP_FEATURE_METAL];
   bool& f_glass = out.features.on[HRPP_FEATURE_GLASS];
@@ -115,13 +117,12 @@ RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes
     f_glass = f_glass || m.transmission > 0.5f;
     f_metal = f_metal || (m.transmission <= 0.5f && m.metallic > 0.0f);
   }
-  if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
-  if (f_tex) add_textures(scene, texel_budget_bytes, out);
-  if (out.texels.empty()) out.texels.push_back(0);  // bindings need a non-empty buffer
-  if (out.textures.empty()) out.textures.push_back(gpu::GpuTexture{});
+}
 
+// The shading triangles and a light per emissive one (its power into `power`); returns the
+// radius of the scene's bounding sphere.
+float add_triangles(const Scene& scene, RenderScene& out, std::vector<float>& power) {
   glm::vec3 lo(3e38f), hi(-3e38f);
-  std::vector<float> power;
   out.triangles.resize(scene.triangles.size());
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
@@ -154,9 +155,12 @@ RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes
     power.push_back(2.0f * kPi * luminance(e) * area);
     ++out.emissive_triangles;
   }
-  out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
+  return 0.5f * glm::length(hi - lo);
+}
 
-  const float radius = 0.5f * glm::length(hi - lo);
+// Point, spot and directional lights (power into `power`) and the environment.
+void add_scene_lights(const Scene& scene, float radius, RenderScene& out,
+                      std::vector<float>& power) {
   for (const Light& light : scene.lights) {
     gpu::GpuLight l{};
     l.color = light.color;
@@ -193,8 +197,10 @@ RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes
     power.push_back(p);
     ++out.delta_lights;
   }
-  out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
+}
 
+// Light selection by power: each light's cdf; no light with power, no lights.
+void make_light_cdf(const std::vector<float>& power, RenderScene& out) {
   double total = 0.0;
   for (float p : power) total += p;
   if (!(total > 0.0)) {
@@ -207,6 +213,24 @@ RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes
     }
     out.lights.back().cdf = 1.0f;
   }
+}
+
+}  // namespace
+
+RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes) {
+  RenderScene out;
+  add_materials(scene, out);
+  if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
+  if (out.features.on[HRPP_FEATURE_TEXTURES]) add_textures(scene, texel_budget_bytes, out);
+  if (out.texels.empty()) out.texels.push_back(0);  // bindings need a non-empty buffer
+  if (out.textures.empty()) out.textures.push_back(gpu::GpuTexture{});
+
+  std::vector<float> power;
+  const float radius = add_triangles(scene, out, power);
+  out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
+  add_scene_lights(scene, radius, out, power);
+  out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
+  make_light_cdf(power, out);
   return out;
 }
 

@@ -3,20 +3,13 @@
 #include <cstdio>
 
 #include "common/bytes.h"
+#include "hrpp/predictor_stats.h"
 #include "hrpp_types.h"
 
 namespace hrpp {
 namespace {
 
 using nlohmann::json;
-
-// HRPP_PC_* in shaders/shared/hrpp_types.h order.
-constexpr const char* kPredictorCounterNames[] = {
-    "probes",          "predictor_hits",   "true_positives",    "false_positives",
-    "negatives",       "verify_interior",  "verify_leaves",     "verify_triangles",
-    "baseline_interior", "wrong_closest",  "insert_requests",   "inserts",
-    "insert_present",  "insert_drops",     "evictions"};
-static_assert(std::size(kPredictorCounterNames) == HRPP_PC_EVICTIONS + 1);
 
 json counters_json(const TraversalCounters& c) {
   return json{{"rays", c.rays},
@@ -32,7 +25,7 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
   j["kernels_ms"] = s.kernels_ms;
   if (hrpp_on) {
     json p;
-    for (int i = 0; i <= HRPP_PC_EVICTIONS; ++i) p[kPredictorCounterNames[i]] = s.predictor.c[i];
+    for (const CounterKey& k : kPredictorCounterKeys) p[k.key] = s.predictor.c[k.index];
     p["predicted_traces"] = s.predicted_traces;
     p["traced"] = s.traced;
     p["sampled"] = s.sampled;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -624,152 +625,182 @@ class GltfLoader {
   }
 
   // ---- geometry ------------------------------------------------------------------------------
+  // A primitive's vertices in world space; wn and uv empty when it has no normals / texcoords.
+  struct WorldVertices {
+    std::vector<glm::vec3> wp, wn;
+    std::vector<glm::vec2> uv;
+  };
+
   void emit_mesh(int mesh_index, const glm::dmat4& world) {
     const tinygltf::Mesh& mesh = m_.meshes[mesh_index];
-    const glm::dmat3 linear(world);
-    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
-    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-      const tinygltf::Primitive& prim = mesh.primitives[p];
-      const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " +
-                                std::to_string(p);
-      const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-      if (mode != TINYGLTF_MODE_TRIANGLES) {
-        fail(where + ": mode " + std::to_string(mode) + " (" + mode_name(mode) +
-             ") is not supported, only TRIANGLES (4)");
-      }
-      auto pos_it = prim.attributes.find("POSITION");
-      if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
-      const View pos = view(pos_it->second, "POSITION");
-      if (pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || pos.components != 3 ||
-          m_.accessors[pos_it->second].type != TINYGLTF_TYPE_VEC3) {
-        fail("accessor " + std::to_string(pos_it->second) + " (POSITION) is " +
-             component_name(pos.component_type) + " " +
-             type_name(m_.accessors[pos_it->second].type) + ", expected FLOAT VEC3");
-      }
-      View nrm;
-      bool has_normals = false;
-      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-        nrm = view(it->second, "NORMAL");
-        if (nrm.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-            m_.accessors[it->second].type != TINYGLTF_TYPE_VEC3) {
-          fail("accessor " + std::to_string(it->second) + " (NORMAL) is " +
-               component_name(nrm.component_type) + " " +
-               type_name(m_.accessors[it->second].type) + ", expected FLOAT VEC3");
-        }
-        if (nrm.count != pos.count) {
-          fail("accessor " + std::to_string(it->second) + " (NORMAL) has " +
-               std::to_string(nrm.count) + " elements, POSITION has " +
-               std::to_string(pos.count));
-        }
-        has_normals = true;
-      }
-      View tc;
-      bool has_uv = false;
-      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        tc = view(it->second, "TEXCOORD_0");
-        const bool ok_type = m_.accessors[it->second].type == TINYGLTF_TYPE_VEC2;
-        const bool ok_comp =
-            tc.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-            (tc.normalized && (tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                               tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
-        if (!ok_type || !ok_comp) {
-          fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) is " +
-               (tc.normalized ? "normalized " : "") + component_name(tc.component_type) + " " +
-               type_name(m_.accessors[it->second].type) +
-               ", expected FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC2");
-        }
-        if (tc.count != pos.count) {
-          fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) has " +
-               std::to_string(tc.count) + " elements, POSITION has " +
-               std::to_string(pos.count));
-        }
-        has_uv = true;
-      }
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
+      emit_primitive(mesh_index, static_cast<int>(p), world);
+  }
 
-      // Transform every vertex once.
-      const std::size_t nv = pos.count;
-      std::vector<glm::vec3> wp(nv), wn(has_normals ? nv : 0);
-      std::vector<glm::vec2> uv(has_uv ? nv : 0);
+  void emit_primitive(int mesh_index, int p, const glm::dmat4& world) {
+    const tinygltf::Primitive& prim = m_.meshes[mesh_index].primitives[p];
+    const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " +
+                              std::to_string(p);
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES) {
+      fail(where + ": mode " + std::to_string(mode) + " (" + mode_name(mode) +
+           ") is not supported, only TRIANGLES (4)");
+    }
+    auto pos_it = prim.attributes.find("POSITION");
+    if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
+    const View pos = view(pos_it->second, "POSITION");
+    if (pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || pos.components != 3 ||
+        m_.accessors[pos_it->second].type != TINYGLTF_TYPE_VEC3) {
+      fail("accessor " + std::to_string(pos_it->second) + " (POSITION) is " +
+           component_name(pos.component_type) + " " +
+           type_name(m_.accessors[pos_it->second].type) + ", expected FLOAT VEC3");
+    }
+    const std::optional<View> nrm = normal_view(prim, pos.count);
+    const std::optional<View> tc = texcoord_view(prim, pos.count);
+    const WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
+    View idx;
+    const std::size_t n_indices = index_count(prim, where, pos.count, idx);
+    const std::uint32_t material = material_for(prim.material, mesh_index, p);
+    emit_triangles(prim, idx, n_indices, v, material);
+  }
+
+  std::optional<View> normal_view(const tinygltf::Primitive& prim, std::size_t vertices) {
+    auto it = prim.attributes.find("NORMAL");
+    if (it == prim.attributes.end()) return std::nullopt;
+    View nrm = view(it->second, "NORMAL");
+    if (nrm.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+        m_.accessors[it->second].type != TINYGLTF_TYPE_VEC3) {
+      fail("accessor " + std::to_string(it->second) + " (NORMAL) is " +
+           component_name(nrm.component_type) + " " +
+           type_name(m_.accessors[it->second].type) + ", expected FLOAT VEC3");
+    }
+    if (nrm.count != vertices) {
+      fail("accessor " + std::to_string(it->second) + " (NORMAL) has " +
+           std::to_string(nrm.count) + " elements, POSITION has " + std::to_string(vertices));
+    }
+    return nrm;
+  }
+
+  std::optional<View> texcoord_view(const tinygltf::Primitive& prim, std::size_t vertices) {
+    auto it = prim.attributes.find("TEXCOORD_0");
+    if (it == prim.attributes.end()) return std::nullopt;
+    View tc = view(it->second, "TEXCOORD_0");
+    const bool ok_type = m_.accessors[it->second].type == TINYGLTF_TYPE_VEC2;
+    const bool ok_comp =
+        tc.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+        (tc.normalized && (tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                           tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+    if (!ok_type || !ok_comp) {
+      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) is " +
+           (tc.normalized ? "normalized " : "") + component_name(tc.component_type) + " " +
+           type_name(m_.accessors[it->second].type) +
+           ", expected FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC2");
+    }
+    if (tc.count != vertices) {
+      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) has " +
+           std::to_string(tc.count) + " elements, POSITION has " + std::to_string(vertices));
+    }
+    return tc;
+  }
+
+  // Transforms every vertex once.
+  WorldVertices world_vertices(const View& pos, int pos_accessor, const std::optional<View>& nrm,
+                               const std::optional<View>& tc, const glm::dmat4& world) {
+    const std::size_t nv = pos.count;
+    WorldVertices v;
+    v.wp.resize(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+      const glm::dvec3 p(pos.load<float>(i, 0), pos.load<float>(i, 1), pos.load<float>(i, 2));
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+        fail("accessor " + std::to_string(pos_accessor) +
+             " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
+      }
+      v.wp[i] = glm::vec3(world * glm::dvec4(p, 1.0));
+      if (!std::isfinite(v.wp[i].x) || !std::isfinite(v.wp[i].y) || !std::isfinite(v.wp[i].z)) {
+        fail("accessor " + std::to_string(pos_accessor) + " (POSITION) element " +
+             std::to_string(i) + " is out of float range after the node transform");
+      }
+    }
+    if (nrm) {
+      const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+      v.wn.resize(nv);
       for (std::size_t i = 0; i < nv; ++i) {
-        const glm::dvec3 v(pos.load<float>(i, 0), pos.load<float>(i, 1), pos.load<float>(i, 2));
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
-          fail("accessor " + std::to_string(pos_it->second) +
-               " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
-        }
-        wp[i] = glm::vec3(world * glm::dvec4(v, 1.0));
-        if (!std::isfinite(wp[i].x) || !std::isfinite(wp[i].y) || !std::isfinite(wp[i].z)) {
-          fail("accessor " + std::to_string(pos_it->second) + " (POSITION) element " +
-               std::to_string(i) + " is out of float range after the node transform");
-        }
+        glm::dvec3 n(nrm->load<float>(i, 0), nrm->load<float>(i, 1), nrm->load<float>(i, 2));
+        n = normal_matrix * n;
+        const double len = glm::length(n);
+        v.wn[i] = (len > 0.0 && std::isfinite(len)) ? glm::vec3(n / len) : glm::vec3(0.0f);
       }
-      if (has_normals) {
-        for (std::size_t i = 0; i < nv; ++i) {
-          glm::dvec3 n(nrm.load<float>(i, 0), nrm.load<float>(i, 1), nrm.load<float>(i, 2));
-          n = normal_matrix * n;
-          const double len = glm::length(n);
-          wn[i] = (len > 0.0 && std::isfinite(len)) ? glm::vec3(n / len) : glm::vec3(0.0f);
-        }
-      }
-      if (has_uv) {
-        for (std::size_t i = 0; i < nv; ++i) uv[i] = glm::vec2(tc.read_float(i, 0), tc.read_float(i, 1));
-      }
+    }
+    if (tc) {
+      v.uv.resize(nv);
+      for (std::size_t i = 0; i < nv; ++i) v.uv[i] = glm::vec2(tc->read_float(i, 0), tc->read_float(i, 1));
+    }
+    return v;
+  }
 
-      std::size_t n_indices = nv;
-      View idx;
-      const bool indexed = prim.indices >= 0;
-      if (indexed) {
-        idx = view(prim.indices, "indices");
-        if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
-            (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-             idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-             idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-          fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
-               component_name(idx.component_type) + " " +
-               type_name(m_.accessors[prim.indices].type) +
-               ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
-        }
-        n_indices = idx.count;
-      } else if (prim.indices < -1) {
-        fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
+  // The primitive's index count (its vertex count when it has no indices), a multiple of 3;
+  // `idx`: the indices accessor when there is one.
+  std::size_t index_count(const tinygltf::Primitive& prim, const std::string& where,
+                          std::size_t vertices, View& idx) {
+    std::size_t n_indices = vertices;
+    const bool indexed = prim.indices >= 0;
+    if (indexed) {
+      idx = view(prim.indices, "indices");
+      if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
+          (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+        fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
+             component_name(idx.component_type) + " " +
+             type_name(m_.accessors[prim.indices].type) +
+             ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
       }
-      if (n_indices % 3 != 0) {
-        fail(where + ": " + (indexed ? "index" : "vertex") + " count " +
-             std::to_string(n_indices) + " is not a multiple of 3");
-      }
-      const std::uint32_t material = material_for(prim.material, mesh_index, static_cast<int>(p));
+      n_indices = idx.count;
+    } else if (prim.indices < -1) {
+      fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
+    }
+    if (n_indices % 3 != 0) {
+      fail(where + ": " + (indexed ? "index" : "vertex") + " count " +
+           std::to_string(n_indices) + " is not a multiple of 3");
+    }
+    return n_indices;
+  }
 
-      const std::size_t nt = n_indices / 3;
-      if (nt > kMaxTriangles - scene_.triangles.size()) {
-        fail("more than " + std::to_string(kMaxTriangles) + " triangles");
+  void emit_triangles(const tinygltf::Primitive& prim, const View& idx, std::size_t n_indices,
+                      const WorldVertices& v, std::uint32_t material) {
+    const bool indexed = prim.indices >= 0;
+    const std::size_t nv = v.wp.size();
+    const std::size_t nt = n_indices / 3;
+    if (nt > kMaxTriangles - scene_.triangles.size()) {
+      fail("more than " + std::to_string(kMaxTriangles) + " triangles");
+    }
+    // No reserve(size + nt) here: once per instance, it would defeat the vectors' geometric
+    // growth and copy every triangle loaded so far (quadratic in the instance count).
+    for (std::size_t t = 0; t < nt; ++t) {
+      std::uint32_t k[3];
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t e = 3 * t + c;
+        k[c] = indexed ? idx.read_index(e) : static_cast<std::uint32_t>(e);
+        if (k[c] >= nv) {
+          fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
+               std::to_string(k[c]) + " at element " + std::to_string(e) +
+               " is out of range (vertex count " + std::to_string(nv) + ")");
+        }
       }
-      // No reserve(size + nt) here: once per instance, it would defeat the vectors' geometric
-      // growth and copy every triangle loaded so far (quadratic in the instance count).
-      for (std::size_t t = 0; t < nt; ++t) {
-        std::uint32_t k[3];
-        for (int c = 0; c < 3; ++c) {
-          const std::size_t e = 3 * t + c;
-          k[c] = indexed ? idx.read_index(e) : static_cast<std::uint32_t>(e);
-          if (k[c] >= nv) {
-            fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
-                 std::to_string(k[c]) + " at element " + std::to_string(e) +
-                 " is out of range (vertex count " + std::to_string(nv) + ")");
-          }
-        }
-        scene_.triangles.push_back(Triangle{wp[k[0]], wp[k[1]], wp[k[2]]});
-        TriangleShading s;
-        if (has_normals) {
-          s.n0 = wn[k[0]];
-          s.n1 = wn[k[1]];
-          s.n2 = wn[k[2]];
-        }
-        if (has_uv) {
-          s.uv0 = uv[k[0]];
-          s.uv1 = uv[k[1]];
-          s.uv2 = uv[k[2]];
-        }
-        s.material = material;
-        scene_.shading.push_back(s);
+      scene_.triangles.push_back(Triangle{v.wp[k[0]], v.wp[k[1]], v.wp[k[2]]});
+      TriangleShading s;
+      if (!v.wn.empty()) {
+        s.n0 = v.wn[k[0]];
+        s.n1 = v.wn[k[1]];
+        s.n2 = v.wn[k[2]];
       }
+      if (!v.uv.empty()) {
+        s.uv0 = v.uv[k[0]];
+        s.uv1 = v.uv[k[1]];
+        s.uv2 = v.uv[k[2]];
+      }
+      s.material = material;
+      scene_.shading.push_back(s);
     }
   }
 

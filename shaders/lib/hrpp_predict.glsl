@@ -29,16 +29,14 @@ layout(constant_id = HRPP_SPEC_COUNT_BASELINE) const bool kCountBaseline = true;
 #include "traversal.glsl"
 
 // Per-invocation predictor counts, summed per subgroup at the end (flush_counters).
-uint h_probes = 0u, h_hits = 0u, h_tp = 0u, h_fp = 0u, h_neg = 0u;
-uint h_verify_interior = 0u, h_verify_leaves = 0u, h_verify_triangles = 0u;
-uint h_baseline = 0u, h_wrong = 0u;
+HRPP_PREDICT_COUNTERS(HRPP_DECLARE_COUNT)
 
 // A traversal from the root counted apart (count_baseline): what HRPP off would visit.
 Hit baseline_traversal(RaySetup r) {
   const uint i0 = g_interior, l0 = g_leaves, t0 = g_triangles;
   Hit truth = Hit(-1, 0.0, 0.0, 0.0);
   traverse_from(r, 0, truth);
-  h_baseline += g_interior - i0;
+  count_baseline_interior += g_interior - i0;
   g_interior = i0;
   g_leaves = l0;
   g_triangles = t0;
@@ -72,20 +70,20 @@ Hit verify_entry(RaySetup r, int entry, inout bool finished) {
 // Probes the table for ray `index` (set up as r) and verifies the prediction. Returns the
 // predicted hit (prim < 0: none).
 Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished) {
-  ++h_probes;
+  ++count_probes;
   const int entry = hrpp_table_lookup(key, hrpp.clock + index);
   if (entry < 0) {
-    ++h_neg;
+    ++count_negatives;
     return Hit(-1, 0.0, 0.0, 0.0);
   }
-  ++h_hits;
+  ++count_predictor_hits;
   const uint i0 = g_interior, l0 = g_leaves, t0 = g_triangles;
   const Hit predicted = verify_entry(r, entry, finished);
-  h_verify_interior += g_interior - i0;
-  h_verify_leaves += g_leaves - l0;
-  h_verify_triangles += g_triangles - t0;
-  if (predicted.prim >= 0) ++h_tp;
-  else ++h_fp;
+  count_verify_interior += g_interior - i0;
+  count_verify_leaves += g_leaves - l0;
+  count_verify_triangles += g_triangles - t0;
+  if (predicted.prim >= 0) ++count_true_positives;
+  else ++count_false_positives;
   return predicted;
 }
 
@@ -129,7 +127,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
         const Hit truth = baseline_traversal(r);
         if (HRPP_ANY_HIT == 0 && hrpp.mode == HRPP_MODE_SPECULATIVE && predicted.prim >= 0 &&
             (truth.prim != predicted.prim || truth.t != predicted.t))
-          ++h_wrong;
+          ++count_wrong_closest;
       }
       if (predicted.prim >= 0) {
         store_hit(index, predicted);
@@ -145,25 +143,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
 }
 
 // Adds this subgroup's predictor counts to the class's counters; call once, at the end of main.
-void flush_counters() {
-  const uint sums[10] = uint[](
-      subgroupAdd(h_probes), subgroupAdd(h_hits), subgroupAdd(h_tp), subgroupAdd(h_fp),
-      subgroupAdd(h_neg), subgroupAdd(h_verify_interior), subgroupAdd(h_verify_leaves),
-      subgroupAdd(h_verify_triangles), subgroupAdd(h_baseline), subgroupAdd(h_wrong));
-  // No loop (the loop limiter may have fired): one statement per counter.
-  if (subgroupElect()) {
-    hrpp_add_counter(HRPP_PC_PROBES, sums[HRPP_PC_PROBES]);
-    hrpp_add_counter(HRPP_PC_PREDICTOR_HITS, sums[HRPP_PC_PREDICTOR_HITS]);
-    hrpp_add_counter(HRPP_PC_TRUE_POSITIVES, sums[HRPP_PC_TRUE_POSITIVES]);
-    hrpp_add_counter(HRPP_PC_FALSE_POSITIVES, sums[HRPP_PC_FALSE_POSITIVES]);
-    hrpp_add_counter(HRPP_PC_NEGATIVES, sums[HRPP_PC_NEGATIVES]);
-    hrpp_add_counter(HRPP_PC_VERIFY_INTERIOR, sums[HRPP_PC_VERIFY_INTERIOR]);
-    hrpp_add_counter(HRPP_PC_VERIFY_LEAVES, sums[HRPP_PC_VERIFY_LEAVES]);
-    hrpp_add_counter(HRPP_PC_VERIFY_TRIANGLES, sums[HRPP_PC_VERIFY_TRIANGLES]);
-    hrpp_add_counter(HRPP_PC_BASELINE_INTERIOR, sums[HRPP_PC_BASELINE_INTERIOR]);
-    hrpp_add_counter(HRPP_PC_WRONG_CLOSEST, sums[HRPP_PC_WRONG_CLOSEST]);
-  }
-}
+void flush_counters() { HRPP_FLUSH_COUNTS(HRPP_PREDICT_COUNTERS) }
 
 // The rays of this dispatch (shaders/shared/hrpp_passes.h): all of the queue's ray_count, or
 // one pass of the pilot schedule (PredictorConfig::pilot: first the rays whose index is a

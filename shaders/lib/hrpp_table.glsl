@@ -133,4 +133,22 @@ void hrpp_add_counter(uint counter, uint value) {
   if (value != 0u) atomicAdd(hrpp_counters.c[counter], uint64_t(value));
 }
 
+// A kernel's counts of a counter list (HRPP_*_COUNTERS, shaders/shared/hrpp_types.h): it declares
+// one `uint count_<key>` per counter with HRPP_DECLARE_COUNT and adds them to the class's counters
+// once, at the end, with HRPP_FLUSH_COUNTS (summed over the subgroup) or, in a single invocation,
+// with HRPP_ADD_COUNT. The lists expand to one statement per counter: no loop, which the loop
+// limiter could cut short (docs/ARCHITECTURE.md, "Lavapipe facts").
+#define HRPP_DECLARE_COUNT(NAME, key, index) uint count_##key = 0u;
+#define HRPP_ADD_COUNT(NAME, key, index) hrpp_add_counter(index, count_##key);
+#define HRPP_SUM_COUNT(NAME, key, index) sums[index] = subgroupAdd(count_##key);
+#define HRPP_ADD_SUM(NAME, key, index) hrpp_add_counter(index, sums[index]);
+#define HRPP_FLUSH_COUNTS(LIST)                                  \
+  {                                                              \
+    uint sums[HRPP_PC_COUNT];                                    \
+    LIST(HRPP_SUM_COUNT)                                         \
+    if (subgroupElect()) {                                       \
+      LIST(HRPP_ADD_SUM)                                         \
+    }                                                            \
+  }
+
 #endif  // HRPP_TABLE_GLSL

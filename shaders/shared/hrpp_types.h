@@ -119,25 +119,50 @@ struct InsertRequest {
   uint pad;
 };
 
-// Predictor counters of one ray class, summed over a dispatch (64-bit atomics).
+// Predictor counters of one ray class, summed over a dispatch (64-bit atomics). One list,
+// expanded by both sides: X(NAME, key, index) gives the index constant HRPP_PC_NAME, the JSON key
+// `key` (host) and the kernels' count variables (h_key in hrpp_predict, r_key in hrpp_resolve).
 //   probes = predictor_hits + negatives; predictor_hits = true_positives + false_positives;
 //   insert_requests = inserts + insert_present + insert_drops.
 // Interior nodes / leaves / triangles visited are TraceCounters' (they include verification).
-#define HRPP_PC_PROBES 0
-#define HRPP_PC_PREDICTOR_HITS 1
-#define HRPP_PC_TRUE_POSITIVES 2
-#define HRPP_PC_FALSE_POSITIVES 3
-#define HRPP_PC_NEGATIVES 4
-#define HRPP_PC_VERIFY_INTERIOR 5   // interior nodes visited testing predicted nodes
-#define HRPP_PC_VERIFY_LEAVES 6
-#define HRPP_PC_VERIFY_TRIANGLES 7
-#define HRPP_PC_BASELINE_INTERIOR 8  // count_baseline: a full traversal's interior nodes
-#define HRPP_PC_WRONG_CLOSEST 9      // count_baseline, speculative: accepted hit ≠ closest hit
-#define HRPP_PC_INSERT_REQUESTS 10
-#define HRPP_PC_INSERTS 11           // node stored
-#define HRPP_PC_INSERT_PRESENT 12    // node already in the entry
-#define HRPP_PC_INSERT_DROPS 13      // no room, policy none (or a lost replacement race)
-#define HRPP_PC_EVICTIONS 14         // entries or nodes replaced (policy lru)
+// Counted by hrpp_predict:
+//   verify_*: nodes visited testing predicted nodes;
+//   baseline_interior: count_baseline, a full traversal's interior nodes;
+//   wrong_closest: count_baseline, speculative: accepted hit != closest hit.
+#define HRPP_PREDICT_COUNTERS(X)                   \
+  X(PROBES, probes, 0u)                            \
+  X(PREDICTOR_HITS, predictor_hits, 1u)            \
+  X(TRUE_POSITIVES, true_positives, 2u)            \
+  X(FALSE_POSITIVES, false_positives, 3u)          \
+  X(NEGATIVES, negatives, 4u)                      \
+  X(VERIFY_INTERIOR, verify_interior, 5u)          \
+  X(VERIFY_LEAVES, verify_leaves, 6u)              \
+  X(VERIFY_TRIANGLES, verify_triangles, 7u)        \
+  X(BASELINE_INTERIOR, baseline_interior, 8u)      \
+  X(WRONG_CLOSEST, wrong_closest, 9u)
+// The outcomes of table inserts (hrpp_resolve, hrpp_insert): node stored, node already in the
+// entry, no room (policy none, or a lost replacement race), entries or nodes replaced (lru).
+#define HRPP_INSERT_OUTCOME_COUNTERS(X)            \
+  X(INSERTS, inserts, 11u)                         \
+  X(INSERT_PRESENT, insert_present, 12u)           \
+  X(INSERT_DROPS, insert_drops, 13u)               \
+  X(EVICTIONS, evictions, 14u)
+#define HRPP_INSERT_COUNTERS(X)                    \
+  X(INSERT_REQUESTS, insert_requests, 10u)         \
+  HRPP_INSERT_OUTCOME_COUNTERS(X)
+#define HRPP_PREDICTOR_COUNTERS(X) HRPP_PREDICT_COUNTERS(X) HRPP_INSERT_COUNTERS(X)
+
+#ifdef __cplusplus
+}  // namespace hrpp::gpu
+#define HRPP_PC_CONSTANT(NAME, key, index) inline constexpr std::uint32_t HRPP_PC_##NAME = index;
+#else
+#define HRPP_PC_CONSTANT(NAME, key, index) const uint HRPP_PC_##NAME = index;
+#endif
+HRPP_PREDICTOR_COUNTERS(HRPP_PC_CONSTANT)
+#undef HRPP_PC_CONSTANT
+#ifdef __cplusplus
+namespace hrpp::gpu {
+#endif
 #define HRPP_PC_COUNT 16
 
 struct PredictorCounters {

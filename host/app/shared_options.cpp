@@ -1,0 +1,34 @@
+#include "app/shared_options.h"
+
+#include "common/error.h"
+
+namespace hrpp::app {
+
+void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
+  cmd->add_option("scene", o.scene,
+                  "builtin:cornell, a .gltf/.glb file, a .scene.json manifest or the name of a "
+                  "manifest in scenes/")
+      ->capture_default_str();
+  cmd->add_option("--bvh-bins", o.bvh.bin_count, "SAH bins per axis (2..64)")
+      ->capture_default_str();
+  cmd->add_option("--bvh-max-leaf", o.bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
+      ->capture_default_str();
+  if (group == SharedGroup::kScene) return;
+  cmd->add_option("--device", o.vulkan.device,
+                  "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
+  const bool validate_free = cmd->get_option_no_throw("--validate") == nullptr;
+  cmd->add_flag(validate_free ? "--validate,--vulkan-validate" : "--vulkan-validate",
+                o.vulkan.validate, "Vulkan validation layer on; any message fails the command");
+  cmd->add_option("--rays-per-invocation", o.tracer.rays_per_invocation,
+                  "Most rays one kernel invocation traces (lavapipe loop limiter)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
+}
+
+void check_validation_messages(const VulkanContext& ctx) {
+  if (ctx.validation_messages() != 0)
+    throw Error("Vulkan validation layer (--validate, --vulkan-validate or HRPP_VALIDATE=1): " +
+                std::to_string(ctx.validation_messages()) + " messages (printed above)");
+}
+
+}  // namespace hrpp::app

@@ -1,0 +1,35 @@
+// The options that every subcommand loading a scene shares, defined once: the scene, the BVH
+// build (--bvh-*), and for the commands that open the Vulkan device --device, --validate and
+// --rays-per-invocation.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "bvh/binned_sah_builder.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/vulkan_context.h"
+
+namespace hrpp::app {
+
+struct SharedOptions {
+  std::string scene = "builtin:cornell";
+  BvhConfig bvh;
+  VulkanOptions vulkan;
+  GpuTracerConfig tracer;  // rays_per_invocation
+};
+
+enum class SharedGroup {
+  kScene,   // scene and --bvh-* (hrpp scene)
+  kDevice,  // those and the device's options (trace, bench, render)
+};
+
+// Registers the group on `cmd`. The validation layer's flag is --vulkan-validate, and --validate
+// too unless `cmd` already has a --validate of its own (bench: rays checked against the CPU).
+void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group);
+
+// Throws the one-line error of a run that printed Vulkan validation messages.
+void check_validation_messages(const VulkanContext& ctx);
+
+}  // namespace hrpp::app

@@ -1,0 +1,63 @@
+#include "app/tracer.h"
+
+#include <chrono>
+
+#include "trace/ray_batches.h"
+#include "trace/ray_order.h"
+
+namespace hrpp::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+  TracerRun r;
+  const auto start = Clock::now();
+  r.hits = trace_batch_cpu(bvh_, rays, any_hit, threads_);
+  r.ms = ms_since(start);
+  return r;
+}
+
+TracerRun EmbreeBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+  TracerRun r;
+  const auto start = Clock::now();
+  r.hits = embree_.trace(rays, any_hit, threads_);
+  r.ms = ms_since(start);
+  return r;
+}
+
+const char* GpuBackend::timing() const {
+  return hrpp_ && batched_ ? "none (batched HRPP dispatches are not timed)"
+                           : "device timestamps around the trace dispatches";
+}
+
+TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+  if (hrpp_) tracer_.clear_predictor();
+  if (!sorter_) {
+    GpuTraceResult g = tracer_.trace(rays, any_hit);
+    return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
+  }
+  const RaySortResult sorted = sorter_->sort(rays);
+  GpuTraceResult g = tracer_.trace(sorted.rays, any_hit);
+  return TracerRun{hits_in_queue_order(g.hits, sorted.order), g.kernel_ms + sorted.kernel_ms,
+                   g.counters};
+}
+
+std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
+                                              std::span<const gpu::Ray> rays, bool any_hit) {
+  const RayClass c = ray_file_class(any_hit);
+  if (!predictor.predicts(c)) return std::nullopt;
+  tracer.clear_predictor();
+  tracer.set_count_baseline(true);
+  const GpuTraceResult counted = tracer.trace(rays, any_hit);
+  tracer.set_count_baseline(false);
+  return summarize(counted.predictor, counted.counters, tracer.predictor_occupancy(c), true);
+}
+
+}  // namespace hrpp::app

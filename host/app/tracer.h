@@ -1,0 +1,92 @@
+// A tracer: one backend that answers a batch of rays with one hit per ray (closest or any hit),
+// behind `hrpp bench`. A new backend is one class here: a TracerKind, a name, what its times
+// measure and trace(). `hrpp trace` runs the GPU backend through it too.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/ray_sorter.h"
+#include "gpu_types.h"
+#include "hrpp/predictor_stats.h"
+#include "reference/embree_tracer.h"
+#include "trace/traversal_counters.h"
+
+namespace hrpp::app {
+
+enum class TracerKind {
+  kCpuReference,  // trace/cpu_traversal.h on all threads: the ground truth
+  kEmbree,        // Embree 3 (reference/embree_tracer.h)
+  kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
+  kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
+};
+
+struct TracerRun {
+  std::vector<gpu::Hit> hits;
+  double ms = 0.0;
+  std::optional<TraversalCounters> counters;  // the GPU's work
+};
+
+class Tracer {
+ public:
+  virtual ~Tracer() = default;
+  virtual TracerKind kind() const = 0;
+  virtual const char* name() const = 0;    // "cpu-ref", "embree", "gpu", "gpu-hrpp"
+  virtual const char* timing() const = 0;  // what TracerRun::ms measures
+  virtual TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) = 0;
+};
+
+class CpuReferenceTracer final : public Tracer {
+ public:
+  CpuReferenceTracer(const GpuBvh& bvh, int threads) : bvh_(bvh), threads_(threads) {}
+  TracerKind kind() const override { return TracerKind::kCpuReference; }
+  const char* name() const override { return "cpu-ref"; }
+  const char* timing() const override { return "wall"; }
+  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+
+ private:
+  const GpuBvh& bvh_;
+  int threads_;
+};
+
+class EmbreeBackend final : public Tracer {
+ public:
+  EmbreeBackend(const EmbreeTracer& embree, int threads) : embree_(embree), threads_(threads) {}
+  TracerKind kind() const override { return TracerKind::kEmbree; }
+  const char* name() const override { return "embree"; }
+  const char* timing() const override { return "wall"; }
+  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+
+ private:
+  const EmbreeTracer& embree_;
+  int threads_;
+};
+
+// kGpu, or kGpuHrpp when the GpuTracer has a predictor.
+class GpuBackend final : public Tracer {
+ public:
+  // `sorter`: sort the rays on the device before each trace (its time counted; the hits come
+  // back in the rays' order).
+  GpuBackend(GpuTracer& tracer, bool hrpp, bool batched, RaySorter* sorter = nullptr)
+      : tracer_(tracer), hrpp_(hrpp), batched_(batched), sorter_(sorter) {}
+  TracerKind kind() const override { return hrpp_ ? TracerKind::kGpuHrpp : TracerKind::kGpu; }
+  const char* name() const override { return hrpp_ ? "gpu-hrpp" : "gpu"; }
+  const char* timing() const override;
+  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+
+ private:
+  GpuTracer& tracer_;
+  bool hrpp_;
+  bool batched_;  // HRPP batches: not timed
+  RaySorter* sorter_;
+};
+
+// HRPP: one more run from empty tables that also counts what full traversals would visit
+// (outside the timings); nothing when `predictor` does not predict the query's ray class.
+std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
+                                              std::span<const gpu::Ray> rays, bool any_hit);
+
+}  // namespace hrpp::app
