@@ -136,5 +136,25 @@ TEST_F(HrppCli, BenchTakesTheSharedOptions) {
   EXPECT_EQ(r.err.find("Validation"), std::string::npos) << r.err;
 }
 
+// --save-rays: the batches as ray files (32 bytes a ray) and the triangle dump (36 bytes a
+// triangle), for bench/embree_harness.cpp or `hrpp trace` to run on the same rays.
+TEST_F(HrppCli, BenchSavesItsBatches) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "hrpp_bench_save_rays_test";
+  std::filesystem::remove_all(dir);
+  const Result r = run("bench --rays 1024 --kinds primary --no-embree --repeat 1 --save-rays " +
+                       dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(std::filesystem::file_size(dir / "primary.rays"), 1024u * 32u);
+  EXPECT_EQ(std::filesystem::file_size(dir / "ao.rays") % 32u, 0u);
+  EXPECT_GT(std::filesystem::file_size(dir / "diffuse.rays"), 0u);
+  EXPECT_EQ(std::filesystem::file_size(dir / "triangles.bin") % 36u, 0u);
+  const Result t = run("trace --rays " + (dir / "primary.rays").string() + " --hits " +
+                       (dir / "hits.bin").string());
+  ASSERT_EQ(t.status, 0) << t.err;
+  EXPECT_EQ(std::filesystem::file_size(dir / "hits.bin"), 1024u * 16u);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -41,6 +42,7 @@ struct BenchOptions {
   std::size_t rays = std::size_t{1} << 20;
   std::vector<std::string> kinds = {"primary", "ao", "diffuse"};
   std::string json;
+  std::string save_rays;  // directory for the batches and the triangle dump
   int repeat = 3;
   std::size_t validate = 100000;  // rays checked against the CPU reference; 0: all
   int threads = 0;                // CPU reference and Embree threads; 0: all hardware threads
@@ -315,6 +317,25 @@ RayBatches make_batches(const BenchOptions& o, const Scene& scene, const GpuBvh&
   return batches;
 }
 
+// --save-rays DIR: the batches as ray files and the scene's triangle dump (docs/FORMATS.md), so
+// another tracer (bench/embree_harness.cpp, `hrpp trace`) can run on exactly these rays.
+void save_batches(const std::string& dir, const Scene& scene, const RayBatches& batches) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw Error("--save-rays: cannot create " + dir + ": " + ec.message());
+  const auto save = [&](const char* name, const std::vector<gpu::Ray>& rays) {
+    write_file_atomically(dir + "/" + name + ".rays",
+                          std::string_view(reinterpret_cast<const char*>(rays.data()),
+                                           rays.size() * sizeof(gpu::Ray)),
+                          "--save-rays: cannot write");
+  };
+  save("primary", batches.primary);
+  save("ao", batches.ao.rays);
+  save("diffuse", batches.diffuse.rays);
+  write_triangle_dump(scene, dir + "/triangles.bin");
+  std::printf("saved       %s/{primary,ao,diffuse}.rays and triangles.bin\n", dir.c_str());
+}
+
 // Every tracer over one batch, each validated against the CPU reference (tracers[0]).
 std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
                                        std::span<const gpu::Ray> rays, bool any_hit,
@@ -451,6 +472,7 @@ void run_bench(const BenchOptions& o) {
   const GpuBvh bvh = make_gpu_layout(base, scene);
   Backends backends = make_backends(o, scene, bvh, ctx.get(), threads, report);
   const RayBatches batches = make_batches(o, scene, bvh, threads, report);
+  if (!o.save_rays.empty()) save_batches(o.save_rays, scene, batches);
 
   std::printf("\n%-8s %9s %-7s %-8s %9s %10s %9s %9s %6s %10s\n", "kind", "rays", "query",
               "tracer", "Mrays/s", "median ms", "hits", "checked", "ties", "mismatches");
@@ -491,6 +513,9 @@ void add_bench_command(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--json", o->json, "Write every figure, the machine and the validation as JSON");
+  cmd->add_option("--save-rays", o->save_rays,
+                  "Write the batches (DIR/primary.rays, ao.rays, diffuse.rays) and the triangle "
+                  "dump (DIR/triangles.bin) for another tracer");
   cmd->add_option("--repeat", o->repeat, "Timed runs per tracer and batch (median reported)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
