@@ -21,7 +21,7 @@
 #include "gpu/gpu_tracer.h"
 #include "gpu/memory_plan.h"
 #include "gpu/vulkan_context.h"
-#include "scene/scene.h"
+#include "scene/triangle_soup.h"
 
 namespace {
 
@@ -70,19 +70,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   auto t0 = std::chrono::steady_clock::now();
-  hrpp::Scene scene;
-  scene.name = "soup";
-  scene.materials.emplace_back();
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> pos(0.0f, 100.0f), off(-0.05f, 0.05f);
-  scene.triangles.reserve(triangles);
-  for (std::size_t i = 0; i < triangles; ++i) {
-    const glm::vec3 c(pos(rng), pos(rng), pos(rng));
-    scene.triangles.push_back({c + glm::vec3(off(rng), off(rng), off(rng)),
-                               c + glm::vec3(off(rng), off(rng), off(rng)),
-                               c + glm::vec3(off(rng), off(rng), off(rng))});
-  }
-  scene.shading.resize(triangles);
+  const hrpp::Scene scene = hrpp::make_triangle_soup(triangles, 7);
   std::printf("scene       %zu triangles generated in %.0f ms\n", triangles, ms_since(t0));
   t0 = std::chrono::steady_clock::now();
   const hrpp::GpuBvh bvh = hrpp::make_gpu_layout(hrpp::build_bvh(scene), scene);
@@ -98,7 +86,8 @@ int main(int argc, char** argv) {
     std::printf("upload      %.0f ms: the scene fits (%s allocated)\n", ms_since(t0),
                 format_bytes(ctx.memory().report().total).c_str());
     std::vector<hrpp::gpu::Ray> batch(rays);
-    std::uniform_real_distribution<float> dir(-1.0f, 1.0f);
+    std::mt19937 rng(8);  // random rays from inside the soup's box
+    std::uniform_real_distribution<float> pos(0.0f, 100.0f), dir(-1.0f, 1.0f);
     for (auto& r : batch)
       r = {{pos(rng), pos(rng), pos(rng)}, 0.0f, {dir(rng), dir(rng), dir(rng)}, 1e30f};
     tracer.warm_up();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "error_of.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -22,6 +23,7 @@
 #include "gpu/vulkan_context.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
+#include "scene/triangle_soup.h"
 #include "trace/cpu_traversal.h"
 #include "trace_interface.h"
 
@@ -33,20 +35,11 @@ VulkanContext& context() {
   return *ctx;
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
   VulkanContext& ctx = context();
   const std::size_t bytes = ctx.info().max_storage_buffer_range + TexelView::kTexelBytes;
   ASSERT_LE(bytes, std::uint64_t{ctx.info().max_texel_buffer_elements} * TexelView::kTexelBytes);
-  const std::string storage = error_of([&] { StorageBuffer(ctx, bytes, "wide storage array"); });
+  const std::string storage = test::error_of([&] { StorageBuffer(ctx, bytes, "wide storage array"); });
   EXPECT_NE(storage.find("wide storage array is"), std::string::npos) << storage;
   EXPECT_NE(storage.find("maxStorageBufferRange"), std::string::npos) << storage;
 
@@ -58,7 +51,7 @@ TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
   // Bound as a storage buffer it would be cut at the range: refused by name.
   ComputePipeline kernel(ctx, "trace_closest", embedded_spirv("trace_closest"), kTraceBindingTypes,
                          sizeof(gpu::TracePushConstants));
-  const std::string bind = error_of([&] { kernel.bind(HRPP_TRACE_BINDING_COUNTERS, texels); });
+  const std::string bind = test::error_of([&] { kernel.bind(HRPP_TRACE_BINDING_COUNTERS, texels); });
   EXPECT_NE(bind.find("wide texel array is read through texel views only"), std::string::npos)
       << bind;
 }
@@ -93,24 +86,9 @@ TEST(DeviceMemory, TheLedgerFollowsEveryBufferOfARender) {
   EXPECT_EQ(ctx.memory().report().total, before);  // all freed
 }
 
-// A soup of small random triangles in a 100-unit box whose BVH node array is bigger than
-// lavapipe's 128 MiB storage range: refused before the arrays became texel-only.
-Scene triangle_soup(std::size_t count) {
-  Scene scene;
-  scene.name = "soup";
-  scene.materials.emplace_back();
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> pos(0.0f, 100.0f), off(-0.05f, 0.05f);
-  scene.triangles.reserve(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const glm::vec3 c(pos(rng), pos(rng), pos(rng));
-    scene.triangles.push_back({c + glm::vec3(off(rng), off(rng), off(rng)),
-                               c + glm::vec3(off(rng), off(rng), off(rng)),
-                               c + glm::vec3(off(rng), off(rng), off(rng))});
-  }
-  scene.shading.resize(count);
-  return scene;
-}
+// A soup of small random triangles whose BVH node array is bigger than lavapipe's 128 MiB
+// storage range: refused before the arrays became texel-only.
+Scene triangle_soup(std::size_t count) { return make_triangle_soup(count, 11); }
 
 TEST(DeviceMemory, ANodeArrayPastTheStorageRangeTracesAsTheCpu) {
   VulkanContext& ctx = context();

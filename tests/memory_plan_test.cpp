@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "error_of.h"
 #include "common/bytes.h"
 #include "common/error.h"
 #include "gpu/memory_plan.h"
@@ -25,15 +26,6 @@ MemoryLimits lavapipe_like() {
   m.heap = 1024 * kMiB;
   m.heap_name = "memory heap";
   return m;
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(FormatBytes, PicksTheUnitAndRounds) {
@@ -69,12 +61,12 @@ TEST(MemoryPlan, TexelOnlyArraysPassTheStorageRange) {
   EXPECT_NO_THROW(check_buffer(nodes, m));
   BufferNeed as_storage = nodes;
   as_storage.binding = BufferBinding::kStorage;
-  const std::string e = error_of([&] { check_buffer(as_storage, m); });
+  const std::string e = test::error_of([&] { check_buffer(as_storage, m); });
   EXPECT_NE(e.find("BVH node array is 183.00 MiB (191889408 bytes)"), std::string::npos) << e;
   EXPECT_NE(e.find("maxStorageBufferRange of 128.00 MiB"), std::string::npos) << e;
   // Exactly at the limit fits; one byte over does not.
   EXPECT_NO_THROW(check_buffer({"a", 2048 * kMiB, BufferBinding::kTexelOnly}, m));
-  const std::string over = error_of([&] { check_buffer({"a", 2048 * kMiB + 1, BufferBinding::kTexelOnly}, m); });
+  const std::string over = test::error_of([&] { check_buffer({"a", 2048 * kMiB + 1, BufferBinding::kTexelOnly}, m); });
   EXPECT_NE(over.find("maxTexelBufferElements"), std::string::npos) << over;
 }
 
@@ -86,7 +78,7 @@ TEST(MemoryPlan, TheSumMustFitTheHeap) {
   EXPECT_EQ(total_bytes(needs), 1024 * kMiB);
   EXPECT_NO_THROW(check_fits("scene 'x'", needs, m));  // exactly the heap
   needs.push_back({"render queues", 64});
-  const std::string e = error_of([&] { check_fits("scene 'x'", needs, m); });
+  const std::string e = test::error_of([&] { check_fits("scene 'x'", needs, m); });
   EXPECT_EQ(e,
             "scene 'x' needs 1.00 GiB (1073741888 bytes) of device memory in 4 buffers (largest: "
             "BVH node array 600.00 MiB, shading triangles 424.00 MiB, render queues 64 bytes), "
@@ -98,7 +90,7 @@ TEST(MemoryPlan, OneBufferOverItsLimitIsNamedBeforeTheSum) {
   MemoryLimits m = lavapipe_like();
   m.heap = 16;  // the sum would fail too: the buffer's own limit is the first error
   const std::vector<BufferNeed> needs{{"node of triangle", 129 * kMiB}};
-  const std::string e = error_of([&] { check_fits("scene 'x'", needs, m); });
+  const std::string e = test::error_of([&] { check_fits("scene 'x'", needs, m); });
   EXPECT_EQ(e.rfind("node of triangle is 129.00 MiB", 0), 0u) << e;
 }
 
