@@ -64,6 +64,7 @@ TEST_F(Cli, EverySceneCommandListsTheSharedOptions) {
   }
   EXPECT_NE(run("render --help").out.find("--validate,--vulkan-validate"), std::string::npos);
   EXPECT_NE(run("trace --help").out.find("--validate,--vulkan-validate"), std::string::npos);
+  EXPECT_NE(run("bench --help").out.find("--validate,--vulkan-validate"), std::string::npos);
 }
 
 TEST_F(Cli, SceneDefaultsToTheCornellBox) {

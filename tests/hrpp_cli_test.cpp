@@ -127,11 +127,12 @@ TEST_F(HrppCli, BenchPrintsPredictorFigures) {
   for (const auto& k : j.at("kinds")) EXPECT_TRUE(k.contains("hrpp")) << k.dump();
 }
 
-// bench has the shared options too: the validation layer (its own --validate counts rays checked
-// against the CPU reference) and the BVH build.
+// bench has the shared options too: the validation layer (--validate, as on every GPU command;
+// the rays checked against the CPU reference are --check-rays) and the BVH build.
 TEST_F(HrppCli, BenchTakesTheSharedOptions) {
   const Result r = run("bench --rays 1024 --kinds primary --no-embree --repeat 1 --strict "
-                       "--vulkan-validate --bvh-bins 8 --bvh-max-leaf 2 --rays-per-invocation 4");
+                       "--validate --check-rays 512 --bvh-bins 8 --bvh-max-leaf 2 "
+                       "--rays-per-invocation 4");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("Validation"), std::string::npos) << r.err;
 }

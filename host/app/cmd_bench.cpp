@@ -519,7 +519,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--repeat", o->repeat, "Timed runs per tracer and batch (median reported)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  cmd->add_option("--validate", o->validate,
+  cmd->add_option("--check-rays", o->validate,
                   "Rays per batch checked against the CPU reference (evenly spread; 0: all)")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "CPU reference and Embree threads (0: all)")

@@ -16,9 +16,8 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
   if (group == SharedGroup::kScene) return;
   cmd->add_option("--device", o.vulkan.device,
                   "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
-  const bool validate_free = cmd->get_option_no_throw("--validate") == nullptr;
-  cmd->add_flag(validate_free ? "--validate,--vulkan-validate" : "--vulkan-validate",
-                o.vulkan.validate, "Vulkan validation layer on; any message fails the command");
+  cmd->add_flag("--validate,--vulkan-validate", o.vulkan.validate,
+                "Vulkan validation layer on; any message fails the command");
   cmd->add_option("--rays-per-invocation", o.tracer.rays_per_invocation,
                   "Most rays one kernel invocation traces (lavapipe loop limiter)")
       ->capture_default_str()
