@@ -25,8 +25,8 @@ enum class SharedGroup {
   kDevice,  // those and the device's options (trace, bench, render)
 };
 
-// Registers the group on `cmd`. The validation layer's flag is --vulkan-validate, and --validate
-// too unless `cmd` already has a --validate of its own (bench: rays checked against the CPU).
+// Registers the group on `cmd`. The validation layer's flag is --validate (also
+// --vulkan-validate).
 void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group);
 
 // Throws the one-line error of a run that printed Vulkan validation messages.
