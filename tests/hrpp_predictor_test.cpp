@@ -156,20 +156,28 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
-// The deterministic configuration: GPU counters and hits = the CPU reference predictor's.
+// The deterministic configuration: GPU counters and hits = the CPU reference predictor's, with
+// a roomy table and with tiny ones that evict (lru) or drop (none).
 TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
+  const TableConfig roomy{1u << 12, 8, 16, TablePolicy::kNone};
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const std::uint32_t go_up : {0u, 2u})
+      for (const TableConfig& table :
+           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kNone}})
       for (const Case& c : cases()) {
         if (c.any && mode == PredictorMode::kExact) continue;  // hit-any has one mode
-        PredictorConfig p = config(mode, {1u << 12, 8, 16, TablePolicy::kNone});
+        if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
+        PredictorConfig p = config(mode, table);
         p.go_up = go_up;
         p.hash.bits = c.bits;
         p.batch = 64;
         p.serial = true;
         p.count_baseline = true;
         const std::string what = std::string(c.name) + " " + predictor_mode_name(mode) +
-                                 " go-up " + std::to_string(go_up);
+                                 " go-up " + std::to_string(go_up) + " table " +
+                                 std::to_string(table.sets) + "x" + std::to_string(table.ways) +
+                                 "x" + std::to_string(table.nodes) + " " +
+                                 table_policy_name(table.policy);
         GpuTracer* tracer = nullptr;
         const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.any, &tracer);
         ReferencePredictor cpu_predictor(bunny().bvh, p);
@@ -185,7 +193,12 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.any))) << what;
         EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.any))) << what;
         expect_counters_add_up(gpu.predictor, c.rays->size(), what);
-        EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+        if (table.sets == roomy.sets) {
+          EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+        } else {
+          const int full = table.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
+          EXPECT_GT(cpu.predictor.c[full], 0u) << what;
+        }
         std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
                     static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
                     static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),

@@ -56,8 +56,8 @@ struct PredictorConfig {
   // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
   // probes the table as the previous batches left it; after the batch its inserts are applied
   // in ray-index order. With `serial` (one ray per subgroup, so the GPU visits nodes in the CPU
-  // reference's order) and a table that neither evicts nor drops, the CPU reference predictor
-  // (host/hrpp/reference_predictor.h) reproduces every GPU counter.
+  // reference's order), the CPU reference predictor (host/hrpp/reference_predictor.h, whose
+  // table mirrors the GPU's policy) reproduces every GPU counter.
   std::uint32_t batch = 0;
   bool serial = false;
   // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):

@@ -11,7 +11,9 @@ ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig&
     : bvh_(&bvh),
       config_(config),
       params_(make_predictor_params(config, bvh.bounds)),
-      leaf_of_prim_(leaf_of_prim(bvh)) {}
+      leaf_of_prim_(leaf_of_prim(bvh)) {
+  for (RayClass c : kRayClasses) tables_[c] = ReferenceTable(params_);
+}
 
 // One class's trace: the stage's steps for one ray at a time (shaders/lib/hrpp_predict.glsl,
 // the trace kernel, shaders/hrpp_resolve.comp), counting what the kernels count.
@@ -52,15 +54,15 @@ struct ReferencePredictor::Trace {
   }
 
   // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none).
-  gpu::Hit predict(const gpu::Ray& ray, const Table& table, std::uint64_t key) {
+  gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock) {
     ++counter(HRPP_PC_PROBES);
-    const auto entry = table.find(key);
-    if (entry == table.end()) {
+    const std::vector<int>* nodes = table.lookup(key, clock);
+    if (!nodes) {
       ++counter(HRPP_PC_NEGATIVES);
       return kMiss;
     }
     ++counter(HRPP_PC_PREDICTOR_HITS);
-    return verify(ray, entry->second);
+    return verify(ray, *nodes);
   }
 
   // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,
@@ -89,30 +91,28 @@ struct ReferencePredictor::Trace {
     return best;
   }
 
-  gpu::Hit trace_ray(const gpu::Ray& ray, const Table& table) {
+  gpu::Hit trace_ray(const gpu::Ray& ray, Table& table, std::uint32_t clock) {
     if (!setup_ray(ray).valid) return full_trace(ray, out.counters);  // misses unprobed
     const std::uint64_t key = hash_ray(ray.origin, ray.dir, p.params_.hash);
-    const gpu::Hit predicted = predict(ray, table, key);
+    const gpu::Hit predicted = predict(ray, table, key, clock);
     if (p.config_.count_baseline) count_baseline(ray, predicted);
     bool traced = false;
     const gpu::Hit best = answer(ray, predicted, traced);
     if (traced && best.prim >= 0) {
       ++counter(HRPP_PC_INSERT_REQUESTS);
       const std::uint32_t leaf = p.leaf_of_prim_[static_cast<std::size_t>(best.prim)];
-      inserts.push_back({key, prediction_node(*p.bvh_, leaf, p.config_.go_up)});
+      inserts.push_back({key, prediction_node(*p.bvh_, leaf, p.config_.go_up), clock});
     }
     return best;
   }
 
-  // hrpp_insert: the batch's inserts in ray order (appended when not present).
+  // hrpp_insert: the batch's inserts in ray order.
   void apply_inserts(Table& table) {
     for (const Insert& in : inserts) {
-      std::vector<int>& nodes = table[in.key];
-      if (std::find(nodes.begin(), nodes.end(), in.node) != nodes.end()) {
-        ++counter(HRPP_PC_INSERT_PRESENT);
-      } else {
-        nodes.push_back(in.node);
-        ++counter(HRPP_PC_INSERTS);
+      switch (table.insert(in.key, in.node, in.clock, counter(HRPP_PC_EVICTIONS))) {
+        case ReferenceTable::Outcome::kInserted: ++counter(HRPP_PC_INSERTS); break;
+        case ReferenceTable::Outcome::kPresent: ++counter(HRPP_PC_INSERT_PRESENT); break;
+        case ReferenceTable::Outcome::kDropped: ++counter(HRPP_PC_INSERT_DROPS); break;
       }
     }
     inserts.clear();
@@ -128,24 +128,22 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
   for (std::size_t first = 0; first < rays.size(); first += batch) {
     const std::size_t end = std::min(rays.size(), first + batch);
     for (std::size_t i = first; i < end; ++i) {
-      const gpu::Hit best = t.trace_ray(rays[i], table);
+      const gpu::Hit best =
+          t.trace_ray(rays[i], table, clocks_[cls] + static_cast<std::uint32_t>(i));
       ++out.counters.rays;
       if (best.prim >= 0) ++out.counters.hits;
       out.hits[i] = t.any_hit ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss) : best;
     }
     t.apply_inserts(table);
   }
+  clocks_[cls] += static_cast<std::uint32_t>(rays.size());
   return out;
 }
 
-std::uint64_t ReferencePredictor::entries(RayClass c) const {
-  return tables_[c].size();
-}
+std::uint64_t ReferencePredictor::entries(RayClass c) const { return tables_[c].entries(); }
 
 std::uint64_t ReferencePredictor::stored_nodes(RayClass c) const {
-  std::uint64_t n = 0;
-  for (const auto& [key, nodes] : tables_[c]) n += nodes.size();
-  return n;
+  return tables_[c].stored_nodes();
 }
 
 }  // namespace hrpp

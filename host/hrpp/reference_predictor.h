@@ -1,6 +1,7 @@
-// The CPU reference predictor: the paper's limit-study table (an unbounded map key → node list
-// without duplicates) over the CPU reference traversal (host/trace/cpu_traversal.h), with the
-// kernels' semantics and counters (shaders/lib/hrpp_predict.glsl):
+// The CPU reference predictor: the class's predictor table (host/hrpp/reference_table.h, the
+// GPU table's sets × ways × nodes and replacement policy) over the CPU reference traversal
+// (host/trace/cpu_traversal.h), with the kernels' semantics and counters
+// (shaders/lib/hrpp_predict.glsl):
 //   - a valid ray is hashed and probes its class's table (camera, bounce, shadow); invalid rays are
 //     traced (they miss) without probing;
 //   - predictor hit: the ray is tested against the entry's nodes in list order (leaf: its
@@ -10,18 +11,20 @@
 //     keeps the closer of that answer and the predicted hit (ties: lower id). No hit:
 //     false positive, full traversal. No entry: negative, full traversal;
 //   - after every full traversal that hit, the prediction node (host/hrpp/prediction_node.h)
-//     of the hit is inserted under the ray's key (appended when not present);
+//     of the hit is inserted under the ray's key, at the ray's use stamp (the class's rays
+//     traced so far + its index), evicting or dropping as the table's policy says;
 //   - order: PredictorConfig::batch (K = 0 is taken as 1: every ray sees all earlier rays).
-// Evictions and drops never happen here; the GPU's match this only while its table has room.
+// In the GPU's deterministic configuration (batches, one ray per subgroup) every counter,
+// evictions and drops included, and every table entry are the GPU's.
 #pragma once
 
 #include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/reference_table.h"
 #include "hrpp/ray_class.h"
 #include "trace/traversal_counters.h"
 
@@ -45,10 +48,11 @@ class ReferencePredictor {
   std::uint64_t stored_nodes(RayClass c) const;
 
  private:
-  using Table = std::unordered_map<std::uint64_t, std::vector<int>>;
+  using Table = ReferenceTable;
   struct Insert {
     std::uint64_t key;
     int node;
+    std::uint32_t clock;  // the ray's use stamp
   };
   struct Trace;
 
@@ -57,6 +61,7 @@ class ReferencePredictor {
   gpu::PredictorParams params_;
   std::vector<std::uint32_t> leaf_of_prim_;
   PerClass<Table> tables_;
+  PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)
 };
 
 }  // namespace hrpp

@@ -1,0 +1,106 @@
+#include "hrpp/reference_table.h"
+
+#include <algorithm>
+
+namespace hrpp {
+
+namespace {
+constexpr std::uint64_t kEmptyTag = ~std::uint64_t{0};
+constexpr int kEmptyNode = HRPP_EMPTY_NODE;
+}  // namespace
+
+ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
+    : params_(params),
+      lru_(params.policy == HRPP_POLICY_LRU),
+      ways_(std::size_t{params.sets} * params.ways) {
+  for (Way& w : ways_) w.slots.assign(params.nodes, kEmptyNode);
+}
+
+// hrpp_set_of: (key × golden-ratio constant) >> 32, modulo the power-of-two set count.
+std::size_t ReferenceTable::set_base(std::uint64_t key) const {
+  const auto set = static_cast<std::uint32_t>((key * 0x9E3779B97F4A7C15ull) >> 32) &
+                   (params_.sets - 1u);
+  return std::size_t{set} * params_.ways;
+}
+
+const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock) {
+  if (ways_.empty()) return nullptr;
+  const std::size_t base = set_base(key);
+  for (std::uint32_t w = 0; w < params_.ways; ++w) {
+    Way& way = ways_[base + w];
+    if (way.tag != key) continue;
+    if (lru_) way.stamp = std::max(way.stamp, clock);
+    return &way.nodes;
+  }
+  return nullptr;
+}
+
+// The way holding `key`, else the first empty way, else (lru) the way with the oldest stamp,
+// emptied; none: `dropped`.
+ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
+                                               std::uint64_t& evictions) {
+  const std::size_t base = set_base(key);
+  for (std::uint32_t w = 0; w < params_.ways; ++w) {
+    Way& way = ways_[base + w];
+    if (way.tag == key || way.tag == kEmptyTag) {
+      way.tag = key;
+      return way;
+    }
+  }
+  Way* victim = &ways_[base];
+  for (std::uint32_t w = 1; w < params_.ways; ++w)
+    if (ways_[base + w].stamp < victim->stamp) victim = &ways_[base + w];
+  dropped = !lru_;
+  if (dropped) return *victim;
+  ++evictions;
+  victim->tag = key;
+  std::fill(victim->slots.begin(), victim->slots.end(), kEmptyNode);
+  return *victim;
+}
+
+void ReferenceTable::refresh(Way& w) {
+  w.nodes.clear();
+  for (const int s : w.slots)
+    if (s != kEmptyNode) w.nodes.push_back(s);
+}
+
+ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std::uint32_t clock,
+                                               std::uint64_t& evictions) {
+  if (ways_.empty()) return Outcome::kDropped;
+  bool dropped = false;
+  Way& way = claim_way(key, dropped, evictions);
+  if (dropped) return Outcome::kDropped;
+  if (lru_) way.stamp = std::max(way.stamp, clock);
+  Outcome outcome = Outcome::kDropped;
+  for (int& slot : way.slots) {
+    if (slot == node) {
+      outcome = Outcome::kPresent;
+      break;
+    }
+    if (slot == kEmptyNode) {
+      slot = node;
+      outcome = Outcome::kInserted;
+      break;
+    }
+  }
+  if (outcome == Outcome::kDropped && lru_) {
+    way.slots[clock % params_.nodes] = node;
+    ++evictions;
+    outcome = Outcome::kInserted;
+  }
+  refresh(way);
+  return outcome;
+}
+
+std::uint64_t ReferenceTable::entries() const {
+  return static_cast<std::uint64_t>(
+      std::count_if(ways_.begin(), ways_.end(), [](const Way& w) { return w.tag != kEmptyTag; }));
+}
+
+std::uint64_t ReferenceTable::stored_nodes() const {
+  std::uint64_t n = 0;
+  for (const Way& w : ways_) n += w.nodes.size();
+  return n;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,50 @@
+// The CPU mirror of one class's GPU predictor table (shaders/lib/hrpp_table.glsl): sets × ways
+// entries of a 64-bit tag (the full key), a use stamp and `nodes` node slots, the same set
+// function, and the same policies when an insert finds no room (none: drop; lru: evict the way
+// with the oldest stamp, or overwrite slot clock mod nodes of a full node list). Applied one
+// operation at a time in the deterministic order (hrpp_insert's), it holds exactly what the GPU
+// table holds, so the reference predictor is the ground truth of every policy.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gpu_types.h"
+#include "hrpp_types.h"
+
+namespace hrpp {
+
+class ReferenceTable {
+ public:
+  enum class Outcome { kInserted, kPresent, kDropped };
+
+  ReferenceTable() = default;  // no sets: holds nothing
+  explicit ReferenceTable(const gpu::PredictorParams& params);
+
+  // The node list of `key`'s entry (its occupied slots in slot order), or nullptr when no way
+  // holds the key. A hit renews the entry's stamp with `clock` (lru).
+  const std::vector<int>* lookup(std::uint64_t key, std::uint32_t clock);
+  // Inserts `node` under `key` at use stamp `clock`; adds the entries and nodes it replaced to
+  // `evictions`.
+  Outcome insert(std::uint64_t key, int node, std::uint32_t clock, std::uint64_t& evictions);
+
+  std::uint64_t entries() const;       // ways holding a key
+  std::uint64_t stored_nodes() const;  // occupied slots
+
+ private:
+  struct Way {
+    std::uint64_t tag = ~std::uint64_t{0};  // empty
+    std::uint32_t stamp = 0;
+    std::vector<int> slots;  // HRPP_EMPTY_NODE = empty
+    std::vector<int> nodes;  // the occupied slots in slot order (what lookup returns)
+  };
+  std::size_t set_base(std::uint64_t key) const;
+  Way& claim_way(std::uint64_t key, bool& dropped, std::uint64_t& evictions);
+  void refresh(Way& w);
+
+  gpu::PredictorParams params_{};
+  bool lru_ = false;
+  std::vector<Way> ways_;
+};
+
+}  // namespace hrpp
