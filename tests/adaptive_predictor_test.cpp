@@ -154,6 +154,11 @@ TEST(AdaptivePredictor, DisabledClassesAndFixedMode) {
     EXPECT_STREQ(d.reason, "fixed");
     EXPECT_EQ(d.next, Probe::kAll);
   }
+  PredictorConfig batched = on();
+  batched.batch = 64;  // the deterministic order: no decisions from timings
+  AdaptivePredictor in_batches(batched);
+  EXPECT_EQ(in_batches.mode(RayClass::kCamera), Probe::kAll);
+  EXPECT_STREQ(in_batches.end_frame(RayClass::kCamera, all_frame(100.0, 1000)).reason, "fixed");
   PredictorConfig off;
   AdaptivePredictor none(off);
   for (RayClass k : kRayClasses) EXPECT_EQ(none.mode(k), Probe::kOff);

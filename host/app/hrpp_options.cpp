@@ -48,7 +48,8 @@ PredictorConfig HrppOptions::config() const {
   c.serial = serial;
   c.count_baseline = count_baseline;
   c.classes = parse_ray_classes(rays);
-  c.adaptive = adaptive;
+  // The deterministic order (batches) is for reproducible counts: no decisions from timings.
+  c.adaptive = adaptive && batch == 0;
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
 }
@@ -65,9 +66,9 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->capture_default_str()
       ->group(g);
   cmd->add_option("--hrpp-adaptive", o.adaptive,
-                  "render: per frame and ray class, stop probing a class whose prediction costs "
-                  "more time than it saves, retrying now and then: on | off (every named class "
-                  "probes every frame)")
+                  "render: per frame and ray class, sample first and predict every ray only "
+                  "where a sample saves time, sampling again now and then: on | off (every named "
+                  "class predicts every ray, every frame; also with --hrpp-batch)")
       ->transform(CLI::CheckedTransformer(on_off))
       ->default_str("on")
       ->group(g);

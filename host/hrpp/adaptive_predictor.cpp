@@ -13,7 +13,9 @@ const char* probe_name(Probe p) {
   return "off";
 }
 
-AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config) : adaptive_(config.adaptive) {
+// Batches (the deterministic order) cannot sample and are for reproducible counts: fixed.
+AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
+    : adaptive_(config.adaptive && config.batch == 0) {
   for (RayClass c : kRayClasses) {
     State& s = state_[c];
     s.enabled = config.predicts(c);
