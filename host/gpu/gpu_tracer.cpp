@@ -81,8 +81,7 @@ struct QueryArrays {
   TexelView hit_view;        // how the HRPP stage reads and writes the hits
   StorageBuffer counters;    // TraceCounters of the plain trace
   ComputePipeline kernel;
-  bool predicted = false;    // the last recorded trace ran the HRPP stage over every ray
-  bool sampled = false;      // ... over a sample, then the plain trace over every ray
+  Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
   QueryArrays(VulkanContext& c, bool any_hit)
       : counters(c, sizeof(gpu::TraceCounters),
@@ -147,6 +146,10 @@ struct GpuTracer::State {
   bool samples(RayClass c) const {
     return predictor && probing[c] == Probe::kSample && !batched();
   }
+  Probe probing_now(RayClass c) const {
+    if (predicts(c)) return Probe::kAll;
+    return samples(c) ? Probe::kSample : Probe::kOff;
+  }
   bool batched() const { return predictor && predictor->config().batch > 0; }
   bool serial() const { return predictor && predictor->config().serial; }
 
@@ -210,8 +213,7 @@ struct GpuTracer::State {
   void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* t) {
     check_resident(c, count);
     const gpu::TracePushConstants pc = push_constants();
-    query(c).predicted = predicts(c);
-    query(c).sampled = samples(c);
+    query(c).recorded = probing_now(c);
     if (predicts(c)) {
       if (batched()) return predictor->record_batches(cmd, c, count, pc, clock[c]);
       return predictor->record(cmd, c, RayCountSource{&count}, pc, clock[c], t);
@@ -230,8 +232,7 @@ struct GpuTracer::State {
     if (query(c).rays.size() == 0)
       throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
     const gpu::TracePushConstants pc = push_constants();
-    query(c).predicted = predicts(c);
-    query(c).sampled = samples(c);
+    query(c).recorded = probing_now(c);
     const RayCountSource source{nullptr, &queue, count_offset, args_offset};
     if (predicts(c)) return predictor->record(cmd, c, source, pc, clock[c], t);
     if (samples(c)) predictor->record_sample(cmd, c, source, pc, clock[c], t);
@@ -268,7 +269,7 @@ struct GpuTracer::State {
 
   GpuTraceResult finish(RayClass c) {
     GpuTraceResult out;
-    if (query(c).predicted) {
+    if (query(c).recorded == Probe::kAll) {
       const PredictedTrace p = predictor->finish(c);
       out.counters = p.counters;
       out.predictor = p.predictor;
@@ -277,7 +278,7 @@ struct GpuTracer::State {
     } else {
       out = finish_plain(c);
     }
-    if (query(c).sampled) {  // the sample's HRPP counters beside the plain trace's
+    if (query(c).recorded == Probe::kSample) {  // the sample's counters beside the plain's
       const PredictedTrace p = predictor->finish(c, true);
       out.predictor = p.predictor;
       out.sampled = p.counters.rays;
@@ -393,10 +394,7 @@ void GpuTracer::set_probing(RayClass c, Probe mode) {
   if (s_->predictor) s_->probing[c] = s_->predictor->config().predicts(c) ? mode : Probe::kOff;
 }
 
-Probe GpuTracer::probing(RayClass c) const {
-  if (s_->predicts(c)) return Probe::kAll;
-  return s_->samples(c) ? Probe::kSample : Probe::kOff;
-}
+Probe GpuTracer::probing(RayClass c) const { return s_->probing_now(c); }
 
 TableOccupancy GpuTracer::predictor_occupancy(RayClass c) const {
   return s_->predictor ? s_->predictor->occupancy(c) : TableOccupancy{};

@@ -36,11 +36,13 @@ struct ReferencePredictor::Trace {
     return h;
   }
 
-  // The entry's nodes in list order: the closest hit among them (hit-any: the first).
-  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& nodes) {
+  // The entry's nodes in slot order, up to the first empty slot: the closest hit among them
+  // (hit-any: the first).
+  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& slots) {
     gpu::Hit predicted = kMiss;
     TraversalCounters v;
-    for (const int node : nodes) {
+    for (const int node : slots) {
+      if (node == HRPP_EMPTY_NODE) break;
       gpu::Ray r = ray;
       if (predicted.prim >= 0) r.tmax = predicted.t;
       if (trace_subtree(*p.bvh_, r, node, any_hit, predicted, &v)) break;
@@ -56,13 +58,13 @@ struct ReferencePredictor::Trace {
   // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none).
   gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock) {
     ++counter(HRPP_PC_PROBES);
-    const std::vector<int>* nodes = table.lookup(key, clock);
-    if (!nodes) {
+    const std::vector<int>* slots = table.lookup(key, clock);
+    if (!slots) {
       ++counter(HRPP_PC_NEGATIVES);
       return kMiss;
     }
     ++counter(HRPP_PC_PREDICTOR_HITS);
-    return verify(ray, *nodes);
+    return verify(ray, *slots);
   }
 
   // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,

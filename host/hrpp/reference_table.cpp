@@ -30,7 +30,7 @@ const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t 
     Way& way = ways_[base + w];
     if (way.tag != key) continue;
     if (lru_) way.stamp = std::max(way.stamp, clock);
-    return &way.nodes;
+    return &way.slots;
   }
   return nullptr;
 }
@@ -58,12 +58,6 @@ ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
   return *victim;
 }
 
-void ReferenceTable::refresh(Way& w) {
-  w.nodes.clear();
-  for (const int s : w.slots)
-    if (s != kEmptyNode) w.nodes.push_back(s);
-}
-
 ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std::uint32_t clock,
                                                std::uint64_t& evictions) {
   if (ways_.empty()) return Outcome::kDropped;
@@ -88,7 +82,6 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
     ++evictions;
     outcome = Outcome::kInserted;
   }
-  refresh(way);
   return outcome;
 }
 
@@ -99,7 +92,9 @@ std::uint64_t ReferenceTable::entries() const {
 
 std::uint64_t ReferenceTable::stored_nodes() const {
   std::uint64_t n = 0;
-  for (const Way& w : ways_) n += w.nodes.size();
+  for (const Way& w : ways_)
+    n += static_cast<std::uint64_t>(std::count_if(w.slots.begin(), w.slots.end(),
+                                                  [](int s) { return s != kEmptyNode; }));
   return n;
 }
 

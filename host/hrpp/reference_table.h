@@ -21,8 +21,9 @@ class ReferenceTable {
   ReferenceTable() = default;  // no sets: holds nothing
   explicit ReferenceTable(const gpu::PredictorParams& params);
 
-  // The node list of `key`'s entry (its occupied slots in slot order), or nullptr when no way
-  // holds the key. A hit renews the entry's stamp with `clock` (lru).
+  // The node slots of `key`'s entry (filled in slot order; HRPP_EMPTY_NODE after the last
+  // node), or nullptr when no way holds the key. A hit renews the entry's stamp with `clock`
+  // (lru).
   const std::vector<int>* lookup(std::uint64_t key, std::uint32_t clock);
   // Inserts `node` under `key` at use stamp `clock`; adds the entries and nodes it replaced to
   // `evictions`.
@@ -36,11 +37,9 @@ class ReferenceTable {
     std::uint64_t tag = ~std::uint64_t{0};  // empty
     std::uint32_t stamp = 0;
     std::vector<int> slots;  // HRPP_EMPTY_NODE = empty
-    std::vector<int> nodes;  // the occupied slots in slot order (what lookup returns)
   };
   std::size_t set_base(std::uint64_t key) const;
   Way& claim_way(std::uint64_t key, bool& dropped, std::uint64_t& evictions);
-  void refresh(Way& w);
 
   gpu::PredictorParams params_{};
   bool lru_ = false;

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "common/error.h"
@@ -135,15 +136,18 @@ ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
   c.rays = s.counters.rays;
   c.traced = s.traced;
   c.sampled = s.sampled;
-  const std::string sample = kSampleLabel;
-  for (const auto& [kernel, ms] : s.kernels_ms) {
-    if (kernel.starts_with(sample)) {
+  const std::string_view sample = kSampleLabel;
+  for (const auto& [label, ms] : s.kernels_ms) {
+    const std::string_view kernel = label;
+    const bool in_sample = kernel.starts_with(sample);
+    const std::string_view name = in_sample ? kernel.substr(sample.size()) : kernel;
+    const bool predict = name == "hrpp_predict", resolve = name == "hrpp_resolve";
+    if (in_sample) {
       c.sample_ms += ms;
-      if (kernel != sample + "trace_closest" && kernel != sample + "trace_any")
-        c.sample_stage_ms += ms;
-    } else if (kernel == "hrpp_predict") {
+      if (predict || resolve) c.sample_stage_ms += ms;
+    } else if (predict) {
       c.predict_ms += ms;
-    } else if (kernel == "hrpp_resolve") {
+    } else if (resolve) {
       c.resolve_ms += ms;
     } else {
       c.trace_ms += ms;
