@@ -5,8 +5,8 @@
 //   HRPP_PASS_OTHERS  its second pass: the rays between the pilots;
 //   HRPP_PASS_SAMPLE  the adaptive predictor's sample: every stride-th block of
 //                     HRPP_SAMPLE_BLOCK consecutive rays (blocks keep neighbouring rays
-//                     together, so the sample's traversal is as coherent as the whole trace's;
-//                     spreading them covers the whole image).
+//                     together in a subgroup, as in the whole trace; spreading the blocks
+//                     covers the whole image).
 // hrpp_pass_ray_count(total, ...) is the pass's ray count, hrpp_pass_ray_index(j, ...) the
 // index of its j-th ray.
 #ifndef HRPP_HRPP_PASSES_H
