@@ -1,8 +1,8 @@
 // The adaptive predictor (host/hrpp/adaptive_predictor.h) on forced costs: a class starts by
 // sampling; a sample that gains turns it to every ray, one that loses turns it off; an off class
 // samples again after kRetryEvery frames (twice as long after each losing sample); a class at
-// every ray that loses goes off; a class that does not predict never probes; adaptive off
-// probes every ray of every frame.
+// every ray that loses goes off; a sample's dispatches count their fixed cost once; a class that
+// does not predict never probes; adaptive off probes every ray of every frame.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -119,6 +119,41 @@ TEST(AdaptivePredictor, AHopelessClassStopsAtOnce) {
   EXPECT_EQ(a.mode(RayClass::kBounce), Probe::kOff);
 }
 
+// A sample over 2 rounds whose dispatches cost `dispatch_ms` each on top of 6 us per sampled ray
+// (predict + resolve: 3 us): the fixed cost is measured by one empty dispatch per round.
+ClassFrameCost sample_with_dispatches(double dispatch_ms) {
+  ClassFrameCost c = off_frame();
+  c.mode = Probe::kSample;
+  c.rounds = 2;
+  c.sampled = 100;
+  c.sample_ms = 100 * 0.006 + 3 * 2 * dispatch_ms;
+  c.sample_stage_ms = 100 * 0.003 + 2 * 2 * dispatch_ms;
+  c.empty_dispatch_ms = 2 * dispatch_ms;
+  return c;
+}
+
+// The sample's dispatches carry 1/10 of the rays here, so their fixed cost would count 10 times
+// too much per ray: it is counted once per dispatch of a predicted frame instead (3 per pass,
+// 2 passes with the default pilot schedule, 2 rounds).
+TEST(AdaptivePredictor, ASampleCountsEachDispatchOnce) {
+  AdaptivePredictor a(on());
+  a.end_frame(RayClass::kCamera, sample_with_dispatches(0.2));  // warming
+  // Uncorrected: 18 us per sampled ray (11 for predict + resolve) against 10: hopeless. Per
+  // ray 6 us, plus 12 dispatches of 0.2 ms: a predicted frame costs 8.4 ms against 10.
+  ClassDecision d = a.end_frame(RayClass::kCamera, sample_with_dispatches(0.2));
+  EXPECT_STREQ(d.reason, "gain");
+  EXPECT_DOUBLE_EQ(d.dispatch_ms, 0.2);
+  EXPECT_NEAR(d.gain_ms, 10.0 - (6.0 + 12 * 0.2), 1e-9);
+  EXPECT_EQ(d.next, Probe::kAll);
+  // Dispatches of 0.5 ms: 12 of them make the predicted frame cost 12 ms: a loss.
+  AdaptivePredictor b(on());
+  b.end_frame(RayClass::kCamera, sample_with_dispatches(0.5));
+  d = b.end_frame(RayClass::kCamera, sample_with_dispatches(0.5));
+  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_NEAR(d.gain_ms, 10.0 - (6.0 + 12 * 0.5), 1e-9);
+  EXPECT_EQ(d.next, Probe::kOff);
+}
+
 TEST(AdaptivePredictor, AFrameWithoutRaysIsNotJudged) {
   AdaptivePredictor a(on());
   ClassFrameCost idle;
@@ -195,6 +230,7 @@ TEST(HrppPasses, IndicesCoverWhatTheCountsSay) {
         }
       }
       EXPECT_EQ(gpu::hrpp_pass_ray_count(total, HRPP_PASS_ALL, stride), total);
+      EXPECT_EQ(gpu::hrpp_pass_ray_count(total, HRPP_PASS_NONE, stride), 0u);
     }
 }
 

@@ -11,6 +11,13 @@ included), the frames each class predicted every ray and the frames it sampled (
 predictor: "2+3s/8"), and the image error of on against off: relMSE and the fraction of pixels
 that differ. --json writes every figure.
 
+It also prints each class's *floor*: hrpp_predict's device time per probed ray (the stage's
+first kernel, which every probed ray pays whatever the prediction finds) against the plain
+trace's time per ray with HRPP off. At 1 or above, the class cannot save time at any
+true-positive rate on this device: even a ray whose prediction answers it costs what its whole
+traversal did. `--flags "--hrpp-adaptive off"` measures it with every ray predicted; the
+default measures it on the adaptive predictor's samples.
+
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
@@ -66,6 +73,22 @@ def class_ms(stats, c):
     return sum(stats["classes"][c]["kernels_ms"].values())
 
 
+def kernel_ms(stats, c, kernel):
+    """A class's time in one kernel, its sample's runs included."""
+    return sum(ms for k, ms in stats["classes"][c]["kernels_ms"].items()
+               if k in (kernel, "sample_" + kernel))
+
+
+def floor(ons, offs, c):
+    """hrpp_predict's time per probed ray over the plain trace's per ray with HRPP off."""
+    probes = [s["classes"][c].get("hrpp", {}).get("probes", 0) for s in ons]
+    predict = min((kernel_ms(s, c, "hrpp_predict") / n for s, n in zip(ons, probes) if n),
+                  default=float("nan"))
+    trace = min(class_ms(s, c) / max(1, s["classes"][c]["rays"]) for s in offs)
+    return {"predict_ns_per_probe": 1e6 * predict, "trace_ns_per_ray_off": 1e6 * trace,
+            "floor": ratio(predict, trace)}
+
+
 def fastest(runs):
     """Per figure, the fastest of the runs (kernel times and wall time)."""
     best = {"frame": min(s["kernels_ms_total"] for s in runs),
@@ -102,7 +125,7 @@ def bench_scene(binary, scene, a, tmp):
                   "interior_saved": 1 - ratio(visits_on, visits_off) if visits_off else 0.0,
                   "wrong_closest": h.get("wrong_closest", 0),
                   "frames_all": modes.count("all"), "frames_sample": modes.count("sample"),
-                  "frames": len(frames)}
+                  "frames": len(frames), **floor(ons, offs, c)}
     row["relmse"], row["pixels_differ"] = image_error(read_exr(exr_on), read_exr(exr_off))
     return row
 
@@ -114,6 +137,9 @@ def print_row(r):
                     for c in CLASSES)
     print(f"{r['scene']:14s} frame {q['frame']:.3f}  wall {q['wall']:.3f}  | {cls}  | "
           f"relMSE {r['relmse']:.2e}, {100 * r['pixels_differ']:.1f}% pixels differ", flush=True)
+    floors = "  ".join(f"{c} {r[c]['floor']:.2f} ({r[c]['predict_ns_per_probe']:.0f} / "
+                       f"{r[c]['trace_ns_per_ray_off']:.0f} ns)" for c in CLASSES)
+    print(f"{'':14s} floor (hrpp_predict per probed ray / off trace per ray): {floors}", flush=True)
 
 
 def main():

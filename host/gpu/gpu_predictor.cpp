@@ -381,6 +381,9 @@ void GpuPredictor::record_sample(VkCommandBuffer cmd, RayClass c, const RayCount
   s_->start_queue(cmd, c, count, clock);
   s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, s_->config.sample,
                   kSampleLabel);
+  const gpu::StagePushConstants none = s_->stage_push(trace_pc, HRPP_PASS_NONE);
+  record_dispatch(cmd, s_->table(c).predict(), &none, 1, timer,
+                  std::string(kSampleLabel) + kEmptyDispatchLabel + ":" + ray_class_name(c));
 }
 
 void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,

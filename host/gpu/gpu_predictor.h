@@ -53,6 +53,8 @@ struct PredictedTrace {
 
 // The timer-label prefix of a sample's kernels (GpuPredictor::record_sample).
 inline constexpr const char* kSampleLabel = "sample_";
+// The kernel name of a sample's empty dispatch (HRPP_PASS_NONE): what one dispatch costs.
+inline constexpr const char* kEmptyDispatchLabel = "hrpp_empty";
 
 class GpuPredictor {
  public:
@@ -87,7 +89,10 @@ class GpuPredictor {
               const gpu::TracePushConstants& trace_pc, std::uint32_t clock, KernelTimer* timer);
   // Records the HRPP stage over a sample of the class's rays (every config().sample-th), its
   // kernels timed under "<kSampleLabel><kernel>:<class>": the adaptive predictor's sample
-  // frame, which then traces every ray with the plain kernel. Not in batched mode.
+  // frame, which then traces every ray with the plain kernel. Then one hrpp_predict dispatch
+  // over no ray, timed as "<kSampleLabel><kEmptyDispatchLabel>:<class>": the fixed cost of a
+  // dispatch, which weighs 1/sample as much per ray in a frame that predicts every ray. Not in
+  // batched mode.
   void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
                      const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
                      KernelTimer* timer);

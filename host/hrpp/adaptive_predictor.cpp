@@ -15,7 +15,7 @@ const char* probe_name(Probe p) {
 
 // Batches (the deterministic order) cannot sample and are for reproducible counts: fixed.
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
-    : adaptive_(config.adaptive && config.batch == 0) {
+    : adaptive_(config.adaptive && config.batch == 0), passes_(config.pilot >= 2 ? 2 : 1) {
   for (RayClass c : kRayClasses) {
     State& s = state_[c];
     s.enabled = config.predicts(c);
@@ -32,12 +32,21 @@ double per_ray(double ms, std::uint64_t rays) {
 }  // namespace
 
 // A sample frame: the stage's cost per sampled ray against the plain trace's per ray, measured
-// in the same frame.
+// in the same frame, each dispatch's fixed cost counted once (not once per sampled ray share).
 void AdaptivePredictor::judge_sample(State& s, const ClassFrameCost& cost,
                                      ClassDecision& d) const {
   const double off = s.off_ms_per_ray;
-  d.gain_ms = (off - per_ray(cost.sample_ms, cost.sampled)) * static_cast<double>(cost.rays);
-  const bool hopeless = cost.sampled > 0 && per_ray(cost.sample_stage_ms, cost.sampled) >= off;
+  const double rounds = static_cast<double>(cost.rounds);
+  d.dispatch_ms = cost.rounds > 0 ? cost.empty_dispatch_ms / rounds : 0.0;
+  // Per round the sample ran 3 dispatches (predict, trace of the queue, resolve), 2 of them the
+  // stage's; a predicted frame runs 3 per pass.
+  const auto variable = [&](double ms, int dispatches) {
+    return per_ray(std::max(ms - dispatches * rounds * d.dispatch_ms, 0.0), cost.sampled);
+  };
+  const double predicted_ms = variable(cost.sample_ms, 3) * static_cast<double>(cost.rays) +
+                              3.0 * passes_ * rounds * d.dispatch_ms;
+  d.gain_ms = off * static_cast<double>(cost.rays) - predicted_ms;
+  const bool hopeless = cost.sampled > 0 && variable(cost.sample_stage_ms, 2) >= off;
   const bool warming = !s.warmed;
   s.warmed = true;
   if (!hopeless && warming) {

@@ -4,10 +4,13 @@
 //   - sample: every PredictorConfig::sample-th ray runs the HRPP stage (predict, trace of its
 //     queue, resolve), then the plain trace kernel traces every ray, the sample included, so the
 //     frame's answers are HRPP off's. One frame thus measures both costs per ray under the same
-//     load: the stage's on the sample and the plain trace's on all rays. The sample's gain per
-//     ray, times the class's rays, decides: a gain turns the class to `all`, a loss (or a
-//     "hopeless" sample, whose predict + resolve alone cost more than a plain trace) turns it
-//     off. The first sample only fills the empty table (warming).
+//     load: the stage's on the sample and the plain trace's on all rays. A dispatch's fixed cost
+//     (measured each sample by a dispatch over no ray) is taken out of the sample's time before
+//     it is divided by the sampled rays, and put back once per dispatch of a predicted frame:
+//     spread over 1/sample of the rays it would otherwise count `sample` times too much. The
+//     estimated gain over the class's rays decides: a gain turns the class to `all`, a loss (or
+//     a "hopeless" sample, whose predict + resolve alone cost more per ray than a plain trace)
+//     turns it off. The first sample only fills the empty table (warming).
 //   - all: every ray runs the HRPP stage. The frame's gain is what its rays cost traced without
 //     prediction (the last plain trace's cost per ray) minus predict + trace + resolve. A gain
 //     raises the 2-bit confidence, a loss lowers it; the class stays at `all` while the
@@ -38,9 +41,11 @@ struct ClassFrameCost {
   std::uint64_t rays = 0;    // rays of the class
   std::uint64_t traced = 0;  // rays the plain trace traced (all: the queue; else every ray)
   double predict_ms = 0.0, trace_ms = 0.0, resolve_ms = 0.0;  // all: the stage; else 0, trace, 0
+  std::uint64_t rounds = 0;   // traces of the class (one per bounce and wavefront)
   std::uint64_t sampled = 0;  // sample: rays that ran the HRPP stage
   double sample_ms = 0.0;     // sample: predict + trace of the queue + resolve over them
   double sample_stage_ms = 0.0;  // sample: predict + resolve alone
+  double empty_dispatch_ms = 0.0;  // sample: one dispatch over no ray per round, summed
 
   double cost_ms() const { return predict_ms + trace_ms + resolve_ms; }
 };
@@ -51,6 +56,7 @@ struct ClassDecision {
   double off_ms_per_ray = 0;  // trace cost per ray without prediction (0: not measured yet)
   double gain_ms = 0;         // sample and all frames: estimated time saved over the class's
                               // rays (negative: lost)
+  double dispatch_ms = 0;     // sample frames: the fixed cost of one dispatch
   int confidence = 0;         // 0..3 after this frame
   Probe next = Probe::kOff;
   const char* reason = "";    // disabled, fixed, idle, warming, unmeasured, hopeless, gain,
@@ -86,6 +92,7 @@ class AdaptivePredictor {
   void judge_all(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
 
   bool adaptive_;
+  int passes_;  // HRPP stage passes per trace in a predicted frame (2 with the pilot schedule)
   PerClass<State> state_;
 };
 

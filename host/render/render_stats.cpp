@@ -37,7 +37,8 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
 json decision_json(const ClassDecision& d) {
   return json{{"mode", probe_name(d.mode)},  {"reason", d.reason},
               {"gain_ms", d.gain_ms},         {"off_ms_per_ray", d.off_ms_per_ray},
-              {"confidence", d.confidence},   {"next", probe_name(d.next)}};
+              {"dispatch_ms", d.dispatch_ms}, {"confidence", d.confidence},
+              {"next", probe_name(d.next)}};
 }
 
 // The per-class figures of a frame or a render.

@@ -136,13 +136,16 @@ ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
   c.rays = s.counters.rays;
   c.traced = s.traced;
   c.sampled = s.sampled;
+  c.rounds = s.traces;
   const std::string_view sample = kSampleLabel;
   for (const auto& [label, ms] : s.kernels_ms) {
     const std::string_view kernel = label;
     const bool in_sample = kernel.starts_with(sample);
     const std::string_view name = in_sample ? kernel.substr(sample.size()) : kernel;
     const bool predict = name == "hrpp_predict", resolve = name == "hrpp_resolve";
-    if (in_sample) {
+    if (in_sample && name == kEmptyDispatchLabel) {
+      c.empty_dispatch_ms += ms;
+    } else if (in_sample) {
       c.sample_ms += ms;
       if (predict || resolve) c.sample_stage_ms += ms;
     } else if (predict) {

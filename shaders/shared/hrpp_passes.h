@@ -6,7 +6,9 @@
 //   HRPP_PASS_SAMPLE  the adaptive predictor's sample: every stride-th block of
 //                     HRPP_SAMPLE_BLOCK consecutive rays (blocks keep neighbouring rays
 //                     together in a subgroup, as in the whole trace; spreading the blocks
-//                     covers the whole image).
+//                     covers the whole image);
+//   HRPP_PASS_NONE    no ray: a dispatch that only measures what a dispatch costs (the
+//                     adaptive predictor subtracts it from a sample's time).
 // hrpp_pass_ray_count(total, ...) is the pass's ray count, hrpp_pass_ray_index(j, ...) the
 // index of its j-th ray.
 #ifndef HRPP_HRPP_PASSES_H
@@ -16,6 +18,7 @@
 #define HRPP_PASS_PILOTS 1u
 #define HRPP_PASS_OTHERS 2u
 #define HRPP_PASS_SAMPLE 3u
+#define HRPP_PASS_NONE 4u
 #define HRPP_SAMPLE_BLOCK 256u
 
 #ifdef __cplusplus
@@ -29,6 +32,7 @@ using uint = std::uint32_t;
 
 HRPP_SHARED_FN uint hrpp_pass_ray_count(uint total, uint pass, uint stride) {
   if (pass == HRPP_PASS_ALL) return total;
+  if (pass == HRPP_PASS_NONE) return 0u;
   if (pass == HRPP_PASS_SAMPLE) {
     const uint period = HRPP_SAMPLE_BLOCK * stride;
     const uint rest = total % period;
