@@ -106,6 +106,10 @@ TEST(HrppRender, SampleFramesRenderTheImageOfHrppOff) {
     EXPECT_EQ(f.classes[k].traced, f.classes[k].counters.rays) << what;  // every ray, plainly
     EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + "hrpp_predict"), 0u)
         << what;
+    // The empty dispatch that measures a dispatch's fixed cost ran and was timed.
+    EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + kEmptyDispatchLabel), 0u)
+        << what;
+    EXPECT_GT(f.decisions[k].dispatch_ms, 0.0) << what;
     // (Visit counts vary run to run by a few: a lane's extra steps depend on its subgroup's
     // other rays, and the wavefront's queue order is not fixed.)
     EXPECT_EQ(f.classes[k].counters.rays, off.stats.classes[k].counters.rays) << what;
