@@ -22,7 +22,7 @@ namespace hrpp {
 
 static_assert(sizeof(gpu::InsertPushConstants) == 16);
 static_assert(sizeof(gpu::StagePushConstants) == 24);
-static_assert(sizeof(gpu::PredictQueue) == 64);
+static_assert(sizeof(gpu::PredictQueue) == 80);
 static_assert(sizeof(gpu::QueueEntry) == 16);
 
 namespace {
@@ -41,6 +41,13 @@ gpu::PredictQueue empty_queue(std::uint32_t next_ray, std::uint32_t ray_count) {
 std::size_t texel_bytes(std::size_t bytes) {
   return (bytes + TexelView::kTexelBytes - 1) / TexelView::kTexelBytes * TexelView::kTexelBytes;
 }
+
+// A pass over a fraction of a trace's rays (the pilots, the sample) takes at most this many rays
+// per invocation, so that its few rays spread over enough workgroups to keep every thread busy
+// (a lavapipe thread runs a workgroup at a time: a sample of 1,400 bounce rays was 1.4
+// workgroups of 1,024). Its workgroups are sized for it (hrpp_pass_args.comp, or the host's
+// count), not by the trace's indirect arguments.
+constexpr std::uint32_t kFractionRaysPerInvocation = 4;
 
 // One ray class's table and its kernels (bound to the table and to the class's query arrays).
 // hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
@@ -122,6 +129,7 @@ struct Queue {
   StorageBuffer rays, entries, hits;
   TexelView ray_view, entry_view, hit_view;
   ComputePipeline trace;
+  ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
   std::size_t capacity = 0;
 
   Queue(VulkanContext& ctx, bool any_hit)
@@ -129,8 +137,11 @@ struct Queue {
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters"),
         trace(ctx, any_hit ? "trace_any" : "trace_closest",
               embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
-              sizeof(gpu::TracePushConstants)) {
+              sizeof(gpu::TracePushConstants)),
+        pass_args(ctx, "hrpp_pass_args", embedded_spirv("hrpp_pass_args"), 1,
+                  sizeof(gpu::StagePushConstants)) {
     trace.bind(HRPP_TRACE_BINDING_COUNTERS, trace_counters);
+    pass_args.bind(0, state);
   }
 };
 
@@ -171,8 +182,12 @@ struct GpuPredictor::State {
   // (HRPP_PASS_*: shaders/shared/hrpp_passes.h), timed under labels
   // "<prefix><kernel>:<class>".
   void record_pass(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                   const gpu::TracePushConstants& trace_pc, std::uint32_t pilot_pass,
+                   const gpu::TracePushConstants& whole_pc, std::uint32_t pilot_pass,
                    KernelTimer* timer, std::uint32_t stride = 0, const std::string& prefix = "") {
+    const bool fraction = pilot_pass == HRPP_PASS_PILOTS || pilot_pass == HRPP_PASS_SAMPLE;
+    gpu::TracePushConstants trace_pc = whole_pc;
+    if (fraction)
+      trace_pc.rays_per_invocation = std::min(trace_pc.rays_per_invocation, kFractionRaysPerInvocation);
     const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass, stride);
     const std::string label = prefix + "hrpp_predict:" + ray_class_name(c);
     if (count.host) {
@@ -180,9 +195,15 @@ struct GpuPredictor::State {
       const std::uint32_t n = gpu::hrpp_pass_ray_count(*count.host, pilot_pass, spc.pilot_stride);
       record_dispatch(cmd, table(c).predict(), &spc, (n + per_group - 1) / per_group, timer,
                       label);
-    } else {
+    } else if (!fraction) {
       record_dispatch_indirect(cmd, table(c).predict(), &spc, *count.buffer, count.args_offset,
                                timer, label);
+    } else {  // a fraction of the rays: only the workgroups that have some (timed as predict's)
+      Queue& q = queue(c);
+      record_dispatch(cmd, q.pass_args, &spc, 1, timer, label);
+      indirect_args_barrier(cmd);
+      record_dispatch_indirect(cmd, table(c).predict(), &spc, q.state,
+                               offsetof(gpu::PredictQueue, predict_groups), timer, label);
     }
     record_queue_trace(cmd, c, trace_pc, timer, prefix);
   }

@@ -39,7 +39,8 @@ void AdaptivePredictor::judge_sample(State& s, const ClassFrameCost& cost,
   const double rounds = static_cast<double>(cost.rounds);
   d.dispatch_ms = cost.rounds > 0 ? cost.empty_dispatch_ms / rounds : 0.0;
   // Per round the sample ran 3 dispatches (predict, trace of the queue, resolve), 2 of them the
-  // stage's; a predicted frame runs 3 per pass.
+  // stage's; a predicted frame runs 3 per pass. (A pass sized on the device runs hrpp_pass_args
+  // first, timed as predict's: its fixed cost stays in, a slight overstatement.)
   const auto variable = [&](double ms, int dispatches) {
     return per_ray(std::max(ms - dispatches * rounds * d.dispatch_ms, 0.0), cost.sampled);
   };

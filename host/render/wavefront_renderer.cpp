@@ -236,7 +236,7 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 48),  // up to 12 HRPP dispatches, 8 of the sort, the render kernels
+        timer(c, 48),  // up to 16 HRPP dispatches, 8 of the sort, the render kernels
         adaptive(config.predictor) {
     if (cfg.reorder != RayOrder::kOff) make_sorter(bvh.bounds);
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {

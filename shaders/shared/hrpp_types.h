@@ -86,7 +86,9 @@ struct PredictorParams {
 
 // The HRPP stage's queue of one trace (shaders/hrpp_predict.comp → the trace kernel →
 // shaders/hrpp_resolve.comp): rays the prediction did not answer, compacted. `trace_groups` and
-// `resolve_groups` are VkDispatchIndirectCommands that hrpp_predict raises as it appends.
+// `resolve_groups` are VkDispatchIndirectCommands that hrpp_predict raises as it appends;
+// `predict_groups` is hrpp_predict's own over a pass of a fraction of the rays
+// (shaders/hrpp_pass_args.comp).
 struct PredictQueue {
   uint next_ray;   // hrpp_predict's fetch cursor
   uint ray_count;  // rays to predict: written by the host or copied from a queue on the device
@@ -98,6 +100,7 @@ struct PredictQueue {
   uint pad;
   uint trace_groups[4];    // x, y, z (+ pad): workgroups of the trace kernel over the queue
   uint resolve_groups[4];  // x, y, z (+ pad): workgroups of hrpp_resolve
+  uint predict_groups[4];  // x, y, z (+ pad): workgroups of hrpp_predict over a pilot or sample pass
 };
 
 // A queued ray's origin: its index in the class's ray array, its key and how it was probed.
