@@ -60,17 +60,17 @@ std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
+  const PredictorConfig predictor = o.hrpp.config();
+  if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.any_hit)))
+    throw Error("--reorder: HRPP's predicted trace takes the rays in file order; use "
+                "--reorder off with HRPP on");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.shared.scene);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout);
-  const PredictorConfig predictor = o.hrpp.config();
   VulkanContext ctx(o.shared.vulkan);
   GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
   std::unique_ptr<RaySorter> sorter;
   if (o.reorder != RayOrder::kOff) {
-    if (predictor.predicts(ray_file_class(o.any_hit)))
-      throw Error("--reorder: HRPP's predicted trace takes the rays in file order; use "
-                  "--reorder off with HRPP on");
     if (rays.size() > RaySorter::kMaxRays)
       throw Error("--reorder: " + std::to_string(rays.size()) + " rays exceed the " +
                   std::to_string(RaySorter::kMaxRays) + " one sort takes");
