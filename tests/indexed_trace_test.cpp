@@ -1,10 +1,11 @@
 // The indexed trace kernels (shaders/trace_*_indexed.comp: HRPP_TRACE_INDEXED in
 // shaders/lib/trace_kernel.glsl) on the Vulkan device (lavapipe here, under the validation
 // layer): traced through a ray index list, every listed ray gets exactly the closest hit the
-// plain kernel gives it (any hit: the same occlusion), written at its own index; unlisted rays' hits are untouched; the rays and
-// hits counted are the plain kernel's (and the visits too, in the plain kernel's order). Lists: identity, reversed, random permutations, a random
-// subset; counts of 0, 1, around a subgroup and a workgroup (64 rays) and past a dispatch's
-// first round of invocations.
+// plain kernel gives it (any hit: the same occlusion), written at its own index; unlisted
+// rays' hits are untouched; the rays and hits counted are the plain kernel's (the visits too,
+// in the plain kernel's order). Lists: identity, reversed, random permutations, a random
+// subset, empty; counts of 1, around a subgroup and a workgroup (64 rays) and past a
+// dispatch's first round of invocations.
 #include <algorithm>
 #include <cstdint>
 #include <cstring>

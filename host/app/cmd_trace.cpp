@@ -57,6 +57,16 @@ std::vector<gpu::Ray> read_rays(const std::filesystem::path& file) {
   return rays;
 }
 
+// --reorder: the device sort of the ray file (nullptr when off).
+std::unique_ptr<RaySorter> make_sorter(VulkanContext& ctx, const GpuBvh& bvh, RayOrder order,
+                                       std::size_t rays) {
+  if (order == RayOrder::kOff) return nullptr;
+  if (rays > RaySorter::kMaxRays)
+    throw Error("--reorder: " + std::to_string(rays) + " rays exceed the " +
+                std::to_string(RaySorter::kMaxRays) + " one sort takes");
+  return std::make_unique<RaySorter>(ctx, bvh.bounds, rays);
+}
+
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
@@ -69,13 +79,7 @@ void run_trace(const TraceOptions& o) {
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout);
   VulkanContext ctx(o.shared.vulkan);
   GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
-  std::unique_ptr<RaySorter> sorter;
-  if (o.reorder != RayOrder::kOff) {
-    if (rays.size() > RaySorter::kMaxRays)
-      throw Error("--reorder: " + std::to_string(rays.size()) + " rays exceed the " +
-                  std::to_string(RaySorter::kMaxRays) + " one sort takes");
-    sorter = std::make_unique<RaySorter>(ctx, bvh.bounds, rays.size());
-  }
+  const std::unique_ptr<RaySorter> sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
   if (o.repeat > 1) {
     tracer.warm_up();
     if (sorter) tracer.trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)),

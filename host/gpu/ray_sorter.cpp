@@ -119,15 +119,15 @@ struct RaySorter::State {
     gpu::RaySortPushConstants pc = push_constants(n);
     const std::uint32_t half = static_cast<std::uint32_t>(max_rays);
     pc.dst = 0;
-    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, RaySorter::kTimerLabel);
+    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
     for (std::uint32_t pass = 0; pass < HRPP_SORT_PASSES; ++pass) {
       pc.shift = pass * HRPP_SORT_DIGIT_BITS;
       pc.src = (pass % 2) * half;
       pc.dst = ((pass + 1) % 2) * half;
       const std::uint32_t block_groups = groups(pc.blocks, HRPP_SORT_WORKGROUP_SIZE);
-      record_dispatch(cmd, count, &pc, block_groups, t, RaySorter::kTimerLabel);
-      record_dispatch(cmd, scan, &pc, 1, t, RaySorter::kTimerLabel);
-      record_dispatch(cmd, scatter, &pc, block_groups, t, RaySorter::kTimerLabel);
+      record_dispatch(cmd, count, &pc, block_groups, t, kTimerLabel);
+      record_dispatch(cmd, scan, &pc, 1, t, kTimerLabel);
+      record_dispatch(cmd, scatter, &pc, block_groups, t, kTimerLabel);
     }
   }
 
@@ -136,7 +136,7 @@ struct RaySorter::State {
     gathered = true;
     if (n == 0) return;
     const gpu::RaySortPushConstants pc = push_constants(n);
-    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, RaySorter::kTimerLabel);
+    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
   }
 
   void finish(std::uint32_t n) const {
