@@ -1,6 +1,8 @@
 // Ray reordering and node layout (issue 12, items 1 and 2): per scene and Aila–Laine batch kind
 // (host/trace/ray_batches.h), the GPU trace's device time with each combination of --reorder
-// (off, morton: the sort's device time included) and --bvh-layout (dfs, dfs-large-first),
+// (off; morton: the sort's order read by the indexed trace kernel, as hrpp trace and render do;
+// morton-gather: the sort then a gather of the rays into sorted order, traced by the plain
+// kernel; the sort's device time always included) and --bvh-layout (dfs, dfs-large-first),
 // interleaved round by round on the same rays, medians and the ratio to (dfs, off). Every
 // variant's hits must equal the baseline's bit for bit (it exits 1 otherwise). Not a test.
 //   bench_ray_order [SCENE...] [--rays N] [--repeat R] [--kinds primary,ao,diffuse] [--device D]
@@ -8,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,8 +32,10 @@ namespace {
 struct Variant {
   NodeLayout layout;
   RayOrder order;
+  bool gather = false;  // morton-gather: sorted copies of the rays, the plain kernel
   std::string name() const {
-    return std::string(node_layout_name(layout)) + " / " + ray_order_name(order);
+    return std::string(node_layout_name(layout)) + " / " + ray_order_name(order) +
+           (gather ? "-gather" : "");
   }
 };
 
@@ -40,12 +45,14 @@ struct Timed {
 };
 
 Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ray>& rays,
-                 RayOrder order, bool any_hit) {
+                 const Variant& v, bool any_hit) {
   Timed t;
-  if (order == RayOrder::kOff) {
-    GpuTraceResult r = tracer.trace(rays, any_hit);
+  if (!v.gather) {
+    GpuTraceResult r =
+        tracer.trace(rays, any_hit, v.order == RayOrder::kOff ? nullptr : &sorter);
     t.hits = std::move(r.hits);
-    t.trace_ms = r.kernel_ms;
+    t.trace_ms = r.kernel_ms - r.sort_ms;
+    t.sort_ms = r.sort_ms;
     return t;
   }
   const RaySortResult s = sorter.sort(rays);
@@ -67,6 +74,7 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
   const Bvh bvh = build_bvh(scene, BvhConfig{});
   const std::vector<Variant> variants = {{NodeLayout::kDfs, RayOrder::kOff},
                                          {NodeLayout::kDfs, RayOrder::kMorton},
+                                         {NodeLayout::kDfs, RayOrder::kMorton, true},
                                          {NodeLayout::kDfsLargeFirst, RayOrder::kOff},
                                          {NodeLayout::kDfsLargeFirst, RayOrder::kMorton}};
   GpuBvh layouts[2] = {make_gpu_layout(bvh, scene, NodeLayout::kDfs),
@@ -87,11 +95,14 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
         kind == "primary" ? b.primary : kind == "ao" ? b.ao.rays : b.diffuse.rays;
     std::vector<std::vector<double>> total(variants.size()), sort(variants.size());
     std::vector<gpu::Hit> baseline;
-    sorter.sort(batch);  // JIT warm-up of the sort kernels
+    // JIT warm-up of the sort kernels, the gather and the indexed trace kernels
+    sorter.sort(batch);
+    const std::size_t few = std::min<std::size_t>(batch.size(), 64);
+    for (auto& tracer : tracers) tracer->trace(std::span(batch).first(few), any_hit, &sorter);
     for (int round = 0; round < repeat; ++round)
       for (std::size_t v = 0; v < variants.size(); ++v) {
         const int l = variants[v].layout == NodeLayout::kDfs ? 0 : 1;
-        const Timed t = trace_once(*tracers[l], sorter, batch, variants[v].order, any_hit);
+        const Timed t = trace_once(*tracers[l], sorter, batch, variants[v], any_hit);
         total[v].push_back(t.trace_ms + t.sort_ms);
         sort[v].push_back(t.sort_ms);
         if (v == 0 && round == 0) baseline = t.hits;

@@ -1,5 +1,6 @@
-// ray_sort_gather: one sorted position per invocation: the ray (and with pc.payload its
-// payload, 2 texels: the renderer's path state) that the sort put there, copied texel by texel.
+// ray_sort_gather: one sorted position per invocation: copies the ray the sort put there
+// (order[j]) to sorted_rays[j], texel by texel. Optional: the indexed trace kernels read the
+// rays through order[] instead (host/gpu/ray_sorter.h).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -13,14 +14,10 @@ void main() {
   const uint j = gl_GlobalInvocationID.x;
   uint placed = 0u;
   if (j < pc.count) {
-    const int from = int(2u * items[pc.src + j].y);
+    const int from = int(2u * order[j]);
     const int to = int(2u * j);
     imageStore(sorted_rays, to, texelFetch(ray_texels, from));
     imageStore(sorted_rays, to + 1, texelFetch(ray_texels, from + 1));
-    if (pc.payload != 0u) {
-      imageStore(sorted_payload, to, texelFetch(payload_texels, from));
-      imageStore(sorted_payload, to + 1, texelFetch(payload_texels, from + 1));
-    }
     placed = 1u;
   }
   report_placed(HRPP_SORT_PASSES, placed);

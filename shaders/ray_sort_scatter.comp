@@ -1,6 +1,7 @@
 // ray_sort_scatter: one block per invocation, as ray_sort_count: each item, in order, goes to
 // the next free position of its digit in the block's share of the output (counts[] after
-// ray_sort_scan). Items of one digit keep their order: the pass is a stable counting sort.
+// ray_sort_scan). Items of one digit keep their order: the pass is a stable counting sort. The
+// last pass writes only the item's ray index, to order[] (the sort's result).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -21,7 +22,11 @@ void main() {
     for (uint i = first; i < end; ++i) {
       const uvec2 item = items[pc.src + i];
       const uint d = sort_digit(item.x);
-      items[pc.dst + next[d]] = item;
+      if (last_pass()) {
+        order[next[d]] = item.y;
+      } else {
+        items[pc.dst + next[d]] = item;
+      }
       ++next[d];
       ++placed;
     }

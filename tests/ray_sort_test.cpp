@@ -2,8 +2,10 @@
 // shaders/ray_sort_*.comp on the Vulkan device (lavapipe here, under the validation layer).
 // The key's edge cases; the GPU permutation equals the CPU's stable counting sort exactly (no
 // ray lost, none duplicated, equal keys in queue order) at sizes around the block boundaries;
-// hits traced in sorted order and put back equal the unsorted trace's bit for bit; a render with
-// --reorder morton is the render without, bit for bit; bad --reorder values are errors.
+// hits traced in sorted order (through the order by the indexed kernels, or gathered and put
+// back) equal the unsorted trace's bit for bit; a render with --reorder morton is the render
+// without, bit for bit; bad --reorder values, and --reorder with HRPP predicting, are errors.
+// The indexed kernels on their own: tests/indexed_trace_test.cpp.
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -142,14 +144,17 @@ TEST(RaySortGpu, PermutationEqualsTheStableCpuSort) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
-// Each hit stays attached to its ray: rays bouncing around the Cornell box, traced in the
-// sorted order and put back, give the unsorted trace's hits bit for bit (closest and any hit).
+// Each hit stays attached to its ray: rays bouncing around the Cornell box, traced through
+// the sort's order (GpuTracer::trace with the sorter: no gather) or gathered, traced and put
+// back, give the unsorted trace's hits bit for bit (closest and any hit); the order the trace
+// read is the stable CPU order.
 TEST(RaySortGpu, HitsStayWithTheirRays) {
   const Scene scene = load_scene("builtin:cornell");
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
   GpuTracer tracer(context(), bvh);
   RaySorter sorter(context(), bvh.bounds, 50000);
   const std::vector<gpu::Ray> rays = random_rays(50000, bvh.bounds, 11);
+  const std::vector<std::uint32_t> cpu_order = stable_ray_order(rays, ray_sort_grid(bvh.bounds));
   const RaySortResult sorted = sorter.sort(rays);
   for (bool any_hit : {false, true}) {
     const GpuTraceResult plain = tracer.trace(rays, any_hit);
@@ -159,7 +164,19 @@ TEST(RaySortGpu, HitsStayWithTheirRays) {
     EXPECT_EQ(std::memcmp(back.data(), plain.hits.data(), back.size() * sizeof(gpu::Hit)), 0);
     EXPECT_EQ(reordered.counters.hits, plain.counters.hits);
     EXPECT_GT(plain.counters.hits, 0u);
+
+    const GpuTraceResult indexed = tracer.trace(rays, any_hit, &sorter);
+    ASSERT_EQ(indexed.hits.size(), plain.hits.size());
+    EXPECT_EQ(std::memcmp(indexed.hits.data(), plain.hits.data(),
+                          plain.hits.size() * sizeof(gpu::Hit)), 0);
+    EXPECT_EQ(indexed.counters.rays, rays.size());
+    EXPECT_EQ(indexed.counters.hits, plain.counters.hits);
+    EXPECT_GT(indexed.sort_ms, 0.0);
+    EXPECT_GT(indexed.kernel_ms, indexed.sort_ms);
+    EXPECT_EQ(plain.sort_ms, 0.0);
+    EXPECT_EQ(sorter.order(static_cast<std::uint32_t>(rays.size())), cpu_order);
   }
+  EXPECT_TRUE(tracer.trace(std::vector<gpu::Ray>{}, false, &sorter).hits.empty());
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
@@ -231,6 +248,15 @@ TEST_F(ReorderCli, RenderStatsNameTheOrderAndTimeTheSort) {
   EXPECT_FALSE(a["kernels_ms"].contains("ray_sort"));
   EXPECT_GT(b["kernels_ms"]["ray_sort"].get<double>(), 0.0);
   EXPECT_EQ(a["rays"], b["rays"]);  // the same paths, bounce by bounce
+}
+
+// HRPP's predicted trace reads the rays in file order: --reorder with it is refused.
+TEST_F(ReorderCli, ReorderWithHrppPredictingIsAnError) {
+  const test::CliResult r = run("trace builtin:cornell --rays r.bin --hits " +
+                                (dir_ / "h.bin").string() + " --reorder morton --hrpp on");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--reorder"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "h.bin"));
 }
 
 TEST_F(ReorderCli, BadValueIsAnErrorNamingTheFlag) {

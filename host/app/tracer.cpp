@@ -3,7 +3,6 @@
 #include <chrono>
 
 #include "trace/ray_batches.h"
-#include "trace/ray_order.h"
 
 namespace hrpp::app {
 namespace {
@@ -39,14 +38,8 @@ const char* GpuBackend::timing() const {
 
 TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
   if (hrpp_) tracer_.clear_predictor();
-  if (!sorter_) {
-    GpuTraceResult g = tracer_.trace(rays, any_hit);
-    return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
-  }
-  const RaySortResult sorted = sorter_->sort(rays);
-  GpuTraceResult g = tracer_.trace(sorted.rays, any_hit);
-  return TracerRun{hits_in_queue_order(g.hits, sorted.order), g.kernel_ms + sorted.kernel_ms,
-                   g.counters};
+  GpuTraceResult g = tracer_.trace(rays, any_hit, sorter_);
+  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
 }
 
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,

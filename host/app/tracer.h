@@ -68,8 +68,8 @@ class EmbreeBackend final : public Tracer {
 // kGpu, or kGpuHrpp when the GpuTracer has a predictor.
 class GpuBackend final : public Tracer {
  public:
-  // `sorter`: sort the rays on the device before each trace (its time counted; the hits come
-  // back in the rays' order).
+  // `sorter`: sort the rays on the device before each trace and trace them through the order
+  // (its time counted; the hits are in the rays' order; GpuTracer::trace).
   GpuBackend(GpuTracer& tracer, bool hrpp, bool batched, RaySorter* sorter = nullptr)
       : tracer_(tracer), hrpp_(hrpp), batched_(batched), sorter_(sorter) {}
   TracerKind kind() const override { return hrpp_ ? TracerKind::kGpuHrpp : TracerKind::kGpu; }

@@ -11,6 +11,7 @@
 #include "gpu/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
 #include "gpu/gpu_predictor.h"
+#include "gpu/ray_sorter.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/trace_counters.h"
@@ -74,13 +75,15 @@ std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const Predict
 }
 
 // The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
-// rays), its trace kernel (HRPP off, or a class that does not probe) and its counters.
+// rays), its trace kernels (HRPP off, or a class that does not probe) and their counters.
 struct QueryArrays {
   StorageBuffer rays, hits;  // grown on demand
   TexelView ray_view;        // how the kernels read the rays
   TexelView hit_view;        // how the HRPP stage reads and writes the hits
   StorageBuffer counters;    // TraceCounters of the plain trace
   ComputePipeline kernel;
+  // The same kernel over a ray index list (trace_*_indexed.comp), timed under the same label.
+  ComputePipeline indexed;
   Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
   QueryArrays(VulkanContext& c, bool any_hit)
@@ -88,8 +91,11 @@ struct QueryArrays {
                  any_hit ? "hit-any trace counters" : "hit-all trace counters"),
         kernel(c, any_hit ? "trace_any" : "trace_closest",
                embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
-               sizeof(gpu::TracePushConstants)) {
-    kernel.bind(HRPP_TRACE_BINDING_COUNTERS, counters);
+               sizeof(gpu::TracePushConstants)),
+        indexed(c, kernel.name(),
+                embedded_spirv(any_hit ? "trace_any_indexed" : "trace_closest_indexed"),
+                kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants)) {
+    for (ComputePipeline* k : {&kernel, &indexed}) k->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
   }
 };
 
@@ -115,17 +121,18 @@ struct GpuTracer::State {
         node_view(c, nodes),
         leaf_view(c, leaves),
         triangle_view(c, triangles),
-        timer(c, 8) {  // HRPP with the pilot schedule: two rounds of three dispatches
+        timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
     nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {
       queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit);
-      ComputePipeline& k = queries[any_hit]->kernel;
-      k.bind(HRPP_TRACE_BINDING_NODES, node_view);
-      k.bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
-      k.bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
+      for (ComputePipeline* k : {&queries[any_hit]->kernel, &queries[any_hit]->indexed}) {
+        k->bind(HRPP_TRACE_BINDING_NODES, node_view);
+        k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
+        k->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
+      }
     }
     if (predictor_config.enabled) {
       predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
@@ -172,8 +179,10 @@ struct GpuTracer::State {
     a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
     a.ray_view = TexelView(*ctx, a.rays);
     a.hit_view = TexelView(*ctx, a.hits);
-    a.kernel.bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
-    a.kernel.bind(HRPP_TRACE_BINDING_HITS, a.hit_view);
+    for (ComputePipeline* k : {&a.kernel, &a.indexed}) {
+      k->bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
+      k->bind(HRPP_TRACE_BINDING_HITS, a.hit_view);
+    }
     if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hit_view, n);
   }
 
@@ -210,7 +219,15 @@ struct GpuTracer::State {
     return p.name() + ":" + ray_class_name(c);
   }
 
-  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* t) {
+  // The plain trace kernel, or with `ray_indices` its indexed twin reading them.
+  ComputePipeline& plain_kernel(RayClass c, const TexelView* ray_indices) {
+    if (!ray_indices) return query(c).kernel;
+    query(c).indexed.bind(HRPP_TRACE_BINDING_RAY_INDICES, *ray_indices);
+    return query(c).indexed;
+  }
+
+  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* t,
+              const TexelView* ray_indices) {
     check_resident(c, count);
     const gpu::TracePushConstants pc = push_constants();
     query(c).recorded = probing_now(c);
@@ -220,7 +237,7 @@ struct GpuTracer::State {
     }
     if (samples(c)) predictor->record_sample(cmd, c, RayCountSource{&count}, pc, clock[c], t);
     prepare_trace(cmd, c, &count, nullptr, 0);
-    ComputePipeline& k = query(c).kernel;
+    ComputePipeline& k = plain_kernel(c, ray_indices);
     const std::uint32_t per_group = rays_per_workgroup();
     record_dispatch(cmd, k, &pc, (count + per_group - 1) / per_group, t, label(k, c));
   }
@@ -298,7 +315,7 @@ GpuTracer& GpuTracer::operator=(GpuTracer&&) noexcept = default;
 
 const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 
-GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c) {
+GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter) {
   GpuTraceResult out;
   out.hits.resize(rays.size());
   const std::size_t chunk = s_->chunk_rays();
@@ -306,10 +323,11 @@ GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c) {
     const std::size_t n = std::min(chunk, rays.size() - first);
     s_->ensure_capacity(c, n);
     s_->query(c).rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
-    const GpuTraceResult r = trace_resident(n, c);
+    const GpuTraceResult r = trace_resident(n, c, sorter);
     s_->query(c).hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
     out.counters += r.counters;
     out.kernel_ms += r.kernel_ms;
+    out.sort_ms += r.sort_ms;
     out.traced += r.traced;
     out.predicted = r.predicted;
     out.sampled += r.sampled;
@@ -330,9 +348,9 @@ void GpuTracer::begin(RayClass c) {
   if (s_->predicts(c) || s_->samples(c)) s_->predictor->begin(c);
 }
 
-void GpuTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
-                       KernelTimer* timer) {
-  s_->record(cmd, c, count, timer);
+void GpuTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
+                       const TexelView* ray_indices) {
+  s_->record(cmd, c, count, timer, ray_indices);
 }
 
 void GpuTracer::record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
@@ -361,17 +379,25 @@ std::size_t GpuTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerCon
   return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
 }
 
-GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c) {
+GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c, RaySorter* sorter) {
   if (count == 0) return {};
   begin(c);
+  const auto n = static_cast<std::uint32_t>(count);
+  const bool sorted = sorter && !s_->predicts(c);  // HRPP's stage keeps queue order
+  if (sorted) sorter->bind_rays(s_->query(c).ray_view);
   s_->ctx->submit_and_wait(
       [&](VkCommandBuffer cmd) {
         s_->timer.reset(cmd);
-        s_->record(cmd, c, static_cast<std::uint32_t>(count), &s_->timer);
+        if (sorted) sorter->record(cmd, n, &s_->timer);
+        s_->record(cmd, c, n, &s_->timer, sorted ? &sorter->order_view() : nullptr);
       },
       s_->query(c).kernel.name());
+  if (sorted) sorter->finish(n);
   GpuTraceResult out = s_->finish(c);
-  for (const auto& [kernel, ms] : s_->timer.read_ms()) out.kernel_ms += ms;
+  for (const auto& [kernel, ms] : s_->timer.read_ms()) {
+    out.kernel_ms += ms;
+    if (kernel == RaySorter::kTimerLabel) out.sort_ms += ms;
+  }
   return out;
 }
 

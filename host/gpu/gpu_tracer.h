@@ -25,6 +25,8 @@ class VulkanContext;
 struct DeviceInfo;
 class StorageBuffer;
 class KernelTimer;
+class RaySorter;
+class TexelView;
 
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
@@ -39,6 +41,7 @@ struct GpuTraceResult {
   TraversalCounters counters;   // summed over the ray chunks of the call
   double kernel_ms = 0.0;       // device timestamps around the trace's dispatches (0 when
                                 // HRPP runs in batches: many small dispatches)
+  double sort_ms = 0.0;         // of kernel_ms, the sort's dispatches (trace() with a sorter)
   bool predicted = false;       // the HRPP stage ran (the class probes)
   std::uint64_t traced = 0;     // rays the trace kernel traced (HRPP: the queue)
   gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
@@ -69,10 +72,14 @@ class GpuTracer {
   // Traces every ray as rays of class `c` (closest hit, or any hit for shadow rays). Rays
   // beyond one storage buffer's range are traced in several dispatches. Throws hrpp::Error
   // when a dispatch does not finish every ray (loop limiter) or the device is lost.
-  GpuTraceResult trace(std::span<const gpu::Ray> rays, RayClass c);
+  // With `sorter` (--reorder), each dispatch's rays are first sorted on the device and traced
+  // through the sort's order (record's ray_indices); hits come back in the rays' order and
+  // kernel_ms includes the sort. Not when the class predicts (HRPP's stage keeps ray order).
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter = nullptr);
   // Rays of a ray file: closest hit as camera rays, any hit as shadow rays.
-  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit) {
-    return trace(rays, ray_file_class(any_hit));
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit,
+                       RaySorter* sorter = nullptr) {
+    return trace(rays, ray_file_class(any_hit), sorter);
   }
 
   // Device-resident rays (the wavefront renderer, host/render/): hit-all classes (camera,
@@ -85,7 +92,11 @@ class GpuTracer {
 
   // Traces recorded into the caller's command buffer, over ray_buffer(c)[0..count):
   //   begin(c)                before recording: zeroes the class's HRPP counters (host write);
-  //   record(...)             the trace of `count` rays (known on the host), or
+  //   record(...)             the trace of `count` rays (known on the host): ray j, or with
+  //                           `ray_indices` (a texel view of uint, 4 per texel; --reorder) the
+  //                           ray whose index is entry j of the list, its hit written at that
+  //                           index (the indexed kernels); HRPP's predicted trace ignores the
+  //                           list (its stage traces in queue order); or
   //   record_indirect(...)    the trace of as many rays as the uint at `count_offset` of
   //                           `queue` says when the command buffer runs, with the
   //                           VkDispatchIndirectCommand at `args_offset` (workgroups of
@@ -96,7 +107,8 @@ class GpuTracer {
   // One trace per query kind (hit-all, hit-any) per command buffer. Dispatches are timed with
   // `timer` when given, under "<kernel>:<class>" labels.
   void begin(RayClass c);
-  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer);
+  void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
+              const TexelView* ray_indices = nullptr);
   void record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
                        VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* timer);
   GpuTraceResult finish(RayClass c);
@@ -109,8 +121,9 @@ class GpuTracer {
   // The same for a device and configuration, before a tracer exists.
   static std::size_t max_dispatch_rays(const DeviceInfo& device, const GpuTracerConfig& config);
 
-  // begin + record + submit + finish of ray_buffer(c)[0..count).
-  GpuTraceResult trace_resident(std::size_t count, RayClass c);
+  // begin + record + submit + finish of ray_buffer(c)[0..count); with `sorter`, sorted first
+  // (as trace()).
+  GpuTraceResult trace_resident(std::size_t count, RayClass c, RaySorter* sorter = nullptr);
 
   // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on
   // lavapipe, so call this before timing.

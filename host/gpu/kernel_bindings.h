@@ -1,6 +1,7 @@
-// Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h) and of the
-// HRPP stage's (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel
-// buffers (bindings 0..3); the stage also reads and writes its per-ray arrays as texel buffers
+// Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h; the indexed
+// ones add the ray index list, a texel buffer) and of the HRPP stage's
+// (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel buffers
+// (bindings 0..3); the stage also reads and writes its per-ray arrays as texel buffers
 // (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer.
 #pragma once
 
@@ -30,6 +31,14 @@ inline constexpr auto kTraceBindingTypes = [] {
   t[HRPP_TRACE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   return t;
 }();
+// The indexed trace kernels: the trace kernels' bindings and the ray index list (a texel view).
+inline constexpr auto kTraceIndexedBindingTypes = [] {
+  std::array<VkDescriptorType, HRPP_TRACE_INDEXED_BINDING_COUNT> t{};
+  for (std::size_t i = 0; i < kTraceBindingTypes.size(); ++i) t[i] = kTraceBindingTypes[i];
+  t[HRPP_TRACE_BINDING_RAY_INDICES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}();
+static_assert(HRPP_TRACE_BINDING_RAY_INDICES == HRPP_TRACE_BINDING_COUNT);
 inline constexpr auto kStageBindingTypes = [] {
   auto t = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
   t[HRPP_STAGE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;

@@ -25,18 +25,20 @@ constexpr auto kSortBindingTypes = [] {
   std::array<VkDescriptorType, HRPP_SORT_BINDING_COUNT> t{};
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   t[HRPP_SORT_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  t[HRPP_SORT_BINDING_PAYLOAD] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_SORT_BINDING_SORTED_RAYS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
-  t[HRPP_SORT_BINDING_SORTED_PAYLOAD] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   return t;
 }();
-
-constexpr const char* kSortLabel = "ray_sort";
 
 constexpr std::size_t kDoneWords = HRPP_SORT_PASSES + 1;
 
 std::uint32_t groups(std::uint32_t items, std::uint32_t per_group) {
   return (items + per_group - 1) / per_group;
+}
+
+// The order array: one uint per ray, whole 16-byte texels (the trace kernels' texel view).
+std::size_t order_bytes(std::size_t rays) {
+  constexpr std::size_t kPerTexel = TexelView::kTexelBytes / sizeof(std::uint32_t);
+  return (rays + kPerTexel - 1) / kPerTexel * TexelView::kTexelBytes;
 }
 
 }  // namespace
@@ -45,13 +47,14 @@ struct RaySorter::State {
   VulkanContext& ctx;
   RaySortGrid grid;
   std::size_t max_rays;
-  StorageBuffer items, counts;
+  StorageBuffer items, counts, order;
+  TexelView order_view;  // how the indexed trace kernels read `order`
   ComputePipeline keys, count, scan, scatter, gather;
   // sort(): the host's rays and their sorted copy, grown on demand.
   StorageBuffer host_rays, host_sorted;
   TexelView host_ray_view, host_sorted_view;
   KernelTimer timer;
-  bool payload = false;  // bind() was given payload arrays
+  bool gathered = false;  // the last sort recorded the gather
 
   State(VulkanContext& c, const Aabb& bounds, std::size_t max)
       : ctx(c),
@@ -61,6 +64,8 @@ struct RaySorter::State {
         counts(c, (kDoneWords + std::size_t{HRPP_SORT_BINS} * HRPP_SORT_MAX_BLOCKS) *
                       sizeof(std::uint32_t),
                "ray sort counts"),
+        order(c, order_bytes(max_rays), "ray sort order"),
+        order_view(c, order),
         keys(pipeline(c, "ray_sort_keys")),
         count(pipeline(c, "ray_sort_count")),
         scan(pipeline(c, "ray_sort_scan")),
@@ -70,6 +75,7 @@ struct RaySorter::State {
     for (ComputePipeline* p : all()) {
       p->bind(HRPP_SORT_BINDING_ITEMS, items);
       p->bind(HRPP_SORT_BINDING_COUNTS, counts);
+      p->bind(HRPP_SORT_BINDING_ORDER, order);
     }
   }
 
@@ -97,11 +103,12 @@ struct RaySorter::State {
     pc.block_items = std::max<std::uint32_t>(HRPP_SORT_MIN_BLOCK_ITEMS,
                                              groups(n, HRPP_SORT_MAX_BLOCKS));
     pc.blocks = groups(n, pc.block_items);
-    pc.payload = payload ? 1u : 0u;
     return pc;
   }
 
+  // Keys, then the radix passes; the last one writes `order`.
   void record(VkCommandBuffer cmd, std::uint32_t n, KernelTimer* t) {
+    gathered = false;
     if (n > max_rays)
       throw Error("ray sort: " + std::to_string(n) + " rays exceed the sorter's " +
                   std::to_string(max_rays));
@@ -112,37 +119,39 @@ struct RaySorter::State {
     gpu::RaySortPushConstants pc = push_constants(n);
     const std::uint32_t half = static_cast<std::uint32_t>(max_rays);
     pc.dst = 0;
-    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
+    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
     for (std::uint32_t pass = 0; pass < HRPP_SORT_PASSES; ++pass) {
       pc.shift = pass * HRPP_SORT_DIGIT_BITS;
       pc.src = (pass % 2) * half;
       pc.dst = ((pass + 1) % 2) * half;
       const std::uint32_t block_groups = groups(pc.blocks, HRPP_SORT_WORKGROUP_SIZE);
-      record_dispatch(cmd, count, &pc, block_groups, t, kSortLabel);
-      record_dispatch(cmd, scan, &pc, 1, t, kSortLabel);
-      record_dispatch(cmd, scatter, &pc, block_groups, t, kSortLabel);
+      record_dispatch(cmd, count, &pc, block_groups, t, kTimerLabel);
+      record_dispatch(cmd, scan, &pc, 1, t, kTimerLabel);
+      record_dispatch(cmd, scatter, &pc, block_groups, t, kTimerLabel);
     }
-    pc.src = (HRPP_SORT_PASSES % 2) * half;
-    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kSortLabel);
+  }
+
+  // After record(): every ray to its sorted place in the array bound at SORTED_RAYS.
+  void record_gather(VkCommandBuffer cmd, std::uint32_t n, KernelTimer* t) {
+    gathered = true;
+    if (n == 0) return;
+    const gpu::RaySortPushConstants pc = push_constants(n);
+    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
   }
 
   void finish(std::uint32_t n) const {
     std::array<std::uint32_t, kDoneWords> done{};
     counts.download(done.data(), sizeof done);
     for (std::size_t k = 0; k < kDoneWords; ++k)
-      if (done[k] != n)
+      if (done[k] != n && (k < HRPP_SORT_PASSES || gathered))
         throw Error(std::string(k < HRPP_SORT_PASSES ? "ray_sort_scatter" : "ray_sort_gather") +
                     ": placed " + std::to_string(done[k]) + " of " + std::to_string(n) +
                     " rays: the driver's loop limiter or a lost dispatch");
   }
 
-  std::vector<std::uint32_t> order(std::uint32_t n) const {
-    std::vector<std::uint32_t> pairs(2 * std::size_t{n});
-    const std::size_t first = (HRPP_SORT_PASSES % 2) * max_rays;
-    items.download(pairs.data(), pairs.size() * sizeof(std::uint32_t),
-                   first * 2 * sizeof(std::uint32_t));
+  std::vector<std::uint32_t> read_order(std::uint32_t n) const {
     std::vector<std::uint32_t> out(n);
-    for (std::size_t j = 0; j < n; ++j) out[j] = pairs[2 * j + 1];
+    if (n > 0) order.download(out.data(), out.size() * sizeof(std::uint32_t));
     return out;
   }
 };
@@ -152,26 +161,20 @@ RaySorter::RaySorter(VulkanContext& ctx, const Aabb& bounds, std::size_t max_ray
 
 RaySorter::~RaySorter() = default;
 
-void RaySorter::bind(const TexelView& rays, const TexelView& sorted_rays,
-                     const TexelView* payload, const TexelView* sorted_payload) {
-  for (ComputePipeline* p : s_->all()) {
-    p->bind(HRPP_SORT_BINDING_RAYS, rays);
-    p->bind(HRPP_SORT_BINDING_SORTED_RAYS, sorted_rays);
-    // Without payloads the kernels never touch these bindings; the rays stand in.
-    p->bind(HRPP_SORT_BINDING_PAYLOAD, payload ? *payload : rays);
-    p->bind(HRPP_SORT_BINDING_SORTED_PAYLOAD, sorted_payload ? *sorted_payload : sorted_rays);
-  }
-  s_->payload = payload != nullptr;
+void RaySorter::bind_rays(const TexelView& rays) {
+  for (ComputePipeline* p : s_->all()) p->bind(HRPP_SORT_BINDING_RAYS, rays);
 }
 
 void RaySorter::record(VkCommandBuffer cmd, std::uint32_t count, KernelTimer* timer) {
   s_->record(cmd, count, timer);
 }
 
+const TexelView& RaySorter::order_view() const { return s_->order_view; }
+
 void RaySorter::finish(std::uint32_t count) const { s_->finish(count); }
 
 std::vector<std::uint32_t> RaySorter::order(std::uint32_t count) const {
-  return s_->order(count);
+  return s_->read_order(count);
 }
 
 RaySortResult RaySorter::sort(std::span<const gpu::Ray> rays) {
@@ -189,19 +192,21 @@ RaySortResult RaySorter::sort(std::span<const gpu::Ray> rays) {
     s.host_ray_view = TexelView(s.ctx, s.host_rays);
     s.host_sorted_view = TexelView(s.ctx, s.host_sorted);
   }
-  bind(s.host_ray_view, s.host_sorted_view, nullptr, nullptr);
+  bind_rays(s.host_ray_view);
+  s.gather.bind(HRPP_SORT_BINDING_SORTED_RAYS, s.host_sorted_view);
   s.host_rays.upload(rays);
   s.ctx.submit_and_wait(
       [&](VkCommandBuffer cmd) {
         s.timer.reset(cmd);
         s.record(cmd, n, &s.timer);
+        s.record_gather(cmd, n, &s.timer);
       },
       "ray sort");
   s.finish(n);
   for (const auto& [kernel, ms] : s.timer.read_ms()) out.kernel_ms += ms;
   out.rays.resize(n);
   s.host_sorted.download(out.rays.data(), rays.size_bytes());
-  out.order = s.order(n);
+  out.order = s.read_order(n);
   return out;
 }
 

@@ -1,9 +1,11 @@
 // Ray reordering on the GPU (issue 12; Garanzha & Loop 2010, Meister et al. 2020): a stable LSD
 // radix sort of a queue of rays by ray_sort_key (host/trace/ray_order.h: direction octant, then
-// the Morton code of the origin's cell), then a gather that writes every ray, and optionally a
-// 32-byte payload per ray (the renderer's path state), to its sorted position. Kernels:
-// shaders/ray_sort_{keys,count,scan,scatter,gather}.comp; the permutation equals
-// stable_ray_order() exactly.
+// the Morton code of the origin's cell). Its result is the order, a ray index list on the device
+// (order_view()) that the indexed trace kernels read (GpuTracer::record with ray indices): no
+// ray, hit or path state is moved. sort() also gathers the rays into their sorted places (the
+// first version of --reorder, kept for bench_ray_order). Kernels:
+// shaders/ray_sort_{keys,count,scan,scatter,gather}.comp; the order equals stable_ray_order()
+// exactly.
 #pragma once
 
 #include <cstddef>
@@ -33,6 +35,8 @@ class RaySorter {
  public:
   // Most rays one sort takes: the item array's two halves fill one storage buffer's range.
   static constexpr std::size_t kMaxRays = std::size_t{1} << 22;
+  // The label the sort's dispatches are timed under.
+  static constexpr const char* kTimerLabel = "ray_sort";
 
   // Sorts up to `max_rays` rays at once, keys quantized in `bounds` (the scene's). Throws
   // hrpp::Error when max_rays exceeds what one storage buffer holds.
@@ -41,20 +45,22 @@ class RaySorter {
   RaySorter(const RaySorter&) = delete;
   RaySorter& operator=(const RaySorter&) = delete;
 
-  // The arrays record() reads and writes, as texel views: rays in queue order and where their
-  // sorted copies go; with payloads, 2 texels per ray each (nullptr: rays only).
-  void bind(const TexelView& rays, const TexelView& sorted_rays, const TexelView* payload,
-            const TexelView* sorted_payload);
-  // Records the sort of the first `count` rays into `cmd`: keys, the radix passes, the gather.
-  // Dispatches are timed under "ray_sort" when `timer` is given.
+  // The rays record() reads, in queue order (2 texels per ray).
+  void bind_rays(const TexelView& rays);
+  // Records the sort of the first `count` rays into `cmd`: keys, then the radix passes, whose
+  // last writes the order. Dispatches are timed under kTimerLabel when `timer` is given.
   void record(VkCommandBuffer cmd, std::uint32_t count, KernelTimer* timer);
-  // After the submit: throws hrpp::Error unless every pass placed all `count` items.
+  // The order once a recorded sort has run: entry j (uint, 4 per 16-byte texel) is the queue
+  // index of the ray at sorted position j. Valid until the next sort.
+  const TexelView& order_view() const;
+  // After the submit: throws hrpp::Error unless every pass (and the gather, when sort() ran
+  // one) placed all `count` items.
   void finish(std::uint32_t count) const;
   // After the submit: order[j] = the queue index of the ray now at position j.
   std::vector<std::uint32_t> order(std::uint32_t count) const;
 
-  // Uploads `rays`, sorts them on the device (one submit) and reads back the sorted rays and the
-  // permutation (hrpp trace --reorder).
+  // Uploads `rays`, sorts them on the device, gathers them into sorted order (one submit) and
+  // reads back the sorted rays and the order.
   RaySortResult sort(std::span<const gpu::Ray> rays);
 
  private:

@@ -23,10 +23,6 @@
 
 namespace hrpp {
 
-// The sort's gather moves a payload of 2 texels per ray (shaders/ray_sort_gather.comp).
-static_assert(sizeof(gpu::PathState) == 2 * TexelView::kTexelBytes);
-static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
-
 namespace {
 
 constexpr auto kBindingTypes = [] {
@@ -196,8 +192,7 @@ struct WavefrontRenderer::State {
   StorageBuffer shade_triangles, materials, lights, textures, texels;
   TexelView shade_view, material_view, light_view;
   TexelView ray_view, hit_view, shadow_hit_view, path_view;  // over the tracer's arrays, `paths`
-  std::unique_ptr<RaySorter> sorter;  // --reorder: sorts next_rays/next_paths into place
-  TexelView next_ray_view, next_path_view;  // what the sorter reads
+  std::unique_ptr<RaySorter> sorter;  // --reorder: the bounce rays' order (a ray index list)
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
   ComputePipeline generate, shade, accumulate;
   KernelTimer timer;
@@ -236,7 +231,7 @@ struct WavefrontRenderer::State {
               sizeof(gpu::RenderPushConstants), spec),
         accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
-        timer(c, 48),  // up to 16 HRPP dispatches, 8 of the sort, the render kernels
+        timer(c, 48),  // up to 16 HRPP dispatches, 7 of the sort, the render kernels
         adaptive(config.predictor) {
     if (cfg.reorder != RayOrder::kOff) make_sorter(bvh.bounds);
     for (ComputePipeline* p : {&generate, &shade, &accumulate}) {
@@ -262,22 +257,27 @@ struct WavefrontRenderer::State {
     upload_params(scene.cameras[cfg.camera]);
   }
 
-  // The continuation rays and paths are sorted from next_rays/next_paths straight into the
-  // tracer's ray array and `paths`: the sort's gather replaces the bounce's copies.
+  // The sorter reads the bounce rays where the tracer reads them; the trace reads them through
+  // the sort's order, so rays, hits and paths stay in queue order.
   void make_sorter(const Aabb& bounds) {
     sorter = std::make_unique<RaySorter>(ctx, bounds, wave);
-    next_ray_view = TexelView(ctx, next_rays);
-    next_path_view = TexelView(ctx, next_paths);
-    sorter->bind(next_ray_view, ray_view, &next_path_view, &path_view);
+    sorter->bind_rays(ray_view);
   }
 
-  // At the start of a bounce after the first: the continuation rays and their paths into place,
-  // sorted (--reorder) or copied as they are.
+  // At the start of a bounce after the first: the continuation rays and their paths into place.
   void record_continuations(VkCommandBuffer cmd, std::uint32_t n) {
-    if (sorter) return sorter->record(cmd, n, &timer);
     record_copy(cmd, next_rays, 0, tracer.ray_buffer(RayClass::kCamera, wave), 0,
                 std::size_t{n} * sizeof(gpu::Ray));
     record_copy(cmd, next_paths, 0, paths, 0, std::size_t{n} * sizeof(gpu::PathState));
+  }
+
+  // --reorder: the order the bounce's trace reads its rays in (after the copies), or nullptr
+  // when there is none: no sorter, camera rays, or HRPP's predicted trace (its stage keeps
+  // queue order).
+  const TexelView* record_order(VkCommandBuffer cmd, RayClass c, std::uint32_t n) {
+    if (!sorter || c != RayClass::kBounce || tracer.probing(c) == Probe::kAll) return nullptr;
+    sorter->record(cmd, n, &timer);
+    return &sorter->order_view();
   }
 
   void upload_params(const Camera& cam) {
@@ -355,6 +355,7 @@ struct WavefrontRenderer::State {
       const RayClass closest = depth == 0 ? RayClass::kCamera : RayClass::kBounce;
       tracer.begin(closest);
       tracer.begin(RayClass::kShadow);
+      const TexelView* order = nullptr;
       const gpu::RenderQueues q = submit(
           [&](VkCommandBuffer cmd) {
             record_update(cmd, queues, 0, sizeof kRenderQueuesStart, &kRenderQueuesStart);
@@ -364,14 +365,15 @@ struct WavefrontRenderer::State {
               const gpu::RenderPushConstants pc{first, n, sample, 0};
               record_dispatch(cmd, generate, &pc, groups(n), &timer);
             }
-            tracer.record(cmd, closest, n, &timer);
+            order = record_order(cmd, closest, n);
+            tracer.record(cmd, closest, n, &timer, order);
             const gpu::RenderPushConstants pc{0, n, 0, depth};
             record_dispatch(cmd, shade, &pc, groups(n), &timer);
             if (indirect) record_shadows(cmd, nullptr, depth);
           },
           "render bounce", stats);
       if (depth == 0) check_done("render_generate", q.done[HRPP_RENDER_DONE_GENERATE], n);
-      if (depth > 0 && sorter) sorter->finish(n);
+      if (order) sorter->finish(n);
       check_done("render_shade", q.done[HRPP_RENDER_DONE_SHADE], n);
       if (q.next_rays > n || q.shadow_rays > n)
         throw Error("render_shade: queue overflow (" + std::to_string(q.next_rays) + ", " +

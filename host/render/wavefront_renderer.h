@@ -50,9 +50,10 @@ struct RenderConfig {
   // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe facts"). The image and
   // the counters leave it out.
   bool warm_up = true;
-  // The continuation rays' order before each bounce's trace (--reorder): kMorton sorts them
-  // with their path states on the GPU (host/gpu/ray_sorter.h); the image is the same bit for
-  // bit, only the trace's coherence changes.
+  // The order in which each bounce's trace takes its rays (--reorder): kMorton sorts the
+  // continuation rays on the GPU (host/gpu/ray_sorter.h) and the trace reads them through the
+  // sort's order (no ray, hit or path state moves); the image is the same bit for bit, only the
+  // trace's coherence changes. Not applied to a bounce that HRPP predicts.
   RayOrder reorder = RayOrder::kOff;
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled

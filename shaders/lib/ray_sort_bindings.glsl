@@ -1,6 +1,6 @@
 // Buffers and push constants of the ray reordering kernels (shaders/shared/ray_sort_interface.h),
-// and the completion count each scatter and the gather report. Rays and payloads are read as
-// 16-byte texels and written with imageStore (docs/ARCHITECTURE.md, "Texel buffers").
+// and the completion count each scatter and the gather report. Rays are read as 16-byte texels
+// and the gather writes them with imageStore (docs/ARCHITECTURE.md, "Texel buffers").
 #ifndef HRPP_RAY_SORT_BINDINGS_GLSL
 #define HRPP_RAY_SORT_BINDINGS_GLSL
 
@@ -14,14 +14,17 @@ layout(std430, set = 0, binding = HRPP_SORT_BINDING_COUNTS) restrict buffer Coun
   uint done[HRPP_SORT_PASSES + 1];  // items placed by each scatter pass and by the gather
   uint counts[];                    // [digit * blocks + block]
 };
-layout(set = 0, binding = HRPP_SORT_BINDING_PAYLOAD) uniform usamplerBuffer payload_texels;
+layout(std430, set = 0, binding = HRPP_SORT_BINDING_ORDER) restrict buffer OrderBuffer {
+  uint order[];  // order[j]: the queue index of the ray at sorted position j
+};
 layout(set = 0, binding = HRPP_SORT_BINDING_SORTED_RAYS, rgba32ui) uniform writeonly restrict
     uimageBuffer sorted_rays;
-layout(set = 0, binding = HRPP_SORT_BINDING_SORTED_PAYLOAD, rgba32ui) uniform writeonly restrict
-    uimageBuffer sorted_payload;
 layout(push_constant) uniform PushConstants { RaySortPushConstants pc; };
 
 uint sort_digit(uint key) { return (key >> pc.shift) & uint(HRPP_SORT_BINS - 1); }
+
+// The last radix pass (the most significant digit) writes the order instead of items.
+bool last_pass() { return pc.shift == uint((HRPP_SORT_PASSES - 1) * HRPP_SORT_DIGIT_BITS); }
 
 // Adds this subgroup's placed items to done[slot], one atomicAdd per subgroup (straight-line
 // code: nothing the loop limiter could cut short).

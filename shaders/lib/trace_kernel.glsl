@@ -10,10 +10,19 @@
 // the sentinel and a canary loop with a bound unknown to the compiler (pc.canary_iterations)
 // must still run in full. Rays that pass count in HRPP_COUNTER_RAYS; the others in
 // counters.aborted; the host compares.
+//
+// HRPP_TRACE_INDEXED 1 (trace_*_indexed.comp): position j of the dispatch traces the ray whose
+// index is entry j of a ray index list (HRPP_TRACE_BINDING_RAY_INDICES) and writes its hit at
+// that index, so a reordering (host/gpu/ray_sorter.h) moves no ray and no hit. Without it
+// (0, the default) position j is ray j.
 #ifndef HRPP_TRACE_KERNEL_GLSL
 #define HRPP_TRACE_KERNEL_GLSL
 
 #include "trace_interface.h"
+
+#ifndef HRPP_TRACE_INDEXED
+#define HRPP_TRACE_INDEXED 0
+#endif
 
 layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -27,6 +36,14 @@ layout(std430, set = 0, binding = HRPP_TRACE_BINDING_COUNTERS) restrict buffer C
 layout(push_constant) uniform PushConstants { TracePushConstants pc; };
 
 #include "traversal.glsl"
+
+#if HRPP_TRACE_INDEXED
+layout(set = 0, binding = HRPP_TRACE_BINDING_RAY_INDICES) uniform usamplerBuffer ray_index_texels;
+// The ray traced at position `slot`: entry `slot` of the list, 4 entries per texel.
+uint ray_at(uint slot) { return texelFetch(ray_index_texels, int(slot >> 2u))[slot & 3u]; }
+#else
+uint ray_at(uint slot) { return slot; }
+#endif
 
 void add_wide(uint counter, uint value) {
   if (value == 0u) return;
@@ -44,9 +61,10 @@ void main() {
     if (subgroupElect()) base = atomicAdd(counters.next_ray, subgroupBallotBitCount(lanes));
     base = subgroupBroadcastFirst(base);
     if (base >= counters.ray_count) break;  // uniform across the subgroup
-    const uint index = base + subgroupBallotExclusiveBitCount(lanes);
-    if (index >= counters.ray_count) continue;
+    const uint slot = base + subgroupBallotExclusiveBitCount(lanes);
+    if (slot >= counters.ray_count) continue;
 
+    const uint index = ray_at(slot);
     const RaySetup r = setup_ray(load_ray(index));
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
     const bool finished = traverse_from(r, 0, best);

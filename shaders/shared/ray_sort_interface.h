@@ -1,8 +1,9 @@
 // Interface of the ray reordering kernels (shaders/ray_sort_*.comp): a stable LSD radix sort of
 // the rays by a key that puts similar rays next to each other (direction octant and the Morton
-// code of the origin's cell in the scene bounds), then a gather that moves every ray and its
-// payload (the path state in the renderer) to its sorted place. Host side: host/gpu/ray_sorter.h;
-// CPU ground truth: host/trace/ray_order.h. One definition; the host static_asserts the sizes.
+// code of the origin's cell in the scene bounds). Its result is the order, a ray index list that
+// the indexed trace kernels read (shaders/lib/trace_kernel.glsl); a gather that copies the rays
+// to their sorted places is optional. Host side: host/gpu/ray_sorter.h; CPU ground truth:
+// host/trace/ray_order.h. One definition; the host static_asserts the sizes.
 #ifndef HRPP_RAY_SORT_INTERFACE_H
 #define HRPP_RAY_SORT_INTERFACE_H
 
@@ -29,13 +30,12 @@ namespace hrpp::gpu {
 #define HRPP_SORT_MIN_BLOCK_ITEMS 64
 
 // Bindings shared by every sort kernel (each uses what it needs).
-#define HRPP_SORT_BINDING_RAYS 0          // uniform texel buffer: the rays in queue order
-#define HRPP_SORT_BINDING_ITEMS 1         // uvec2 (key, source index), two halves (ping-pong)
-#define HRPP_SORT_BINDING_COUNTS 2        // per (digit, block) counts, then their prefix sums
-#define HRPP_SORT_BINDING_PAYLOAD 3       // uniform texel buffer: 2 texels per ray (path state)
-#define HRPP_SORT_BINDING_SORTED_RAYS 4   // storage texel buffer: the rays in sorted order
-#define HRPP_SORT_BINDING_SORTED_PAYLOAD 5  // storage texel buffer: the payloads, sorted
-#define HRPP_SORT_BINDING_COUNT 6
+#define HRPP_SORT_BINDING_RAYS 0         // uniform texel buffer: the rays in queue order
+#define HRPP_SORT_BINDING_ITEMS 1        // uvec2 (key, source index), two halves (ping-pong)
+#define HRPP_SORT_BINDING_COUNTS 2       // per (digit, block) counts, then their prefix sums
+#define HRPP_SORT_BINDING_ORDER 3        // uint per sorted position: the queue index of its ray
+#define HRPP_SORT_BINDING_SORTED_RAYS 4  // storage texel buffer: the gather's sorted rays
+#define HRPP_SORT_BINDING_COUNT 5
 
 struct RaySortPushConstants {
   vec4 lo;       // xyz: the scene bounds' low corner
@@ -45,9 +45,9 @@ struct RaySortPushConstants {
   uint blocks;   // blocks of this sort
   uint shift;    // the pass's digit: (key >> shift) & (HRPP_SORT_BINS - 1)
   uint src;      // first item of the pass's input half of ITEMS
-  uint dst;      // first item of its output half
-  uint payload;  // 1: gather the payload too
-  uint pad;
+  uint dst;      // first item of its output half (the last pass writes ORDER instead)
+  uint pad1;
+  uint pad2;
 };
 
 #ifdef __cplusplus

@@ -28,6 +28,13 @@ namespace hrpp::gpu {
 #define HRPP_TRACE_BINDING_HITS 4
 #define HRPP_TRACE_BINDING_COUNTERS 5
 #define HRPP_TRACE_BINDING_COUNT 6
+// The indexed kernels (trace_closest_indexed, trace_any_indexed: HRPP_TRACE_INDEXED 1) also read
+// a ray index list: position j of the dispatch traces ray list[j] and writes its hit at that
+// ray's index, so the rays are traced in the list's order while rays and hits stay where they
+// are. The list is a uniform texel buffer of uint, 4 per texel (R32G32B32A32_UINT); the plain
+// kernels have no such binding.
+#define HRPP_TRACE_BINDING_RAY_INDICES 6
+#define HRPP_TRACE_INDEXED_BINDING_COUNT 7
 
 // Float bits of the slab test's far-distance scale 1 + 2γ(3) (host/trace/slab_test.h); GLSL has
 // no hex floats, the host static_asserts that the bits match kSlabFarScale.
