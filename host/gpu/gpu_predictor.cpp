@@ -42,6 +42,19 @@ std::size_t texel_bytes(std::size_t bytes) {
   return (bytes + TexelView::kTexelBytes - 1) / TexelView::kTexelBytes * TexelView::kTexelBytes;
 }
 
+// A class's table buffers (each its own storage buffer, held to the limits on its own): the
+// tags, the use stamps and the node slots.
+enum TableBuffer { kTags, kStamps, kSlots };
+std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uint64_t ways,
+                                        std::uint64_t nodes) {
+  const std::string cls = ray_class_name(c);
+  return {BufferNeed{cls + " predictor tags (--table-sets × --table-ways)",
+                     texel_bytes(sets * ways * sizeof(std::uint64_t))},
+          BufferNeed{cls + " predictor stamps", sets * ways * sizeof(std::uint32_t)},
+          BufferNeed{cls + " predictor node slots (sets × ways × --table-nodes)",
+                     texel_bytes(sets * ways * nodes * sizeof(std::uint32_t))}};
+}
+
 // A pass over a fraction of a trace's rays (the pilots, the sample) takes at most this many rays
 // per invocation, so that its few rays spread over enough workgroups to keep every thread busy
 // (a lavapipe thread runs a workgroup at a time: a sample of 1,400 bounce rays was 1.4
@@ -68,14 +81,15 @@ struct Table {
   ComputePipeline resolve, insert;
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c)
+      : Table(ctx, p, c, table_buffers(c, p.sets, p.ways, p.nodes)) {}
+
+  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c,
+        const std::array<BufferNeed, 3>& b)
       : params(p),
         param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters")),
-        tags(ctx, texel_bytes(std::size_t{p.sets} * p.ways * sizeof(std::uint64_t)),
-             name(c, "predictor tags (--table-sets × --table-ways)")),
-        stamps(ctx, std::size_t{p.sets} * p.ways * sizeof(std::uint32_t),
-               name(c, "predictor stamps")),
-        slots(ctx, texel_bytes(std::size_t{p.sets} * p.ways * p.nodes * sizeof(std::uint32_t)),
-              name(c, "predictor node slots (sets × ways × --table-nodes)")),
+        tags(ctx, b[kTags]),
+        stamps(ctx, b[kStamps]),
+        slots(ctx, b[kSlots]),
         requests(ctx, sizeof(gpu::InsertRequest), "insert requests"),
         counters(ctx, sizeof(gpu::PredictorCounters), name(c, "predictor counters")),
         tag_view(ctx, tags),
@@ -267,7 +281,8 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   std::uint64_t request_bytes = 0;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
-    needs.push_back({std::string(ray_class_name(c)) + " predictor table", config.table.bytes()});
+    for (const BufferNeed& b : table_buffers(c, config.table.sets, config.table.ways, config.table.nodes))
+      needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
   const std::uint64_t queue = capacity * (sizeof(gpu::Ray) + sizeof(gpu::QueueEntry) + sizeof(gpu::Hit));
