@@ -201,7 +201,8 @@ struct GpuPredictor::State {
     const bool fraction = pilot_pass == HRPP_PASS_PILOTS || pilot_pass == HRPP_PASS_SAMPLE;
     gpu::TracePushConstants trace_pc = whole_pc;
     if (fraction)
-      trace_pc.rays_per_invocation = std::min(trace_pc.rays_per_invocation, kFractionRaysPerInvocation);
+      trace_pc.rays_per_invocation =
+          std::min(trace_pc.rays_per_invocation, kFractionRaysPerInvocation);
     const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass, stride);
     const std::string label = prefix + "hrpp_predict:" + ray_class_name(c);
     if (count.host) {
@@ -281,8 +282,8 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   std::uint64_t request_bytes = 0;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
-    for (const BufferNeed& b : table_buffers(c, config.table.sets, config.table.ways, config.table.nodes))
-      needs.push_back(b);
+    const TableConfig& t = config.table;
+    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes)) needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
   const std::uint64_t queue = capacity * (sizeof(gpu::Ray) + sizeof(gpu::QueueEntry) + sizeof(gpu::Hit));
