@@ -55,13 +55,6 @@ std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uin
                      texel_bytes(sets * ways * nodes * sizeof(std::uint32_t))}};
 }
 
-// A pass over a fraction of a trace's rays (the pilots, the sample) takes at most this many rays
-// per invocation, so that its few rays spread over enough workgroups to keep every thread busy
-// (a lavapipe thread runs a workgroup at a time: a sample of 1,400 bounce rays was 1.4
-// workgroups of 1,024). Its workgroups are sized for it (hrpp_pass_args.comp, or the host's
-// count), not by the trace's indirect arguments.
-constexpr std::uint32_t kFractionRaysPerInvocation = 4;
-
 // One ray class's table and its kernels (bound to the table and to the class's query arrays).
 // hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
 // counting traversal only in the variant that counts.
@@ -196,13 +189,12 @@ struct GpuPredictor::State {
   // (HRPP_PASS_*: shaders/shared/hrpp_passes.h), timed under labels
   // "<prefix><kernel>:<class>".
   void record_pass(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                   const gpu::TracePushConstants& whole_pc, std::uint32_t pilot_pass,
+                   const gpu::TracePushConstants& trace_pc, std::uint32_t pilot_pass,
                    KernelTimer* timer, std::uint32_t stride = 0, const std::string& prefix = "") {
+    // A pass over a fraction of the rays launches only the workgroups that have some: the
+    // host's count sizes it, or hrpp_pass_args.comp on the device (not the trace's indirect
+    // arguments, a workgroup per trace_group_rays of every ray).
     const bool fraction = pilot_pass == HRPP_PASS_PILOTS || pilot_pass == HRPP_PASS_SAMPLE;
-    gpu::TracePushConstants trace_pc = whole_pc;
-    if (fraction)
-      trace_pc.rays_per_invocation =
-          std::min(trace_pc.rays_per_invocation, kFractionRaysPerInvocation);
     const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass, stride);
     const std::string label = prefix + "hrpp_predict:" + ray_class_name(c);
     if (count.host) {
