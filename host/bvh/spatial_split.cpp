@@ -1,0 +1,167 @@
+#include "bvh/spatial_split.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "bvh/triangle_clip.h"
+
+namespace hrpp::bvh_build {
+namespace {
+
+Aabb intersection(const Aabb& a, const Aabb& b) {
+  Aabb c;
+  c.lo = glm::max(a.lo, b.lo);
+  c.hi = glm::min(a.hi, b.hi);
+  return c;
+}
+
+Aabb united(Aabb a, const Aabb& b) {
+  a.grow(b);
+  return a;
+}
+
+// A reference with this box (+0.0f turns -0 into +0, as for the first references).
+PrimRef make_ref(const Aabb& b, std::uint32_t id) {
+  PrimRef r;
+  const simd::Float4 zero = simd::splat3(0.0f);
+  r.set(simd::set3(b.lo.x, b.lo.y, b.lo.z) + zero, simd::set3(b.hi.x, b.hi.y, b.hi.z) + zero, id);
+  return r;
+}
+
+}  // namespace
+
+Aabb ref_box(const PrimRef& ref) {
+  Aabb b;
+  b.lo = {ref.lo[0], ref.lo[1], ref.lo[2]};
+  b.hi = {ref.hi[0], ref.hi[1], ref.hi[2]};
+  return b;
+}
+
+bool clip_reference(const PrimRef& ref, const Triangle& tri, int axis, float lo, float hi,
+                    Aabb& part) {
+  part = intersection(clipped_box(tri, axis, lo, hi), ref_box(ref));
+  return !part.empty();
+}
+
+// Planes lo = p_0 < p_1 < ... < p_bins = hi, evenly spread (in double, then rounded); false
+// when floats cannot hold them distinct.
+bool SpatialBins::set_planes(int axis, float lo, float hi) {
+  float* p = plane_[axis];
+  const double l = lo, extent = static_cast<double>(hi) - l;
+  p[0] = lo;
+  p[bins_] = hi;
+  for (int k = 1; k < bins_; ++k) p[k] = static_cast<float>(l + extent * k / bins_);
+  for (int k = 1; k <= bins_; ++k)
+    if (!(p[k - 1] < p[k])) return false;
+  return true;
+}
+
+// Into bins [first, last]: first is the number of inner planes at or before the box's start
+// (it lies right of them), last the number strictly before its end, at least first.
+void SpatialBins::bin(const PrimRef& ref, const Triangle& tri, int axis) {
+  const float* inner = plane_[axis] + 1;
+  const float* end = plane_[axis] + bins_;
+  const auto first = static_cast<int>(std::upper_bound(inner, end, ref.lo[axis]) - inner);
+  const auto last =
+      std::max(first, static_cast<int>(std::lower_bound(inner, end, ref.hi[axis]) - inner));
+  ++enter_[axis][first];
+  ++exit_[axis][last];
+  if (first == last) {
+    box_[axis][first].grow(ref_box(ref));
+    return;
+  }
+  for (int k = first; k <= last; ++k) {
+    Aabb part;
+    if (clip_reference(ref, tri, axis, plane_[axis][k], plane_[axis][k + 1], part))
+      box_[axis][k].grow(part);
+  }
+}
+
+// For each inner plane k (bins [0, k) left): A_l N_l + A_r N_r, N_l counting the references
+// entering left of it and N_r those leaving right of it.
+void SpatialBins::sweep(int axis, float parent_area, const BvhConfig& config,
+                        SpatialSplit& best) const {
+  Aabb right_box[kMaxBins];
+  std::uint32_t right_count[kMaxBins];
+  Aabb acc;
+  std::uint32_t count = 0;
+  for (int k = bins_ - 1; k > 0; --k) {
+    acc.grow(box_[axis][k]);
+    count += exit_[axis][k];
+    right_box[k] = acc;
+    right_count[k] = count;
+  }
+  acc = Aabb{};
+  count = 0;
+  const float inv_area = parent_area > 0.0f ? 1.0f / parent_area : 0.0f;
+  for (int k = 1; k < bins_; ++k) {
+    acc.grow(box_[axis][k - 1]);
+    count += enter_[axis][k - 1];
+    if (count == 0 || right_count[k] == 0) continue;
+    const float sum = acc.area() * static_cast<float>(count) +
+                      right_box[k].area() * static_cast<float>(right_count[k]);
+    const float cost = config.traversal_cost + config.intersection_cost * sum * inv_area;
+    if (best.axis >= 0 && !(cost < best.cost)) continue;
+    best = {axis, plane_[axis][k], cost, acc, right_box[k], count, right_count[k]};
+  }
+}
+
+SpatialSplit SpatialBins::best_split(std::span<const PrimRef> refs,
+                                     const std::vector<Triangle>& tris, const Box4& bounds,
+                                     int bins, const BvhConfig& config) {
+  bins_ = bins;
+  const Aabb box = bounds.aabb();
+  SpatialSplit best;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!set_planes(axis, box.lo[axis], box.hi[axis])) continue;
+    for (int k = 0; k < bins_; ++k) {
+      box_[axis][k] = Aabb{};
+      enter_[axis][k] = exit_[axis][k] = 0;
+    }
+    for (const PrimRef& r : refs) bin(r, tris[r.id()], axis);
+    sweep(axis, box.area(), config, best);
+  }
+  return best;
+}
+
+void split_references(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
+                      const SpatialSplit& split, bool unsplit, std::vector<PrimRef>& left,
+                      std::vector<PrimRef>& right) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const int a = split.axis;
+  const float p = split.position;
+  const float area_l = split.left.area(), area_r = split.right.area();
+  const auto n_l = static_cast<float>(split.left_count), n_r = static_cast<float>(split.right_count);
+  for (const PrimRef& r : refs) {
+    if (r.lo[a] >= p) {
+      right.push_back(r);
+      continue;
+    }
+    if (r.hi[a] <= p) {
+      left.push_back(r);
+      continue;
+    }
+    const Triangle& tri = tris[r.id()];
+    Aabb l, rr;
+    const bool has_l = clip_reference(r, tri, a, -kInf, p, l);
+    const bool has_r = clip_reference(r, tri, a, p, kInf, rr);
+    if (has_l && has_r && unsplit) {  // Stich et al. 2009, section 4.4
+      const Aabb whole = ref_box(r);
+      const float cost_split = area_l * n_l + area_r * n_r;
+      const float cost_left = united(split.left, whole).area() * n_l + area_r * (n_r - 1.0f);
+      const float cost_right = area_l * (n_l - 1.0f) + united(split.right, whole).area() * n_r;
+      if (cost_left < cost_split && cost_left <= cost_right) {
+        left.push_back(r);
+        continue;
+      }
+      if (cost_right < cost_split) {
+        right.push_back(r);
+        continue;
+      }
+    }
+    if (has_l) left.push_back(make_ref(l, r.id()));
+    if (has_r) right.push_back(make_ref(rr, r.id()));
+  }
+}
+
+}  // namespace hrpp::bvh_build
