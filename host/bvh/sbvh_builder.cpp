@@ -89,7 +89,7 @@ class SbvhBuilder {
   Bvh run(Task root);
 
  private:
-  bool split(Task& t, Task& left, Task& right, Scratch& s) const;
+  bool split(Task& t, Task& left, Task& right, Scratch& s, bool parallel = false) const;
   bool split_spatially(Task& t, const bvh_build::SpatialSplit& sp, Task& left, Task& right) const;
   void split_by_objects(Task& t, std::uint32_t mid, Task& left, Task& right) const;
   void build(Task t, std::uint32_t index, Part& out, Scratch& s) const;
@@ -122,20 +122,21 @@ void SbvhBuilder::split_by_objects(Task& t, std::uint32_t mid, Task& left, Task&
   finish(t, 0, left, right);
 }
 
-// False (and nothing changed) when a side would be empty.
+// At most t.budget duplicates (split_references). False when a side would be empty.
 bool SbvhBuilder::split_spatially(Task& t, const bvh_build::SpatialSplit& sp, Task& left,
                                   Task& right) const {
   left.refs.clear();
   right.refs.clear();
-  bvh_build::split_references(t.refs, tris_, sp, config_.unsplit, left.refs, right.refs);
+  const std::uint64_t duplicates = bvh_build::split_references(
+      t.refs, tris_, sp, config_.unsplit, t.budget, left.refs, right.refs);
   if (left.refs.empty() || right.refs.empty()) return false;
-  const std::size_t n = left.refs.size() + right.refs.size();
-  finish(t, n > t.refs.size() ? n - t.refs.size() : 0, left, right);
+  finish(t, duplicates, left, right);
   return true;
 }
 
-// Splits t into two children, or returns false when t is a leaf.
-bool SbvhBuilder::split(Task& t, Task& left, Task& right, Scratch& s) const {
+// Splits t into two children, or returns false when t is a leaf. With `parallel`, the spatial
+// bins' axes are binned on the pool.
+bool SbvhBuilder::split(Task& t, Task& left, Task& right, Scratch& s, bool parallel) const {
   const auto count = static_cast<std::uint32_t>(t.refs.size());
   if (count <= 1) return false;
   const bool may_be_leaf =
@@ -154,10 +155,9 @@ bool SbvhBuilder::split(Task& t, Task& left, Task& right, Scratch& s) const {
   if (config_.splits == BvhSplits::kSpatial && t.budget > 0 &&
       t.depth < bvh_build::kMedianSplitDepth &&
       (object.axis < 0 || overlap_area(object.left, object.right) > alpha_area_)) {
-    spatial = s.spatial.best_split(t.refs, tris_, t.bounds, bins, config_);
-    const std::uint64_t made = spatial.left_count + spatial.right_count - std::uint64_t{count};
-    if (spatial.axis >= 0 && (made > t.budget || (object.axis >= 0 && !(spatial.cost < object.cost))))
-      spatial.axis = -1;
+    spatial = s.spatial.best_split(t.refs, tris_, t.bounds, bins, config_,
+                                   parallel ? &pool_ : nullptr);
+    if (object.axis >= 0 && !(spatial.cost < object.cost)) spatial.axis = -1;
   }
   const float best = spatial.axis >= 0 ? spatial.cost : object.cost;
   if (may_be_leaf && ((object.axis < 0 && spatial.axis < 0) ||
@@ -212,7 +212,7 @@ Bvh SbvhBuilder::run(Task root) {
     }
     top.nodes[index].bounds = t.bounds.aabb();
     Task l, r;
-    if (!split(t, l, r, scratch_[0])) {
+    if (!split(t, l, r, scratch_[0], true)) {
       top.nodes[index].first = static_cast<std::uint32_t>(top.ids.size());
       top.nodes[index].count = static_cast<std::uint32_t>(t.refs.size());
       for (const PrimRef& ref : t.refs) top.ids.push_back(ref.id());

@@ -37,10 +37,12 @@ Aabb ref_box(const PrimRef& ref) {
   return b;
 }
 
-bool clip_reference(const PrimRef& ref, const Triangle& tri, int axis, float lo, float hi,
-                    Aabb& part) {
-  part = intersection(clipped_box(tri, axis, lo, hi), ref_box(ref));
-  return !part.empty();
+ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, float plane) {
+  const Aabb box = ref_box(ref);
+  ChoppedBoxes c = chop_triangle(tri, axis, plane);
+  c.below = intersection(c.below, box);
+  c.above = intersection(c.above, box);
+  return c;
 }
 
 // Planes lo = p_0 < p_1 < ... < p_bins = hi, evenly spread (in double, then rounded); false
@@ -70,11 +72,14 @@ void SpatialBins::bin(const PrimRef& ref, const Triangle& tri, int axis) {
     box_[axis][first].grow(ref_box(ref));
     return;
   }
-  for (int k = first; k <= last; ++k) {
-    Aabb part;
-    if (clip_reference(ref, tri, axis, plane_[axis][k], plane_[axis][k + 1], part))
-      box_[axis][k].grow(part);
+  PrimRef rest = ref;  // the part right of the planes chopped so far
+  for (int k = first; k < last; ++k) {
+    const ChoppedBoxes c = chop_reference(rest, tri, axis, plane_[axis][k + 1]);
+    if (!c.below.empty()) box_[axis][k].grow(c.below);
+    if (c.above.empty()) return;
+    rest = make_ref(c.above, ref.id());
   }
+  box_[axis][last].grow(ref_box(rest));
 }
 
 // For each inner plane k (bins [0, k) left): A_l N_l + A_r N_r, N_l counting the references
@@ -108,30 +113,39 @@ void SpatialBins::sweep(int axis, float parent_area, const BvhConfig& config,
 
 SpatialSplit SpatialBins::best_split(std::span<const PrimRef> refs,
                                      const std::vector<Triangle>& tris, const Box4& bounds,
-                                     int bins, const BvhConfig& config) {
+                                     int bins, const BvhConfig& config, TaskPool* pool) {
   bins_ = bins;
   const Aabb box = bounds.aabb();
-  SpatialSplit best;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!set_planes(axis, box.lo[axis], box.hi[axis])) continue;
+  bool valid[3];
+  auto bin_axis = [&](std::size_t a, int) {
+    const int axis = static_cast<int>(a);
+    valid[axis] = set_planes(axis, box.lo[axis], box.hi[axis]);
+    if (!valid[axis]) return;
     for (int k = 0; k < bins_; ++k) {
       box_[axis][k] = Aabb{};
       enter_[axis][k] = exit_[axis][k] = 0;
     }
     for (const PrimRef& r : refs) bin(r, tris[r.id()], axis);
-    sweep(axis, box.area(), config, best);
-  }
+  };
+  if (pool)
+    pool->parallel_for(3, bin_axis);
+  else
+    for (int axis = 0; axis < 3; ++axis) bin_axis(static_cast<std::size_t>(axis), 0);
+  SpatialSplit best;
+  for (int axis = 0; axis < 3; ++axis)
+    if (valid[axis]) sweep(axis, box.area(), config, best);
   return best;
 }
 
-void split_references(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
-                      const SpatialSplit& split, bool unsplit, std::vector<PrimRef>& left,
-                      std::vector<PrimRef>& right) {
-  constexpr float kInf = std::numeric_limits<float>::infinity();
+std::uint64_t split_references(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
+                               const SpatialSplit& split, bool unsplit,
+                               std::uint64_t max_duplicates, std::vector<PrimRef>& left,
+                               std::vector<PrimRef>& right) {
   const int a = split.axis;
   const float p = split.position;
   const float area_l = split.left.area(), area_r = split.right.area();
   const auto n_l = static_cast<float>(split.left_count), n_r = static_cast<float>(split.right_count);
+  std::uint64_t duplicates = 0;
   for (const PrimRef& r : refs) {
     if (r.lo[a] >= p) {
       right.push_back(r);
@@ -141,27 +155,24 @@ void split_references(std::span<const PrimRef> refs, const std::vector<Triangle>
       left.push_back(r);
       continue;
     }
-    const Triangle& tri = tris[r.id()];
-    Aabb l, rr;
-    const bool has_l = clip_reference(r, tri, a, -kInf, p, l);
-    const bool has_r = clip_reference(r, tri, a, p, kInf, rr);
-    if (has_l && has_r && unsplit) {  // Stich et al. 2009, section 4.4
+    const ChoppedBoxes c = chop_reference(r, tris[r.id()], a, p);
+    const bool has_l = !c.below.empty(), has_r = !c.above.empty();
+    if (has_l && has_r) {  // unsplitting: Stich et al. 2009, section 4.4
       const Aabb whole = ref_box(r);
       const float cost_split = area_l * n_l + area_r * n_r;
       const float cost_left = united(split.left, whole).area() * n_l + area_r * (n_r - 1.0f);
       const float cost_right = area_l * (n_l - 1.0f) + united(split.right, whole).area() * n_r;
-      if (cost_left < cost_split && cost_left <= cost_right) {
-        left.push_back(r);
+      const bool whole_only = duplicates >= max_duplicates;
+      if (whole_only || (unsplit && std::min(cost_left, cost_right) < cost_split)) {
+        (cost_left <= cost_right ? left : right).push_back(r);
         continue;
       }
-      if (cost_right < cost_split) {
-        right.push_back(r);
-        continue;
-      }
+      ++duplicates;
     }
-    if (has_l) left.push_back(make_ref(l, r.id()));
-    if (has_r) right.push_back(make_ref(rr, r.id()));
+    if (has_l) left.push_back(make_ref(c.below, r.id()));
+    if (has_r) right.push_back(make_ref(c.above, r.id()));
   }
+  return duplicates;
 }
 
 }  // namespace hrpp::bvh_build

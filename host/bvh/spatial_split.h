@@ -3,7 +3,9 @@
 // into a part on each side (bvh/triangle_clip.h), so the children's boxes need not overlap at
 // the price of duplicated references. The planes are bin boundaries spread evenly over the
 // node's box; a reference is binned into every bin its box crosses, with the box of its
-// triangle's part in that bin, counted as entering its first bin and leaving its last.
+// triangle's part in that bin (chopped at each plane in turn, as Stich et al. and Embree do:
+// each part's box is the box of the triangle's side of the plane within the rest of the
+// reference's box), counted as entering its first bin and leaving its last.
 //
 // A reference goes right of plane P when its box starts at or after P, left when it ends at or
 // before P, and is cut otherwise; binning and splitting both follow that rule.
@@ -16,6 +18,8 @@
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
 #include "bvh/sah_bins.h"
+#include "bvh/task_pool.h"
+#include "bvh/triangle_clip.h"
 #include "scene/scene.h"
 
 namespace hrpp::bvh_build {
@@ -32,9 +36,11 @@ class SpatialBins {
  public:
   // The cheapest plane by the SAH over `bins` bins per axis of `bounds` (which hold every
   // reference's box); the first axis (x, y, z) and plane of equal costs. Axes too thin for
-  // distinct planes in floats are skipped. Both sides must hold a reference.
+  // distinct planes in floats are skipped. Both sides must hold a reference. With a pool, the
+  // three axes are binned on its threads (the same bins).
   SpatialSplit best_split(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
-                          const Box4& bounds, int bins, const BvhConfig& config);
+                          const Box4& bounds, int bins, const BvhConfig& config,
+                          TaskPool* pool = nullptr);
 
  private:
   bool set_planes(int axis, float lo, float hi);
@@ -50,17 +56,19 @@ class SpatialBins {
 // The box of a reference.
 Aabb ref_box(const PrimRef& ref);
 
-// The part of a reference's triangle between lo and hi on `axis`, within the reference's box:
-// false when it is empty.
-bool clip_reference(const PrimRef& ref, const Triangle& tri, int axis, float lo, float hi,
-                    Aabb& part);
+// The parts of a reference's triangle on either side of the plane p[axis] = plane, within the
+// reference's box (chop_triangle, bvh/triangle_clip.h): empty boxes for sides with no point.
+ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, float plane);
 
 // Splits refs by the plane into `left` and `right` (appended, each in input order). A cut
 // reference goes whole to one side instead when Stich's reference unsplitting says so (with
-// `unsplit`) or when its triangle has no point on the other side within its box; a reference
-// with no point on either side is dropped.
-void split_references(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
-                      const SpatialSplit& split, bool unsplit, std::vector<PrimRef>& left,
-                      std::vector<PrimRef>& right);
+// `unsplit`), when cutting it would make more than `max_duplicates` duplicates in all (then to
+// the side where unsplitting costs less), or when its triangle has no point on the other side
+// within its box; a reference with no point on either side is dropped. Returns the duplicates
+// made.
+std::uint64_t split_references(std::span<const PrimRef> refs, const std::vector<Triangle>& tris,
+                               const SpatialSplit& split, bool unsplit,
+                               std::uint64_t max_duplicates, std::vector<PrimRef>& left,
+                               std::vector<PrimRef>& right);
 
 }  // namespace hrpp::bvh_build

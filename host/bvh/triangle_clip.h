@@ -1,5 +1,5 @@
-// The part of a triangle between two planes perpendicular to an axis, as a box: what spatial
-// splits (bvh/spatial_split.h) give each side of a triangle they cut.
+// A triangle chopped at a plane perpendicular to an axis, as the boxes of its two sides: what
+// spatial splits (bvh/spatial_split.h) give each side of a triangle they cut.
 #pragma once
 
 #include "bvh/aabb.h"
@@ -7,12 +7,16 @@
 
 namespace hrpp {
 
-// The box of the points p of triangle t with lo <= p[axis] <= hi: the triangle's polygon
-// chopped at both planes (Sutherland-Hodgman) in double precision, each new vertex widened by a
-// bound on its rounding error and kept within its edge's box, rounded outward to floats. So the
-// box contains every such point, lies inside the triangle's own box and within [lo, hi] on
-// `axis`. Empty (Aabb{}) when no point of the triangle lies between the planes. Needs finite
-// vertices; lo and hi may be infinite.
-Aabb clipped_box(const Triangle& t, int axis, float lo, float hi);
+struct ChoppedBoxes {
+  Aabb below, above;  // empty (Aabb{}) when the triangle has no point on that side
+};
+
+// The boxes of the points p of triangle t with p[axis] <= plane and with p[axis] >= plane: the
+// vertices on each side and the points where the edges cross the plane. Those are computed in
+// double precision, widened by a bound on their rounding error, kept within their edge's box,
+// put exactly on the plane on `axis` and rounded outward to floats. So each box contains every
+// point of its side, lies inside the triangle's own box and on its side of the plane. Needs
+// finite vertices.
+ChoppedBoxes chop_triangle(const Triangle& t, int axis, float plane);
 
 }  // namespace hrpp
