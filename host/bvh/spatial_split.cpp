@@ -1,6 +1,7 @@
 #include "bvh/spatial_split.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "bvh/triangle_clip.h"
@@ -50,6 +51,7 @@ ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, f
 bool SpatialBins::set_planes(int axis, float lo, float hi) {
   float* p = plane_[axis];
   const double l = lo, extent = static_cast<double>(hi) - l;
+  bins_per_unit_[axis] = extent > 0.0 ? bins_ / extent : 0.0;
   p[0] = lo;
   p[bins_] = hi;
   for (int k = 1; k < bins_; ++k) p[k] = static_cast<float>(l + extent * k / bins_);
@@ -58,28 +60,61 @@ bool SpatialBins::set_planes(int axis, float lo, float hi) {
   return true;
 }
 
-// Into bins [first, last]: first is the number of inner planes at or before the box's start
-// (it lies right of them), last the number strictly before its end, at least first.
+// The bin of coordinate x on `axis`: the number of inner planes at or before it (from the
+// even spacing, then corrected against the rounded planes).
+int SpatialBins::bin_of(int axis, float x) const {
+  const float* p = plane_[axis];
+  const double guess = (static_cast<double>(x) - p[0]) * bins_per_unit_[axis];
+  int k = static_cast<int>(std::clamp(guess, 0.0, static_cast<double>(bins_ - 1)));
+  while (k > 0 && x < p[k]) --k;
+  while (k < bins_ - 1 && p[k + 1] <= x) ++k;
+  return k;
+}
+
+// Into bins [first, last]: first the bin of the box's start (it lies right of the planes at or
+// before it), last the number of inner planes strictly before its end, at least first.
 void SpatialBins::bin(const PrimRef& ref, const Triangle& tri, int axis) {
-  const float* inner = plane_[axis] + 1;
-  const float* end = plane_[axis] + bins_;
-  const auto first = static_cast<int>(std::upper_bound(inner, end, ref.lo[axis]) - inner);
-  const auto last =
-      std::max(first, static_cast<int>(std::lower_bound(inner, end, ref.hi[axis]) - inner));
+  const int first = bin_of(axis, ref.lo[axis]);
+  int last = bin_of(axis, ref.hi[axis]);
+  if (last > 0 && plane_[axis][last] == ref.hi[axis]) --last;  // a plane at the end: not crossed
+  last = std::max(first, last);
   ++enter_[axis][first];
   ++exit_[axis][last];
-  if (first == last) {
+  if (first == last)
     box_[axis][first].grow(ref_box(ref));
-    return;
+  else
+    bin_parts(ref, tri, axis, first, last);
+}
+
+// Grows bins [first, last] by the parts of the triangle in them, within the reference's box:
+// each part's box from the vertices in the bin and the points where the edges cross its
+// planes. An estimate for the SAH (in float, rounded to nearest), which needs no more;
+// split_references cuts with chop_triangle, whose boxes are conservative.
+void SpatialBins::bin_parts(const PrimRef& ref, const Triangle& tri, int axis, int first,
+                            int last) {
+  Aabb part[kMaxBins];
+  auto bin = [&](float x) { return std::clamp(bin_of(axis, x), first, last); };
+  const glm::vec3 v[3] = {tri.v0, tri.v1, tri.v2};
+  for (int i = 0; i < 3; ++i) {
+    part[bin(v[i][axis])].grow(v[i]);
+    glm::vec3 a = v[i], b = v[(i + 1) % 3];
+    if (a[axis] > b[axis]) std::swap(a, b);
+    const int to = bin(b[axis]);
+    for (int k = bin(a[axis]) + 1; k <= to; ++k) {  // planes k with a < plane <= b
+      const float p = plane_[axis][k];
+      if (!(a[axis] < p && p < b[axis])) continue;
+      glm::vec3 q = a + (p - a[axis]) / (b[axis] - a[axis]) * (b - a);
+      q[axis] = p;
+      if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) continue;
+      part[k - 1].grow(q);
+      part[k].grow(q);
+    }
   }
-  PrimRef rest = ref;  // the part right of the planes chopped so far
-  for (int k = first; k < last; ++k) {
-    const ChoppedBoxes c = chop_reference(rest, tri, axis, plane_[axis][k + 1]);
-    if (!c.below.empty()) box_[axis][k].grow(c.below);
-    if (c.above.empty()) return;
-    rest = make_ref(c.above, ref.id());
+  const Aabb box = ref_box(ref);
+  for (int k = first; k <= last; ++k) {
+    const Aabb c = intersection(part[k], box);
+    if (!c.empty()) box_[axis][k].grow(c);
   }
-  box_[axis][last].grow(ref_box(rest));
 }
 
 // For each inner plane k (bins [0, k) left): A_l N_l + A_r N_r, N_l counting the references

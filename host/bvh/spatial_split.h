@@ -3,9 +3,8 @@
 // into a part on each side (bvh/triangle_clip.h), so the children's boxes need not overlap at
 // the price of duplicated references. The planes are bin boundaries spread evenly over the
 // node's box; a reference is binned into every bin its box crosses, with the box of its
-// triangle's part in that bin (chopped at each plane in turn, as Stich et al. and Embree do:
-// each part's box is the box of the triangle's side of the plane within the rest of the
-// reference's box), counted as entering its first bin and leaving its last.
+// triangle's part in that bin (its vertices there and its edges' crossings of the bin's planes,
+// within the reference's box), counted as entering its first bin and leaving its last.
 //
 // A reference goes right of plane P when its box starts at or after P, left when it ends at or
 // before P, and is cut otherwise; binning and splitting both follow that rule.
@@ -44,11 +43,14 @@ class SpatialBins {
 
  private:
   bool set_planes(int axis, float lo, float hi);
+  int bin_of(int axis, float x) const;
   void bin(const PrimRef& ref, const Triangle& tri, int axis);
+  void bin_parts(const PrimRef& ref, const Triangle& tri, int axis, int first, int last);
   void sweep(int axis, float parent_area, const BvhConfig& config, SpatialSplit& best) const;
 
   int bins_ = 0;
   float plane_[3][kMaxBins + 1];  // bin k of an axis spans [plane_[k], plane_[k + 1]]
+  double bins_per_unit_[3];
   Aabb box_[3][kMaxBins];
   std::uint32_t enter_[3][kMaxBins], exit_[3][kMaxBins];
 };
