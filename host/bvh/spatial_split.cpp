@@ -92,28 +92,33 @@ void SpatialBins::bin(const PrimRef& ref, const Triangle& tri, int axis) {
 // split_references cuts with chop_triangle, whose boxes are conservative.
 void SpatialBins::bin_parts(const PrimRef& ref, const Triangle& tri, int axis, int first,
                             int last) {
-  Aabb part[kMaxBins];
-  auto bin = [&](float x) { return std::clamp(bin_of(axis, x), first, last); };
+  const int n = last - first + 1;
+  Aabb* part = parts_[axis];  // part[k - first]: bin k's part
+  std::fill(part, part + n, Aabb{});
   const glm::vec3 v[3] = {tri.v0, tri.v1, tri.v2};
+  int vb[3];  // the vertices' bins, within [first, last]
   for (int i = 0; i < 3; ++i) {
-    part[bin(v[i][axis])].grow(v[i]);
-    glm::vec3 a = v[i], b = v[(i + 1) % 3];
-    if (a[axis] > b[axis]) std::swap(a, b);
-    const int to = bin(b[axis]);
-    for (int k = bin(a[axis]) + 1; k <= to; ++k) {  // planes k with a < plane <= b
+    vb[i] = std::clamp(bin_of(axis, v[i][axis]), first, last);
+    part[vb[i] - first].grow(v[i]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    int lo = i, hi = (i + 1) % 3;
+    if (v[lo][axis] > v[hi][axis]) std::swap(lo, hi);
+    const glm::vec3 &a = v[lo], &b = v[hi];
+    for (int k = vb[lo] + 1; k <= vb[hi]; ++k) {  // planes k with a < plane <= b
       const float p = plane_[axis][k];
       if (!(a[axis] < p && p < b[axis])) continue;
       glm::vec3 q = a + (p - a[axis]) / (b[axis] - a[axis]) * (b - a);
       q[axis] = p;
       if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) continue;
-      part[k - 1].grow(q);
-      part[k].grow(q);
+      part[k - 1 - first].grow(q);
+      part[k - first].grow(q);
     }
   }
   const Aabb box = ref_box(ref);
-  for (int k = first; k <= last; ++k) {
+  for (int k = 0; k < n; ++k) {
     const Aabb c = intersection(part[k], box);
-    if (!c.empty()) box_[axis][k].grow(c);
+    if (!c.empty()) box_[axis][first + k].grow(c);
   }
 }
 

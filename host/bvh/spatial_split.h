@@ -51,6 +51,7 @@ class SpatialBins {
   int bins_ = 0;
   float plane_[3][kMaxBins + 1];  // bin k of an axis spans [plane_[k], plane_[k + 1]]
   double bins_per_unit_[3];
+  Aabb parts_[3][kMaxBins];  // bin_parts' scratch, per axis: axes may be binned in parallel
   Aabb box_[3][kMaxBins];
   std::uint32_t enter_[3][kMaxBins], exit_[3][kMaxBins];
 };
