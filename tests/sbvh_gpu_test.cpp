@@ -1,10 +1,10 @@
 // Spatial-split BVHs (--bvh-splits spatial) on the Vulkan device (lavapipe here): the trace
 // kernels' answers equal the CPU reference traversal over the same SBVH bit for bit and the
 // object-split BVH's answers (closest hit: same triangle, t, u, v; any hit: the same verdict),
-// on the stand-in scenes' primary, AO and diffuse rays and on the extreme-case suite with its
-// exact rules; HRPP keeps working with triangles in several leaves: exact answers equal HRPP
-// off, and the CPU reference predictor reproduces the GPU's counters and hits; `hrpp bench`
-// takes the option. The validation layer reports nothing.
+// on the stand-in scenes' primary, AO and diffuse rays and on the extreme-case and leak suites
+// with their exact rules; HRPP keeps working with triangles in several leaves: exact answers
+// equal HRPP off, and the CPU reference predictor reproduces the GPU's counters and hits;
+// `hrpp bench` takes the option. The validation layer reports nothing.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -122,6 +122,36 @@ INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysSbvh, testing::ValuesIn(test::extrem
                            for (char& c : n)
                              if (c == '-') c = 'm';
                            return n;
+                         });
+
+// The leak suite (tests/extreme_cases.h) over SBVHs: the object-split BVH's answers, and no ray
+// from inside a closed mesh escapes it (cut references must leave no gap between leaf boxes).
+class LeakRaysSbvh : public testing::TestWithParam<test::LeakFrame> {};
+
+TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
+  const test::LeakScene x = test::make_leak_scene(GetParam());
+  const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
+  const Bvh sbvh = build_bvh(x.scene, spatial());
+  EXPECT_GT(sbvh.prim_ids.size(), x.scene.triangles.size());  // some triangles were cut
+  const GpuBvh split = make_gpu_layout(sbvh, x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0);
+  GpuTracer tracer(context(), split);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  std::size_t i = 0;
+  int escapes = 0;
+  for (const RayGroup& g : x.groups)
+    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
+      escapes += g.rule == RayGroup::Rule::kHitRange &&
+                 (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
+  EXPECT_EQ(escapes, 0) << GetParam().name;
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysSbvh, testing::ValuesIn(test::leak_frames()),
+                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
+                           return f.param.name;
                          });
 
 // HRPP over an SBVH of the bunny scene (triangles in several leaves predict from the first):
