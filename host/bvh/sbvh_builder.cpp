@@ -89,6 +89,11 @@ class SbvhBuilder {
   Bvh run(Task root);
 
  private:
+  struct Subtree {
+    Task task;
+    std::uint32_t root;  // its top node
+  };
+  std::vector<Subtree> build_top(Task root, std::size_t threshold, Part& top);
   bool split(Task& t, Task& left, Task& right, Scratch& s, bool parallel = false) const;
   bool split_spatially(Task& t, const bvh_build::SpatialSplit& sp, Task& left, Task& right) const;
   void split_by_objects(Task& t, std::uint32_t mid, Task& left, Task& right) const;
@@ -191,49 +196,71 @@ void SbvhBuilder::build(Task t, std::uint32_t index, Part& out, Scratch& s) cons
   build(std::move(r), pair + 1, out, s);
 }
 
+// The top of the tree, level by level: the nodes over `threshold` references of a level are
+// split together (on the pool's threads; a lone node bins its spatial axes on them), the rest
+// become subtrees; top nodes are numbered breadth first.
+std::vector<SbvhBuilder::Subtree> SbvhBuilder::build_top(Task root, std::size_t threshold,
+                                                         Part& top) {
+  top.nodes.resize(1);
+  std::vector<Subtree> subtrees;
+  std::vector<Subtree> level;
+  level.push_back({std::move(root), 0});
+  while (!level.empty()) {
+    std::vector<Task> lefts(level.size()), rights(level.size());
+    std::vector<char> did_split(level.size(), 0);
+    auto work = [&](std::size_t k, int thread) {
+      Task& t = level[k].task;
+      if (t.refs.size() > threshold)
+        did_split[k] = split(t, lefts[k], rights[k], scratch_[thread], level.size() == 1);
+    };
+    if (level.size() == 1)
+      work(0, 0);
+    else
+      pool_.parallel_for(level.size(), work);
+    std::vector<Subtree> next;
+    for (std::size_t k = 0; k < level.size(); ++k) {
+      Task& t = level[k].task;
+      const std::uint32_t index = level[k].root;
+      if (t.refs.size() <= threshold) {
+        subtrees.push_back(std::move(level[k]));
+        continue;
+      }
+      Bvh::Node& node = top.nodes[index];
+      node.bounds = t.bounds.aabb();
+      if (!did_split[k]) {
+        node.first = static_cast<std::uint32_t>(top.ids.size());
+        node.count = static_cast<std::uint32_t>(t.refs.size());
+        for (const PrimRef& ref : t.refs) top.ids.push_back(ref.id());
+        continue;
+      }
+      const auto pair = static_cast<std::uint32_t>(top.nodes.size());
+      node.first = pair;
+      top.nodes.resize(top.nodes.size() + 2);
+      next.push_back({std::move(lefts[k]), pair});
+      next.push_back({std::move(rights[k]), pair + 1});
+    }
+    level = std::move(next);
+  }
+  return subtrees;
+}
+
 Bvh SbvhBuilder::run(Task root) {
   alpha_area_ = config_.spatial_alpha * root.bounds.area();
   const std::size_t n = root.refs.size();
   const std::size_t threshold =
       pool_.size() == 1 ? std::numeric_limits<std::size_t>::max()
                         : std::max(kMinSubtree, n / (kSubtreesPerThread * pool_.size()));
-  // The top, breadth first: nodes over the threshold are split here, the rest become subtrees.
   Part top;
-  top.nodes.resize(1);
-  std::vector<std::pair<Task, std::uint32_t>> queue;  // task, its top node
-  std::vector<std::pair<Task, std::uint32_t>> subtrees;
-  queue.emplace_back(std::move(root), 0);
-  for (std::size_t i = 0; i < queue.size(); ++i) {
-    Task t = std::move(queue[i].first);
-    const std::uint32_t index = queue[i].second;
-    if (t.refs.size() <= threshold) {
-      subtrees.emplace_back(std::move(t), index);
-      continue;
-    }
-    top.nodes[index].bounds = t.bounds.aabb();
-    Task l, r;
-    if (!split(t, l, r, scratch_[0], true)) {
-      top.nodes[index].first = static_cast<std::uint32_t>(top.ids.size());
-      top.nodes[index].count = static_cast<std::uint32_t>(t.refs.size());
-      for (const PrimRef& ref : t.refs) top.ids.push_back(ref.id());
-      continue;
-    }
-    const auto pair = static_cast<std::uint32_t>(top.nodes.size());
-    top.nodes[index].first = pair;
-    top.nodes.resize(top.nodes.size() + 2);
-    queue.emplace_back(std::move(l), pair);
-    queue.emplace_back(std::move(r), pair + 1);
-  }
-  queue.clear();
-  std::stable_sort(subtrees.begin(), subtrees.end(), [](const auto& x, const auto& y) {
-    return x.first.refs.size() > y.first.refs.size();
+  std::vector<Subtree> subtrees = build_top(std::move(root), threshold, top);
+  std::stable_sort(subtrees.begin(), subtrees.end(), [](const Subtree& x, const Subtree& y) {
+    return x.task.refs.size() > y.task.refs.size();
   });
   std::vector<Part> parts(subtrees.size());
   std::vector<std::uint32_t> roots(subtrees.size());
-  for (std::size_t k = 0; k < subtrees.size(); ++k) roots[k] = subtrees[k].second;
+  for (std::size_t k = 0; k < subtrees.size(); ++k) roots[k] = subtrees[k].root;
   pool_.parallel_for(subtrees.size(), [&](std::size_t k, int thread) {
     parts[k].nodes.resize(1);
-    build(std::move(subtrees[k].first), 0, parts[k], scratch_[thread]);
+    build(std::move(subtrees[k].task), 0, parts[k], scratch_[thread]);
   });
   return stitch(top, parts, roots);
 }

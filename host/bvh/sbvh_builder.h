@@ -7,8 +7,8 @@
 // proportion to their references, so the total stays bounded and the tree does not depend on
 // the order in which subtrees are built.
 //
-// The top of the tree is split on one thread breadth first, then the subtrees under
-// N / (8 T) references are built on the pool, one thread each, largest first. The tree is the
+// The top of the tree is split level by level (the nodes of a level on the pool's threads), then
+// the subtrees under N / (8 T) references are built on the pool, one thread each, largest first. The tree is the
 // same for any thread count; only the numbering of Bvh::nodes and the order of prim_ids differ
 // (make_gpu_layout numbers depth first, so the GPU layout is the same too).
 #pragma once
