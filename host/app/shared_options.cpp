@@ -1,5 +1,7 @@
 #include "app/shared_options.h"
 
+#include <map>
+
 #include "common/error.h"
 
 namespace hrpp::app {
@@ -13,6 +15,13 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
       ->capture_default_str();
   cmd->add_option("--bvh-max-leaf", o.bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
       ->capture_default_str();
+  cmd->add_option("--bvh-splits", o.bvh.splits,
+                  "object: binned SAH object splits; spatial: also spatial splits (SBVH), at most "
+                  "30% more references than triangles")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, BvhSplits>{{"object", BvhSplits::kObject},
+                                           {"spatial", BvhSplits::kSpatial}}))
+      ->default_str("object");
   if (group == SharedGroup::kScene) return;
   cmd->add_option("--device", o.vulkan.device,
                   "Vulkan device: index or name substring (default: a GPU, else lavapipe)");

@@ -8,8 +8,10 @@
 #include <span>
 #include <thread>
 
+#include "bvh/prim_refs.h"
 #include "bvh/ref_partition.h"
 #include "bvh/sah_bins.h"
+#include "bvh/sbvh_builder.h"
 #include "bvh/small_node.h"
 #include "bvh/task_pool.h"
 #include "common/error.h"
@@ -22,15 +24,11 @@ using bvh_build::BinMap;
 using bvh_build::Box4;
 using bvh_build::PrimRef;
 using bvh_build::RefPartitioner;
+using bvh_build::References;
 using bvh_build::SahBins;
 using bvh_build::Split;
 
-// Below this depth the builder splits by SAH; from it on by object median, which bounds the
-// tree depth (and so the traversal stack, HRPP_STACK_SIZE) by this + log2(triangles).
-constexpr int kMedianSplitDepth = 36;
-// Work items of the parallel loops: triangles per task when making references, references per
-// task when binning.
-constexpr std::uint32_t kRefChunk = 1u << 14;
+// References per task when binning in parallel.
 constexpr std::uint32_t kBinChunk = 1u << 14;
 // Nodes with at least this many references are binned into two sets of bins (SahBins::add).
 constexpr std::uint32_t kDualBinsMin = 64;
@@ -57,13 +55,6 @@ struct Scratch {
   Box4 centroids;
   RefPartitioner partitioner;
   bvh_build::SmallNode small;
-};
-
-struct References {
-  std::unique_ptr<PrimRef[]> refs;  // default-initialised: the threads that fill it fault it in
-  std::uint32_t count = 0;
-  Box4 bounds, centroids;
-  std::uint32_t degenerate = 0;
 };
 
 // A node of the top of the tree (split by all threads) or the root of a subtree (subtree >= 0).
@@ -131,7 +122,7 @@ class Builder {
 Split Builder::sah_split(const NodeTask& t, const Box4& centroids, const BinMap& map, Scratch& s,
                          bool parallel) {
   const float area = t.bounds.area();
-  if (t.depth >= kMedianSplitDepth) return {};
+  if (t.depth >= bvh_build::kMedianSplitDepth) return {};
   if (t.count() == 2) return bvh_build::split_pair(refs_.data() + t.begin, centroids, area, config_);
   if (t.count() <= bvh_build::kMaxSmallNode) {
     s.small.load(refs_.data() + t.begin, t.count(), map);
@@ -209,18 +200,11 @@ void Builder::bin(const NodeTask& t, const BinMap& map, Scratch& s, bool paralle
     if (&x != &s) s.bins.merge(x.bins, bins_);
 }
 
-// Object median on the widest centroid axis; ties in the centroid broken by triangle id, so the
-// halves do not depend on the references' order.
+// Object median (bvh_build::median_partition), with the halves' bounds.
 void Builder::median_split(const NodeTask& t, const Box4& centroids, NodeTask& left,
                            NodeTask& right) {
-  const float ex = centroids.extent(0), ey = centroids.extent(1), ez = centroids.extent(2);
-  const int a = (ex >= ey && ex >= ez) ? 0 : (ey >= ez ? 1 : 2);
-  const std::uint32_t mid = t.begin + t.count() / 2;
-  std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
-                   [a](const PrimRef& x, const PrimRef& y) {
-                     const float cx = 0.5f * (x.lo[a] + x.hi[a]), cy = 0.5f * (y.lo[a] + y.hi[a]);
-                     return cx < cy || (cx == cy && x.id() < y.id());
-                   });
+  const std::uint32_t mid =
+      t.begin + bvh_build::median_partition(refs_.data() + t.begin, t.count(), centroids);
   left = {t.begin, mid, t.depth + 1, {}, true, {}};
   right = {mid, t.end, t.depth + 1, {}, true, {}};
   for (NodeTask* c : {&left, &right})
@@ -320,56 +304,6 @@ void Builder::stitch(std::vector<Bvh::Node>& nodes) {
   }
 }
 
-// Writes the references of the non-degenerate triangles among tris[begin, end) from out[0] on,
-// growing the bounds; returns how many. Boxes get +0.0f added, which turns -0 into +0: min and
-// max then give the same bits in any order.
-std::uint32_t write_references(const std::vector<Triangle>& tris, std::size_t begin,
-                               std::size_t end, PrimRef* out, Box4& bounds, Box4& centroids) {
-  const simd::Float4 zero = simd::splat3(0.0f);
-  PrimRef* r = out;
-  for (std::size_t i = begin; i < end; ++i) {
-    const Triangle& t = tris[i];
-    if (is_degenerate(t)) continue;
-    const simd::Float4 a = simd::set3(t.v0.x, t.v0.y, t.v0.z),
-                       b = simd::set3(t.v1.x, t.v1.y, t.v1.z),
-                       c = simd::set3(t.v2.x, t.v2.y, t.v2.z);
-    r->set(simd::min(simd::min(a, b), c) + zero, simd::max(simd::max(a, b), c) + zero,
-           static_cast<std::uint32_t>(i));
-    bounds.grow(Box4{r->lo4(), r->hi4()});
-    centroids.grow(r->centroid());
-    ++r;
-  }
-  return static_cast<std::uint32_t>(r - out);
-}
-
-// The references of the non-degenerate triangles in id order, with their bounds: one pass in
-// parallel chunks, each writing from its own start, then the chunks moved down over the gaps
-// the degenerate triangles left (none to move in a scene without them).
-References make_references(const Scene& scene, TaskPool& pool) {
-  const std::vector<Triangle>& tris = scene.triangles;
-  const std::size_t tasks = chunks(tris.size(), kRefChunk);
-  References out;
-  out.refs.reset(new PrimRef[tris.size()]);
-  std::vector<std::uint32_t> kept(tasks);
-  std::vector<Box4> bounds(pool.size()), centroids(pool.size());
-  pool.parallel_for(tasks, [&](std::size_t k, int thread) {
-    const std::size_t begin = k * kRefChunk, end = std::min(tris.size(), begin + kRefChunk);
-    kept[k] = write_references(tris, begin, end, out.refs.get() + begin, bounds[thread],
-                               centroids[thread]);
-  });
-  for (std::size_t k = 0; k < tasks; ++k) {
-    PrimRef* from = out.refs.get() + k * kRefChunk;
-    if (out.count != k * kRefChunk) std::copy(from, from + kept[k], out.refs.get() + out.count);
-    out.count += kept[k];
-  }
-  out.degenerate = static_cast<std::uint32_t>(tris.size() - out.count);
-  for (int t = 0; t < pool.size(); ++t) {
-    out.bounds.grow(bounds[t]);
-    out.centroids.grow(centroids[t]);
-  }
-  return out;
-}
-
 }  // namespace
 
 Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
@@ -378,14 +312,17 @@ Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
   if (config.max_leaf_size < 1 || config.max_leaf_size > 255)
     throw Error("--bvh-max-leaf: must be between 1 and 255");
   if (config.threads < 0) throw Error("--threads: must be 0 (all) or more");
+  if (!(config.duplicate_budget >= 0.0f) || !(config.spatial_alpha >= 0.0f))
+    throw Error("--bvh-splits spatial: the duplicate budget and alpha must be 0 or more");
 
   const auto start = std::chrono::steady_clock::now();
   const int threads = config.threads > 0
                           ? config.threads
                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   TaskPool pool(threads);
-  References refs = make_references(scene, pool);
-  Bvh bvh = Builder(config, refs, pool).run();
+  References refs = bvh_build::make_references(scene, pool);
+  Bvh bvh = config.splits == BvhSplits::kSpatial ? build_sbvh(scene, config, refs, pool)
+                                                 : Builder(config, refs, pool).run();
   bvh.degenerate_count = refs.degenerate;
   bvh.build_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

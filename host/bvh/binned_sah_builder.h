@@ -22,6 +22,7 @@ namespace hrpp {
 
 // Builds over the scene's non-degenerate triangles (ids kept). The root is always an interior
 // node when there are two or more triangles, so the GPU layout needs no special root leaf.
+// config.splits == BvhSplits::kSpatial builds an SBVH instead (bvh/sbvh_builder.h).
 Bvh build_bvh(const Scene& scene, const BvhConfig& config = {});
 
 }  // namespace hrpp

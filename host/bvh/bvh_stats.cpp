@@ -8,7 +8,10 @@ namespace hrpp {
 
 BvhStats compute_bvh_stats(const Bvh& bvh, const BvhConfig& config) {
   BvhStats s;
-  s.triangles = static_cast<std::uint32_t>(bvh.prim_ids.size());
+  s.references = static_cast<std::uint32_t>(bvh.prim_ids.size());
+  std::vector<std::uint32_t> ids = bvh.prim_ids;
+  std::sort(ids.begin(), ids.end());
+  s.triangles = static_cast<std::uint32_t>(std::unique(ids.begin(), ids.end()) - ids.begin());
   s.degenerate = bvh.degenerate_count;
   s.build_ms = bvh.build_ms;
   if (bvh.nodes.empty()) return s;
@@ -34,7 +37,7 @@ BvhStats compute_bvh_stats(const Bvh& bvh, const BvhConfig& config) {
     }
   }
   s.mean_leaf_depth = depth_sum / s.leaves;
-  s.mean_leaf_size = static_cast<double>(s.triangles) / s.leaves;
+  s.mean_leaf_size = static_cast<double>(s.references) / s.leaves;
   if (root_area > 0.0)
     s.sah_cost = (config.traversal_cost * interior_area + config.intersection_cost * leaf_area) /
                  root_area;

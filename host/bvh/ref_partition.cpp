@@ -141,4 +141,15 @@ void RefPartitioner::swap_misplaced(PrimRef* refs, TaskPool* pool) {
     for (std::size_t k = 0; k < pieces; ++k) swap_piece(k, 0);
 }
 
+std::uint32_t median_partition(PrimRef* refs, std::uint32_t n, const Box4& centroids) {
+  const float ex = centroids.extent(0), ey = centroids.extent(1), ez = centroids.extent(2);
+  const int a = (ex >= ey && ex >= ez) ? 0 : (ey >= ez ? 1 : 2);
+  const std::uint32_t mid = n / 2;
+  std::nth_element(refs, refs + mid, refs + n, [a](const PrimRef& x, const PrimRef& y) {
+    const float cx = 0.5f * (x.lo[a] + x.hi[a]), cy = 0.5f * (y.lo[a] + y.hi[a]);
+    return cx < cy || (cx == cy && x.id() < y.id());
+  });
+  return mid;
+}
+
 }  // namespace hrpp::bvh_build

@@ -47,4 +47,13 @@ class RefPartitioner {
   std::vector<Run> wrong_right_, wrong_left_;  // right-going refs left of mid; left-going right of it
 };
 
+// Below this depth the builders split by SAH; from it on by object median, which bounds the
+// tree depth (and so the traversal stack, HRPP_STACK_SIZE) by this + log2(triangles).
+constexpr int kMedianSplitDepth = 36;
+
+// Object median on the widest axis of `centroids`: puts the n / 2 references with the lowest
+// centroids first (ties in the centroid broken by triangle id, so the halves do not depend on
+// the references' order) and returns n / 2.
+std::uint32_t median_partition(PrimRef* refs, std::uint32_t n, const Box4& centroids);
+
 }  // namespace hrpp::bvh_build

@@ -11,7 +11,7 @@ std::vector<std::uint32_t> leaf_of_prim(const GpuBvh& bvh) {
   for (std::uint32_t l = 0; l < bvh.leaves.size(); ++l) {
     const gpu::BvhLeaf& leaf = bvh.leaves[l];
     for (std::uint32_t i = leaf.first_triangle; i < leaf.first_triangle + leaf.triangle_count; ++i)
-      out[bvh.triangles[i].prim] = l;
+      if (out[bvh.triangles[i].prim] == kNoLeaf) out[bvh.triangles[i].prim] = l;
   }
   return out;
 }

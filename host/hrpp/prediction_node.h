@@ -13,7 +13,8 @@ namespace hrpp {
 inline constexpr std::uint32_t kNoLeaf = 0xFFFFFFFFu;
 
 // leaf index of every triangle id (kNoLeaf for ids in no leaf: degenerate triangles), sized to
-// the largest id + 1 (at least 1). The kernels read the same array to find the leaf of a hit.
+// the largest id + 1 (at least 1). A triangle in several leaves (spatial splits) gets the first
+// of them in leaf order (depth first). The kernels read the same array to find the leaf of a hit.
 std::vector<std::uint32_t> leaf_of_prim(const GpuBvh& bvh);
 
 // Child reference (~leaf, or an interior node index) of the ancestor `go_up` levels above leaf

@@ -1,0 +1,225 @@
+// Spatial-split BVHs (--bvh-splits spatial) on the Vulkan device (lavapipe here): the trace
+// kernels' answers equal the CPU reference traversal over the same SBVH bit for bit and the
+// object-split BVH's answers (closest hit: same triangle, t, u, v; any hit: the same verdict),
+// on the stand-in scenes' primary, AO and diffuse rays and on the extreme-case and leak suites
+// with their exact rules; HRPP keeps working with triangles in several leaves: exact answers
+// equal HRPP off, and the CPU reference predictor reproduces the GPU's counters and hits;
+// `hrpp bench` takes the option. The validation layer reports nothing.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "cli_runner.h"
+#include "extreme_cases.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/vulkan_context.h"
+#include "hrpp/reference_predictor.h"
+#include "test_scenes.h"
+#include "trace/cpu_traversal.h"
+#include "trace/ray_batches.h"
+
+namespace hrpp {
+namespace {
+
+using test::RayGroup;
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+BvhConfig spatial() {
+  BvhConfig c;
+  c.splits = BvhSplits::kSpatial;
+  return c;
+}
+
+bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
+  return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
+}
+
+// GPU closest and any hits over the SBVH against the CPU reference over it and the GPU over
+// the object BVH; returns the number of rays that differ anywhere (the first few reported).
+int count_differences(const GpuBvh& object, const GpuBvh& split,
+                      const std::vector<gpu::Ray>& rays, const std::string& what) {
+  GpuTracer on_object(context(), object), on_split(context(), split);
+  const GpuTraceResult oc = on_object.trace(rays, false), oa = on_object.trace(rays, true);
+  const GpuTraceResult sc = on_split.trace(rays, false), sa = on_split.trace(rays, true);
+  int differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const gpu::Hit ref = trace_closest(split, rays[i]);
+    const bool ok = same_hit(sc.hits[i], ref) && same_hit(sc.hits[i], oc.hits[i]) &&
+                    (sa.hits[i].prim >= 0) == trace_any(split, rays[i]) &&
+                    (sa.hits[i].prim >= 0) == (oa.hits[i].prim >= 0);
+    if (!ok && ++differ <= 3)
+      ADD_FAILURE() << what << " ray " << i << ": sbvh gpu " << sc.hits[i].prim << " t "
+                    << sc.hits[i].t << ", sbvh cpu " << ref.prim << " t " << ref.t
+                    << ", object gpu " << oc.hits[i].prim << " t " << oc.hits[i].t;
+  }
+  return differ;
+}
+
+class SbvhGpu : public testing::TestWithParam<std::string> {};
+
+TEST_P(SbvhGpu, AnswersEqualCpuReferenceAndObjectSplitBvh) {
+  const Scene scene = test::load_test_scene(GetParam());
+  const GpuBvh object = make_gpu_layout(build_bvh(scene), scene);
+  const GpuBvh split = make_gpu_layout(build_bvh(scene, spatial()), scene);
+  RayBatchConfig c;
+  c.width = c.height = 48;
+  c.secondary_count = 2304;
+  c.threads = 1;
+  const RayBatches b = make_ray_batches(scene, object, c);
+  EXPECT_EQ(count_differences(object, split, b.primary, "primary"), 0);
+  EXPECT_EQ(count_differences(object, split, b.ao.rays, "ao"), 0);
+  EXPECT_EQ(count_differences(object, split, b.diffuse.rays, "diffuse"), 0);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(StandIns, SbvhGpu, testing::ValuesIn(test::reference_scene_names()),
+                         test::scene_param_name);
+
+// The extreme-case suite (tests/extreme_cases.h) over SBVHs: the same answers, and the exact
+// rules (no escape from closed meshes, no self-hits) on the device's answers (without the huge
+// triangle, as the suite checks them).
+class ExtremeRaysSbvh : public testing::TestWithParam<test::Frame> {};
+
+TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
+  for (const bool huge : {false, true}) {
+    const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
+    const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
+    const GpuBvh split = make_gpu_layout(build_bvh(x.scene, spatial()), x.scene);
+    std::vector<gpu::Ray> rays;
+    for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+    const std::vector<gpu::Ray> invalid = test::invalid_rays(split.bounds.center());
+    rays.insert(rays.end(), invalid.begin(), invalid.end());
+    EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0) << huge;
+    GpuTracer tracer(context(), split);
+    const GpuTraceResult closest = tracer.trace(rays, false);
+    std::size_t i = 0;
+    int rule_fails = 0;
+    for (const RayGroup& g : x.groups)
+      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i) {
+        const bool in_range = closest.hits[i].prim >= g.first && closest.hits[i].prim < g.last;
+        rule_fails += (g.rule == RayGroup::Rule::kHitRange && !in_range) ||
+                      (g.rule == RayGroup::Rule::kAvoidRange && in_range);
+      }
+    if (!huge) {  // with the huge triangle the suite checks no rules (extreme_cases.h)
+      EXPECT_EQ(rule_fails, 0) << GetParam().name;
+    }
+    for (; i < rays.size(); ++i) EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysSbvh, testing::ValuesIn(test::extreme_frames()),
+                         [](const testing::TestParamInfo<test::Frame>& f) {
+                           std::string n = f.param.name;
+                           for (char& c : n)
+                             if (c == '-') c = 'm';
+                           return n;
+                         });
+
+// The leak suite (tests/extreme_cases.h) over SBVHs: the object-split BVH's answers, and no ray
+// from inside a closed mesh escapes it (cut references must leave no gap between leaf boxes).
+class LeakRaysSbvh : public testing::TestWithParam<test::LeakFrame> {};
+
+TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
+  const test::LeakScene x = test::make_leak_scene(GetParam());
+  const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
+  const Bvh sbvh = build_bvh(x.scene, spatial());
+  EXPECT_GT(sbvh.prim_ids.size(), x.scene.triangles.size());  // some triangles were cut
+  const GpuBvh split = make_gpu_layout(sbvh, x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0);
+  GpuTracer tracer(context(), split);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  std::size_t i = 0;
+  int escapes = 0;
+  for (const RayGroup& g : x.groups)
+    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
+      escapes += g.rule == RayGroup::Rule::kHitRange &&
+                 (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
+  EXPECT_EQ(escapes, 0) << GetParam().name;
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysSbvh, testing::ValuesIn(test::leak_frames()),
+                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
+                           return f.param.name;
+                         });
+
+// HRPP over an SBVH of the bunny scene (triangles in several leaves predict from the first):
+// exact answers equal HRPP off, and in the deterministic configuration the CPU reference
+// predictor reproduces the GPU's hits and counters (speculative and exact, go-up 0 and 2).
+TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
+  const Scene scene = test::load_test_scene("bunny.scene.json");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, spatial()), scene);
+  RayBatchConfig c;
+  c.width = c.height = 32;
+  c.secondary_count = 1024;
+  c.threads = 1;
+  const RayBatches b = make_ray_batches(scene, bvh, c);
+  std::vector<gpu::Ray> primary = b.primary;
+  primary.insert(primary.end(), b.primary.begin(), b.primary.end());  // the second finds it warm
+  GpuTracerConfig tc;
+  tc.rays_per_invocation = 8;
+  GpuTracer off(context(), bvh, tc);
+  for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
+    for (const std::uint32_t go_up : {0u, 2u})
+      for (const bool any : {false, true}) {
+        if (any && mode == PredictorMode::kExact) continue;  // hit-any has one mode
+        const std::vector<gpu::Ray>& rays = any ? b.ao.rays : primary;
+        PredictorConfig p;
+        p.enabled = true;
+        p.mode = mode;
+        p.table = {1u << 12, 8, 16, TablePolicy::kNone};
+        p.hash = {HashKind::kIeee, any ? 3u : 6u};
+        p.go_up = go_up;
+        p.batch = 64;
+        p.serial = true;
+        p.count_baseline = true;
+        const std::string what = std::string(predictor_mode_name(mode)) + " go-up " +
+                                 std::to_string(go_up) + (any ? " any" : " closest");
+        GpuTracer tracer(context(), bvh, tc, p);
+        const GpuTraceResult gpu = tracer.trace(rays, any);
+        ReferencePredictor cpu_predictor(bvh, p);
+        const PredictorTraceResult cpu = cpu_predictor.trace(rays, ray_file_class(any));
+        int differ = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) differ += !same_hit(gpu.hits[i], cpu.hits[i]);
+        EXPECT_EQ(differ, 0) << what;
+        for (int k = 0; k < HRPP_PC_COUNT; ++k)
+          EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
+        EXPECT_GT(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+        if (mode == PredictorMode::kExact || any) {
+          const GpuTraceResult reference = off.trace(rays, any);
+          int wrong = 0;
+          for (std::size_t i = 0; i < rays.size(); ++i)
+            wrong += any ? (gpu.hits[i].prim >= 0) != (reference.hits[i].prim >= 0)
+                         : !same_hit(gpu.hits[i], reference.hits[i]);
+          EXPECT_EQ(wrong, 0) << what;
+        }
+      }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// `hrpp bench` with --bvh-splits spatial and exact HRPP: every tracer checked against the CPU
+// reference (--strict exits 1 on a mismatch); a bad value names the flag.
+class SbvhCli : public test::CliTest {};
+
+TEST_F(SbvhCli, BenchTracesAnSbvhAndBadValuesNameTheFlag) {
+  const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
+                                "--check-rays 2048 --bvh-splits spatial --hrpp on --hrpp-mode exact");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const test::CliResult bad = run("scene teapot --bvh-splits maybe");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("--bvh-splits"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace hrpp
