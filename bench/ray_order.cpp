@@ -4,7 +4,8 @@
 // morton-gather: the sort then a gather of the rays into sorted order, traced by the plain
 // kernel; the sort's device time always included) and --bvh-layout (dfs, dfs-large-first),
 // interleaved round by round on the same rays, medians and the ratio to (dfs, off). Every
-// variant's hits must equal the baseline's bit for bit (it exits 1 otherwise). Not a test.
+// variant's hits must equal the baseline's bit for bit (it exits 1 otherwise). Each variant's
+// lane use of the interior-node loop comes from one more, untimed, counting trace. Not a test.
 //   bench_ray_order [SCENE...] [--rays N] [--repeat R] [--kinds primary,ao,diffuse] [--device D]
 #include <algorithm>
 #include <cstdio>
@@ -42,6 +43,7 @@ struct Variant {
 struct Timed {
   std::vector<gpu::Hit> hits;
   double trace_ms = 0.0, sort_ms = 0.0;
+  TraversalCounters counters;
 };
 
 Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ray>& rays,
@@ -53,6 +55,7 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ra
     t.hits = std::move(r.hits);
     t.trace_ms = r.kernel_ms - r.sort_ms;
     t.sort_ms = r.sort_ms;
+    t.counters = r.counters;
     return t;
   }
   const RaySortResult s = sorter.sort(rays);
@@ -60,7 +63,23 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ra
   t.hits = hits_in_queue_order(r.hits, s.order);
   t.trace_ms = r.kernel_ms;
   t.sort_ms = s.kernel_ms;
+  t.counters = r.counters;
   return t;
+}
+
+// Each variant's lane use of the interior-node loop: one more, untimed trace by the layout's
+// counting tracer (GpuTracerConfig::count_steps: a kernel variant that counts subgroup steps).
+std::vector<double> lane_uses(std::unique_ptr<GpuTracer> (&counting)[2], RaySorter& sorter,
+                              const std::vector<gpu::Ray>& batch,
+                              const std::vector<Variant>& variants, bool any_hit,
+                              std::uint32_t subgroup_size) {
+  std::vector<double> uses;
+  for (const Variant& v : variants) {
+    const int l = v.layout == NodeLayout::kDfs ? 0 : 1;
+    uses.push_back(lane_use(trace_once(*counting[l], sorter, batch, v, any_hit).counters,
+                            subgroup_size));
+  }
+  return uses;
 }
 
 double median(std::vector<double> v) {
@@ -79,10 +98,13 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
                                          {NodeLayout::kDfsLargeFirst, RayOrder::kMorton}};
   GpuBvh layouts[2] = {make_gpu_layout(bvh, scene, NodeLayout::kDfs),
                        make_gpu_layout(bvh, scene, NodeLayout::kDfsLargeFirst)};
-  std::unique_ptr<GpuTracer> tracers[2];
+  std::unique_ptr<GpuTracer> tracers[2], counting[2];
+  GpuTracerConfig counts;
+  counts.count_steps = true;
   for (int l = 0; l < 2; ++l) {
     tracers[l] = std::make_unique<GpuTracer>(ctx, layouts[l]);
     tracers[l]->warm_up();
+    counting[l] = std::make_unique<GpuTracer>(ctx, layouts[l], counts);
   }
   RayBatchConfig bc;
   bc.secondary_count = rays;
@@ -113,13 +135,15 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
           ++failures;
         }
       }
+    const std::vector<double> uses =
+        lane_uses(counting, sorter, batch, variants, any_hit, ctx.info().subgroup_size);
     const double base = median(total[0]);
     for (std::size_t v = 0; v < variants.size(); ++v) {
       const double ms = median(total[v]);
-      std::printf("%-12s %-8s %-24s %9.2f ms (sort %6.2f) %7.2f Mrays/s  %.3fx\n",
+      std::printf("%-12s %-8s %-24s %9.2f ms (sort %6.2f) %7.2f Mrays/s  %.3fx  lanes %4.1f%%\n",
                   scene.name.c_str(), kind.c_str(), variants[v].name().c_str(), ms, median(sort[v]),
                   ms > 0 ? static_cast<double>(batch.size()) / (ms * 1e3) : 0.0,
-                  ms > 0 ? base / ms : 0.0);
+                  ms > 0 ? base / ms : 0.0, 100.0 * uses[v]);
     }
   }
   return failures;

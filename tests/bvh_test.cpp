@@ -119,14 +119,6 @@ Bvh expect_valid_on_any_thread_count(const Scene& scene, BvhConfig config = {}) 
   return one;
 }
 
-Scene synthetic(std::vector<Triangle> tris) {
-  Scene s;
-  s.name = "synthetic";
-  s.triangles = std::move(tris);
-  s.shading.resize(s.triangles.size());
-  s.materials.resize(1);
-  return s;
-}
 
 class RealMeshBvh : public testing::TestWithParam<std::string> {};
 
@@ -193,7 +185,7 @@ TEST(BvhConfigTest, OutOfRangeSettingsAreErrors) {
 }
 
 TEST(BvhEdgeCases, DegenerateTrianglesKeepTheirIdsButStayOut) {
-  const Scene s = synthetic({
+  const Scene s = test::synthetic_scene({
       {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
       {{0, 0, 0}, {0, 0, 0}, {0, 1, 0}},  // repeated vertex
       {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}},  // collinear
@@ -211,7 +203,7 @@ TEST(BvhEdgeCases, DegenerateTrianglesKeepTheirIdsButStayOut) {
 }
 
 TEST(BvhEdgeCases, OneTriangleGetsAnInteriorRootAndAnEmptyLeaf) {
-  const Scene s = synthetic({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  const Scene s = test::synthetic_scene({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
   const Bvh bvh = build_bvh(s);
   const GpuBvh g = make_gpu_layout(bvh, s);
   ASSERT_EQ(g.nodes.size(), 1u);
@@ -223,7 +215,7 @@ TEST(BvhEdgeCases, OneTriangleGetsAnInteriorRootAndAnEmptyLeaf) {
 
 TEST(BvhEdgeCases, IdenticalTrianglesAreSplitByMedianNotOneHugeLeaf) {
   std::vector<Triangle> tris(100, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-  const Scene s = synthetic(tris);
+  const Scene s = test::synthetic_scene(tris);
   BvhConfig c;
   c.max_leaf_size = 4;
   const Bvh bvh = build_bvh(s, c);
@@ -237,7 +229,7 @@ TEST(BvhEdgeCases, HugeAndTinyCoordinates) {
     tris.push_back({{1e6f + f, 1e6f, 1e6f}, {1e6f + f + 0.5f, 1e6f, 1e6f}, {1e6f + f, 1e6f + 1, 1e6f}});
     tris.push_back({{f * 1e-6f, 0, 0}, {f * 1e-6f + 1e-7f, 0, 0}, {f * 1e-6f, 1e-7f, 0}});
   }
-  const Scene s = synthetic(tris);
+  const Scene s = test::synthetic_scene(tris);
   const Bvh bvh = build_bvh(s);
   expect_valid_layout(s, bvh, make_gpu_layout(bvh, s), 4);
 }
@@ -246,7 +238,7 @@ TEST(BvhEdgeCases, OneOrTwoTrianglesOnAnyThreadCount) {
   const Triangle a{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, b{{2, 0, 0}, {3, 0, 0}, {2, 1, 1}};
   for (const auto& tris : {std::vector<Triangle>{a}, std::vector<Triangle>{a, b},
                            std::vector<Triangle>{b, a}, std::vector<Triangle>{a, a}}) {
-    const Scene s = synthetic(tris);
+    const Scene s = test::synthetic_scene(tris);
     const Bvh bvh = expect_valid_on_any_thread_count(s);
     const GpuBvh g = make_gpu_layout(bvh, s);
     ASSERT_EQ(g.nodes.size(), 1u);  // one interior root over two leaves
@@ -258,7 +250,7 @@ TEST(BvhEdgeCases, OneOrTwoTrianglesOnAnyThreadCount) {
 TEST(BvhEdgeCases, ManyEqualTrianglesOnAnyThreadCount) {
   // Large enough for the parallel top of the tree; no plane separates equal centroids, so every
   // split is an object median, down to leaves of max_leaf_size.
-  const Scene s = synthetic(std::vector<Triangle>(20000, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+  const Scene s = test::synthetic_scene(std::vector<Triangle>(20000, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
   const Bvh bvh = expect_valid_on_any_thread_count(s);
   const BvhStats st = compute_bvh_stats(bvh);
   EXPECT_EQ(st.max_leaf_size, 4u);
@@ -279,14 +271,14 @@ TEST(BvhEdgeCases, DegenerateAndCollinearAmongValidOnAnyThreadCount) {
       default: tris.push_back({{f, g, 1}, {f + 1, g, 1}, {inf, g + 1, 1}}); break;       // infinite
     }
   }
-  const Scene s = synthetic(tris);
+  const Scene s = test::synthetic_scene(tris);
   const Bvh bvh = expect_valid_on_any_thread_count(s);
   EXPECT_EQ(bvh.prim_ids.size(), 1200u);
   EXPECT_EQ(bvh.degenerate_count, 4800u);
 }
 
 TEST(BvhEdgeCases, OnlyDegenerateTrianglesGiveAnEmptyTree) {
-  const Scene s = synthetic({{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}});
+  const Scene s = test::synthetic_scene({{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}, {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}});
   const Bvh bvh = expect_valid_on_any_thread_count(s);
   EXPECT_TRUE(bvh.prim_ids.empty());
   EXPECT_EQ(bvh.degenerate_count, 2u);
@@ -310,7 +302,7 @@ std::vector<Triangle> random_triangles(int n, unsigned seed, float grid) {
 
 TEST(BvhEdgeCases, RandomSoupsOnAnyThreadCount) {
   for (float grid : {0.0f, 64.0f, 4.0f}) {
-    const Scene s = synthetic(random_triangles(60000, 7, grid));
+    const Scene s = test::synthetic_scene(random_triangles(60000, 7, grid));
     BvhConfig c;
     expect_valid_on_any_thread_count(s, c);
     c.bin_count = 5;

@@ -4,6 +4,7 @@
 // an exhausted loop budget is an error; the validation layer reports nothing.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -260,6 +261,39 @@ TEST(GpuTracer, ChunksAndEmptyBatches) {
   const GpuTraceResult r = tracer.trace(rays, false);  // 1 ray per invocation: 64 workgroups
   ASSERT_EQ(r.counters.rays, rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(r.hits[i].prim, trace_closest(bvh, rays[i]).prim);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// GpuTracerConfig::count_steps: a kernel variant that also counts the interior-node loop's
+// subgroup iterations. Its answers and work counts are the plain kernel's; at least one lane
+// runs each step and at most all of them, so the lane use lies in [1 / subgroup size, 1]; the
+// plain kernel counts no steps. Incoherent bounce rays use fewer lanes than primary rays.
+TEST(GpuTracer, CountsTheInteriorLoopsSubgroupSteps) {
+  const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+  const std::vector<gpu::Ray> primary = primary_rays(scene.cameras.at(0));
+  const std::vector<gpu::Ray> bounce = bounce_rays(scene, bvh, primary, false, 3);
+  GpuTracer plain(context(), bvh);
+  GpuTracerConfig counts;
+  counts.count_steps = true;
+  GpuTracer counting(context(), bvh, counts);
+  const std::uint32_t lanes = context().info().subgroup_size;
+  double use[2] = {0.0, 0.0};
+  for (int k = 0; k < 2; ++k) {
+    const std::vector<gpu::Ray>& rays = k == 0 ? primary : bounce;
+    const GpuTraceResult a = plain.trace(rays, false);
+    const GpuTraceResult b = counting.trace(rays, false);
+    ASSERT_EQ(a.hits.size(), b.hits.size());
+    EXPECT_EQ(std::memcmp(a.hits.data(), b.hits.data(), a.hits.size() * sizeof(gpu::Hit)), 0);
+    EXPECT_EQ(a.counters.interior_visited, b.counters.interior_visited);
+    EXPECT_EQ(a.counters.interior_steps, 0u);
+    const TraversalCounters& c = b.counters;
+    EXPECT_GT(c.interior_steps, 0u);
+    EXPECT_LE(c.interior_steps, c.interior_visited);
+    EXPECT_GE(c.interior_steps * lanes, c.interior_visited);
+    use[k] = lane_use(c, lanes);
+  }
+  EXPECT_GT(use[0], use[1]) << "primary " << use[0] << ", bounce " << use[1];
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

@@ -38,14 +38,6 @@ BvhConfig spatial(int threads = 0) {
   return c;
 }
 
-Scene synthetic(std::vector<Triangle> tris) {
-  Scene s;
-  s.name = "synthetic";
-  s.triangles = std::move(tris);
-  s.shading.resize(s.triangles.size());
-  s.materials.resize(1);
-  return s;
-}
 
 bool contains(const Aabb& b, const glm::dvec3& p, double tol) {
   for (int c = 0; c < 3; ++c)
@@ -281,13 +273,13 @@ INSTANTIATE_TEST_SUITE_P(StandIns, SbvhScenes, testing::ValuesIn(test::reference
                          test::scene_param_name);
 
 TEST(SbvhEdgeCases, OneTriangle) {
-  const Scene s = synthetic({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  const Scene s = test::synthetic_scene({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
   expect_valid_on_any_thread_count(s);
 }
 
 TEST(SbvhEdgeCases, EqualTrianglesAreSplitByMedian) {
   for (const int n : {2, 100, 20000}) {
-    const Scene s = synthetic(std::vector<Triangle>(n, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 1}}));
+    const Scene s = test::synthetic_scene(std::vector<Triangle>(n, Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 1}}));
     const Bvh bvh = expect_valid_on_any_thread_count(s);
     EXPECT_EQ(compute_bvh_stats(bvh).max_leaf_size, n == 2 ? 1u : 4u) << n;
   }
@@ -303,7 +295,7 @@ TEST(SbvhEdgeCases, CollinearAndDegenerateAmongValid) {
       default: tris.push_back({{f, g, 0}, {f, g, 0}, {f, g + 1, 0}}); break;             // a segment
     }
   }
-  const Scene s = synthetic(tris);
+  const Scene s = test::synthetic_scene(tris);
   const Bvh bvh = expect_valid_on_any_thread_count(s);
   EXPECT_EQ(bvh.degenerate_count, 2000u);
 }
@@ -318,7 +310,7 @@ TEST(SbvhEdgeCases, AxisAlignedThinTriangles) {
     tris.push_back({{f, 0, 0}, {f, 10, 0}, {f + 1e-3f, 0, 0}});  // in z = 0, along y
     tris.push_back({{f, 0, 0}, {f, 0, 10}, {f, 1e-3f, 0}});      // in x = f, along z
   }
-  const Scene s = synthetic(tris);
+  const Scene s = test::synthetic_scene(tris);
   const Bvh bvh = expect_valid_on_any_thread_count(s);
   EXPECT_GT(bvh.prim_ids.size(), tris.size());  // spatial splits pay here
 }
@@ -328,13 +320,13 @@ TEST(SbvhEdgeCases, HugeAndTinyCoordinates) {
     std::vector<Triangle> tris = random_triangles(2000, 3, scale, -0.5 * scale);
     const std::vector<Triangle> far = random_triangles(500, 4, 1.0, 1e7);  // big offset, unit size
     tris.insert(tris.end(), far.begin(), far.end());
-    const Scene s = synthetic(tris);
+    const Scene s = test::synthetic_scene(tris);
     expect_valid_on_any_thread_count(s);
   }
 }
 
 TEST(SbvhEdgeCases, NoBudgetNoDuplicatesAndAlphaStops) {
-  const Scene s = synthetic(random_triangles(3000, 9, 1.0, 0.0));
+  const Scene s = test::synthetic_scene(random_triangles(3000, 9, 1.0, 0.0));
   BvhConfig c = spatial();
   c.duplicate_budget = 0.0f;
   const Bvh none = build_bvh(s, c);
@@ -351,7 +343,7 @@ TEST(SbvhEdgeCases, NoBudgetNoDuplicatesAndAlphaStops) {
 }
 
 TEST(SbvhEdgeCases, BadBudgetIsAnError) {
-  const Scene s = synthetic({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  const Scene s = test::synthetic_scene({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
   BvhConfig c = spatial();
   c.duplicate_budget = -1.0f;
   EXPECT_THROW(build_bvh(s, c), Error);
@@ -359,7 +351,7 @@ TEST(SbvhEdgeCases, BadBudgetIsAnError) {
 
 // A triangle in several leaves predicts from the first of them in leaf order.
 TEST(SbvhPrediction, LeafOfPrimIsTheFirstLeafHoldingIt) {
-  const Scene s = synthetic(random_triangles(2000, 11, 1.0, 0.0));
+  const Scene s = test::synthetic_scene(random_triangles(2000, 11, 1.0, 0.0));
   const GpuBvh g = make_gpu_layout(build_bvh(s, spatial()), s);
   const std::vector<std::uint32_t> leaf = leaf_of_prim(g);
   std::vector<std::uint32_t> first(s.triangles.size(), kNoLeaf);

@@ -22,6 +22,16 @@ inline Scene load_test_scene(const std::string& name) {
   return load_scene((std::filesystem::path(HRPP_TEST_SCENES_DIR) / name).string());
 }
 
+// A scene of the given triangles alone: one default material, default shading.
+inline Scene synthetic_scene(std::vector<Triangle> tris) {
+  Scene s;
+  s.name = "synthetic";
+  s.triangles = std::move(tris);
+  s.shading.resize(s.triangles.size());
+  s.materials.resize(1);
+  return s;
+}
+
 // Test-name-safe form of a scene name for INSTANTIATE_TEST_SUITE_P.
 inline std::string scene_param_name(const testing::TestParamInfo<std::string>& info) {
   std::string s = std::filesystem::path(info.param).stem().string();

@@ -67,6 +67,31 @@ std::unique_ptr<RaySorter> make_sorter(VulkanContext& ctx, const GpuBvh& bvh, Ra
   return std::make_unique<RaySorter>(ctx, bvh.bounds, rays);
 }
 
+// The device, the rays, the kernel time and the work per ray (with --count-steps, the lanes'
+// use of the interior-node loop).
+void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t rays,
+                   double median, const TraversalCounters& c, bool sorted) {
+  const double n = static_cast<double>(rays);
+  const auto per_ray = [n](std::uint64_t v) { return n > 0 ? static_cast<double>(v) / n : 0.0; };
+  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
+              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
+  std::printf("rays        %zu %s queries, %llu hit%s\n", rays,
+              o.any_hit ? "any-hit" : "closest-hit", static_cast<unsigned long long>(c.hits),
+              o.any_hit ? " (occluded)" : "");
+  std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
+              o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
+              median > 0.0 ? n / (median * 1e3) : 0.0,
+              static_cast<int>(o.shared.tracer.rays_per_invocation));
+  std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
+              sorted ? " (the sort's device time is in the kernel time)" : "");
+  std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
+              per_ray(c.interior_visited), per_ray(c.leaves_visited), per_ray(c.triangles_tested));
+  if (o.shared.tracer.count_steps)
+    std::printf("lane use    %.1f%% of the interior-node loop's lane slots (%llu subgroup steps)\n",
+                100.0 * lane_use(c, ctx.info().subgroup_size),
+                static_cast<unsigned long long>(c.interior_steps));
+}
+
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
@@ -110,36 +135,26 @@ void run_trace(const TraceOptions& o) {
   std::sort(ms.begin(), ms.end());
   const double median = ms[ms.size() / 2];
   const TraversalCounters& c = *result.counters;
-  const double n = static_cast<double>(rays.size());
-  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
-              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
-  std::printf("rays        %zu %s queries, %llu hit%s\n", rays.size(),
-              o.any_hit ? "any-hit" : "closest-hit", static_cast<unsigned long long>(c.hits),
-              o.any_hit ? " (occluded)" : "");
-  std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
-              o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
-              median > 0.0 ? n / (median * 1e3) : 0.0, static_cast<int>(o.shared.tracer.rays_per_invocation));
-  std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
-              sorter ? " (the sort's device time is in the kernel time)" : "");
-  std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
-              n > 0 ? static_cast<double>(c.interior_visited) / n : 0.0,
-              n > 0 ? static_cast<double>(c.leaves_visited) / n : 0.0,
-              n > 0 ? static_cast<double>(c.triangles_tested) / n : 0.0);
+  print_figures(o, ctx, rays.size(), median, c, sorter != nullptr);
   std::printf("hrpp        %s", hrpp_text.c_str());
   if (!predictor.predicts(ray_file_class(o.any_hit))) std::printf("\n");
   if (!o.stats.empty()) {
-    const nlohmann::json j = {{"scene", o.shared.scene},
-                              {"rays", rays.size()},
-                              {"query", o.any_hit ? "any" : "closest"},
-                              {"kernel_ms_median", median},
-                              {"reorder", ray_order_name(o.reorder)},
-                              {"bvh_layout", node_layout_name(o.bvh_layout)},
-                              {"hits", c.hits},
-                              {"interior_visited", c.interior_visited},
-                              {"leaves_visited", c.leaves_visited},
-                              {"triangles_tested", c.triangles_tested},
-                              {"hrpp", hrpp_json},
-                              {"memory", memory_json(ctx.memory().report())}};
+    nlohmann::json j = {{"scene", o.shared.scene},
+                        {"rays", rays.size()},
+                        {"query", o.any_hit ? "any" : "closest"},
+                        {"kernel_ms_median", median},
+                        {"reorder", ray_order_name(o.reorder)},
+                        {"bvh_layout", node_layout_name(o.bvh_layout)},
+                        {"hits", c.hits},
+                        {"interior_visited", c.interior_visited},
+                        {"leaves_visited", c.leaves_visited},
+                        {"triangles_tested", c.triangles_tested},
+                        {"hrpp", hrpp_json},
+                        {"memory", memory_json(ctx.memory().report())}};
+    if (o.shared.tracer.count_steps) {
+      j["interior_steps"] = c.interior_steps;
+      j["lane_use"] = lane_use(c, ctx.info().subgroup_size);
+    }
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write --stats");
   }
 }
@@ -158,6 +173,9 @@ void add_trace_command(CLI::App& app) {
                   "occluded, -1 free")
       ->required();
   cmd->add_flag("--any-hit", o->any_hit, "Any-hit (occlusion) queries instead of closest hit");
+  cmd->add_flag("--count-steps", o->shared.tracer.count_steps,
+                "Also count the interior-node loop's subgroup iterations and print the lanes' "
+                "use of it (a kernel variant: the timing includes the count)");
   cmd->add_option("--repeat", o->repeat, "Trace N times after a warm-up; report the median")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));

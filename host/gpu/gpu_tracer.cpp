@@ -86,15 +86,21 @@ struct QueryArrays {
   ComputePipeline indexed;
   Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
-  QueryArrays(VulkanContext& c, bool any_hit)
+  // `count_steps`: the kernels count the interior loop's subgroup iterations
+  // (GpuTracerConfig::count_steps).
+  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps)
+      : QueryArrays(c, any_hit,
+                    std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS, count_steps ? 1u : 0u}}) {}
+
+  QueryArrays(VulkanContext& c, bool any_hit, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
                  any_hit ? "hit-any trace counters" : "hit-all trace counters"),
         kernel(c, any_hit ? "trace_any" : "trace_closest",
                embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
-               sizeof(gpu::TracePushConstants)),
+               sizeof(gpu::TracePushConstants), spec),
         indexed(c, kernel.name(),
                 embedded_spirv(any_hit ? "trace_any_indexed" : "trace_closest_indexed"),
-                kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants)) {
+                kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants), spec) {
     for (ComputePipeline* k : {&kernel, &indexed}) k->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
   }
 };
@@ -127,7 +133,7 @@ struct GpuTracer::State {
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {
-      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit);
+      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps);
       for (ComputePipeline* k : {&queries[any_hit]->kernel, &queries[any_hit]->indexed}) {
         k->bind(HRPP_TRACE_BINDING_NODES, node_view);
         k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);

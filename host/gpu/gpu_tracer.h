@@ -34,6 +34,10 @@ struct GpuTracerConfig {
   // of a subgroup after 65,535 iterations in total, a few hundred rays' worth; 16 keeps a wide
   // margin. A dispatch whose rays do not all finish throws hrpp::Error naming the limit.
   std::uint32_t rays_per_invocation = 16;
+  // The trace kernels also count the subgroup iterations of their interior-node loop
+  // (TraversalCounters::interior_steps), from which lane_use() follows; off, the count is
+  // compiled out (a specialization constant). The HRPP stage's trace never counts them.
+  bool count_steps = false;
 };
 
 struct GpuTraceResult {

@@ -22,6 +22,7 @@ inline TraversalCounters traversal_counters(const gpu::TraceCounters& c) {
   t.leaves_visited = wide_counter(c, HRPP_COUNTER_LEAVES);
   t.triangles_tested = wide_counter(c, HRPP_COUNTER_TRIANGLES);
   t.hits = wide_counter(c, HRPP_COUNTER_HITS);
+  t.interior_steps = wide_counter(c, HRPP_COUNTER_STEPS);
   return t;
 }
 

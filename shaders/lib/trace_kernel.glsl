@@ -80,7 +80,7 @@ void main() {
 
   const uint sums[HRPP_COUNTER_COUNT] = uint[](subgroupAdd(done), subgroupAdd(g_interior),
                                                subgroupAdd(g_leaves), subgroupAdd(g_triangles),
-                                               subgroupAdd(hit_count));
+                                               subgroupAdd(hit_count), subgroupAdd(g_steps));
   const uint aborted_sum = subgroupAdd(aborted);
   // No loop here: a limiter that fired during the last ray would cut a loop short and lose
   // counts of rays that did finish.
@@ -90,6 +90,7 @@ void main() {
     add_wide(HRPP_COUNTER_LEAVES, sums[HRPP_COUNTER_LEAVES]);
     add_wide(HRPP_COUNTER_TRIANGLES, sums[HRPP_COUNTER_TRIANGLES]);
     add_wide(HRPP_COUNTER_HITS, sums[HRPP_COUNTER_HITS]);
+    add_wide(HRPP_COUNTER_STEPS, sums[HRPP_COUNTER_STEPS]);
     if (aborted_sum != 0u) atomicAdd(counters.aborted, aborted_sum);
   }
 }

@@ -26,6 +26,10 @@ const int kSentinel = 0x7fffffff;
 uint g_interior = 0u;
 uint g_leaves = 0u;
 uint g_triangles = 0u;
+// Iterations of the interior-node loop, counted by one lane per subgroup and iteration, when
+// the kernel is specialised to count them (trace_interface.h, HRPP_SPEC_COUNT_STEPS).
+layout(constant_id = HRPP_SPEC_COUNT_STEPS) const bool kCountSteps = false;
+uint g_steps = 0u;
 
 bool is_interior(int ref) { return uint(ref) < uint(kSentinel); }  // leaves are negative
 
@@ -66,6 +70,7 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
     bool searching = true;
     while (is_interior(node)) {
       ++g_interior;
+      if (kCountSteps && subgroupElect()) ++g_steps;
       const BvhNode n = load_node(node);
       float t_left, t_right;
       const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),

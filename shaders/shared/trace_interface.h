@@ -51,7 +51,15 @@ namespace hrpp::gpu {
 #define HRPP_COUNTER_LEAVES 2            // leaves whose triangles were tested
 #define HRPP_COUNTER_TRIANGLES 3         // triangles tested
 #define HRPP_COUNTER_HITS 4              // rays that hit (any-hit: occluded)
-#define HRPP_COUNTER_COUNT 5
+#define HRPP_COUNTER_STEPS 5             // subgroup iterations of the interior-node loop
+                                         // (HRPP_SPEC_COUNT_STEPS; else 0)
+#define HRPP_COUNTER_COUNT 6
+
+// Specialisation constant of the trace kernels (shaders/lib/traversal.glsl): 1 counts
+// HRPP_COUNTER_STEPS, from which the lanes' use of the interior loop follows (interior nodes /
+// (steps × subgroup size)); 0 (the default) compiles the count out. Its id is not one of
+// hrpp_predict's (HRPP_SPEC_* in hrpp_interface.h), which includes the same traversal.
+#define HRPP_SPEC_COUNT_STEPS 2
 
 struct TraceCounters {
   uint next_ray;   // persistent fetch cursor (atomicAdd by one lane per subgroup)
@@ -60,8 +68,6 @@ struct TraceCounters {
                    // queue counter for an indirect dispatch (GpuTracer::record_indirect)
   uint pad1;
   uint wide[2 * HRPP_COUNTER_COUNT];  // (lo, hi) pairs, see HRPP_COUNTER_*
-  uint pad2;
-  uint pad3;
 };
 
 struct TracePushConstants {
