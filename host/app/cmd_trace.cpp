@@ -87,7 +87,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
   std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
               per_ray(c.interior_visited), per_ray(c.leaves_visited), per_ray(c.triangles_tested));
   if (o.shared.tracer.count_steps)
-    std::printf("lane use    %.1f%% of the interior-node loop's lane slots (%llu subgroup steps)\n",
+    std::printf("lane use    %.1f%% of the interior-node loop's lane slots (%llu steps)\n",
                 100.0 * lane_use(c, ctx.info().subgroup_size),
                 static_cast<unsigned long long>(c.interior_steps));
 }

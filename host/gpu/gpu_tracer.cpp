@@ -90,7 +90,8 @@ struct QueryArrays {
   // (GpuTracerConfig::count_steps).
   QueryArrays(VulkanContext& c, bool any_hit, bool count_steps)
       : QueryArrays(c, any_hit,
-                    std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS, count_steps ? 1u : 0u}}) {}
+                    std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS,
+                                                      count_steps ? 1u : 0u}}) {}
 
   QueryArrays(VulkanContext& c, bool any_hit, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
