@@ -20,6 +20,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
+#include "common/median.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
@@ -80,11 +81,6 @@ std::vector<double> lane_uses(std::unique_ptr<GpuTracer> (&counting)[2], RaySort
                             subgroup_size));
   }
   return uses;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int repeat,

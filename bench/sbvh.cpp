@@ -17,6 +17,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
+#include "common/median.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
@@ -34,11 +35,6 @@ struct Options {
 };
 
 const char* kSplitNames[2] = {"object", "spatial"};
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // Builds both BVHs build_repeat times, interleaved; prints a line each; returns the last ones.
 std::vector<Bvh> build_both(const Scene& scene, const Options& o) {

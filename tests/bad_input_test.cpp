@@ -136,11 +136,16 @@ class BadInputCli : public test::CliTest {
   // Exit status 1 (not a crash, not CLI11's own codes), one line "hrpp: error: ..." naming
   // `needle`, nothing on stdout.
   void expect_error(const std::string& args, const std::string& needle) const {
+    expect_error(args, {needle});
+  }
+  // The same, the error naming every one of `needles`.
+  void expect_error(const std::string& args, std::initializer_list<std::string> needles) const {
     const test::CliResult r = run(args);
     EXPECT_EQ(r.status, 1) << args << ": " << r.err;
     EXPECT_EQ(r.err.rfind("hrpp: error: ", 0), 0u) << args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": " << r.err;
+    for (const std::string& needle : needles)
+      EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": " << r.err;
     EXPECT_TRUE(r.out.empty()) << args << ": " << r.out;
   }
   // No file and no .partial file left at `path`.
@@ -223,9 +228,9 @@ TEST_F(BadInputCli, ScenesOverTheDeviceMemoryAreRefusedBeforeUpload) {
   const std::string outputs = " --out " + image.string() + " --stats " + stats.string();
   ::setenv("HRPP_DEVICE_HEAP_MIB", "1", 1);
   expect_error("render builtin:cornell --size 512x512 --spp 1" + outputs,
-               "more than the device's memory heap as capped by HRPP_DEVICE_HEAP_MIB of 1.00 MiB "
-               "(1048576 bytes)");
-  expect_error("render builtin:cornell --size 512x512 --spp 1" + outputs, "largest: hit-all ray array 8.00 MiB");
+               {"more than the device's memory heap as capped by HRPP_DEVICE_HEAP_MIB of 1.00 MiB "
+                "(1048576 bytes)",
+                "largest: hit-all ray array 8.00 MiB"});
   expect_absent(image);
   expect_absent(stats);
   const fs::path rays = write_bytes("r.bin", 32 * 100000);

@@ -119,11 +119,9 @@ TEST(DeviceMemory, TheUnboundedTableIsThreeBuffersWithinTheStorageRange) {
 
 // A soup of small random triangles whose BVH node array is bigger than lavapipe's 128 MiB
 // storage range: refused before the arrays became texel-only.
-Scene triangle_soup(std::size_t count) { return make_triangle_soup(count, 11); }
-
 TEST(DeviceMemory, ANodeArrayPastTheStorageRangeTracesAsTheCpu) {
   VulkanContext& ctx = context();
-  const Scene scene = triangle_soup(2'300'000);
+  const Scene scene = make_triangle_soup(2'300'000, 11);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
   ASSERT_GT(bvh.nodes.size() * sizeof(gpu::BvhNode), ctx.info().max_storage_buffer_range);
   GpuTracer tracer(ctx, bvh);

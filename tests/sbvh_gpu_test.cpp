@@ -32,12 +32,6 @@ VulkanContext& context() {
   return *ctx;
 }
 
-BvhConfig spatial() {
-  BvhConfig c;
-  c.splits = BvhSplits::kSpatial;
-  return c;
-}
-
 bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
   return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
 }
@@ -68,7 +62,7 @@ class SbvhGpu : public testing::TestWithParam<std::string> {};
 TEST_P(SbvhGpu, AnswersEqualCpuReferenceAndObjectSplitBvh) {
   const Scene scene = test::load_test_scene(GetParam());
   const GpuBvh object = make_gpu_layout(build_bvh(scene), scene);
-  const GpuBvh split = make_gpu_layout(build_bvh(scene, spatial()), scene);
+  const GpuBvh split = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
   RayBatchConfig c;
   c.width = c.height = 48;
   c.secondary_count = 2304;
@@ -92,7 +86,7 @@ TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
   for (const bool huge : {false, true}) {
     const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
     const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
-    const GpuBvh split = make_gpu_layout(build_bvh(x.scene, spatial()), x.scene);
+    const GpuBvh split = make_gpu_layout(build_bvh(x.scene, test::spatial_splits()), x.scene);
     std::vector<gpu::Ray> rays;
     for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
     const std::vector<gpu::Ray> invalid = test::invalid_rays(split.bounds.center());
@@ -131,7 +125,7 @@ class LeakRaysSbvh : public testing::TestWithParam<test::LeakFrame> {};
 TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
   const test::LeakScene x = test::make_leak_scene(GetParam());
   const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
-  const Bvh sbvh = build_bvh(x.scene, spatial());
+  const Bvh sbvh = build_bvh(x.scene, test::spatial_splits());
   EXPECT_GT(sbvh.prim_ids.size(), x.scene.triangles.size());  // some triangles were cut
   const GpuBvh split = make_gpu_layout(sbvh, x.scene);
   std::vector<gpu::Ray> rays;
@@ -159,7 +153,7 @@ INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysSbvh, testing::ValuesIn(test::leak_fram
 // predictor reproduces the GPU's hits and counters (speculative and exact, go-up 0 and 2).
 TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
   const Scene scene = test::load_test_scene("bunny.scene.json");
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, spatial()), scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
   RayBatchConfig c;
   c.width = c.height = 32;
   c.secondary_count = 1024;

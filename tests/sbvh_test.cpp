@@ -31,13 +31,6 @@
 namespace hrpp {
 namespace {
 
-BvhConfig spatial(int threads = 0) {
-  BvhConfig c;
-  c.splits = BvhSplits::kSpatial;
-  c.threads = threads;
-  return c;
-}
-
 
 bool contains(const Aabb& b, const glm::dvec3& p, double tol) {
   for (int c = 0; c < 3; ++c)
@@ -141,7 +134,7 @@ void expect_valid_sbvh(const Scene& scene, const Bvh& bvh, const BvhConfig& conf
 }
 
 // Builds on 1, 2 and 3 threads: every tree valid, every GPU layout the one-thread one.
-Bvh expect_valid_on_any_thread_count(const Scene& scene, BvhConfig config = spatial()) {
+Bvh expect_valid_on_any_thread_count(const Scene& scene, BvhConfig config = test::spatial_splits()) {
   config.threads = 1;
   const Bvh one = build_bvh(scene, config);
   expect_valid_sbvh(scene, one, config);
@@ -253,7 +246,7 @@ TEST_P(SbvhScenes, InvariantsHoldAndTheCostIsNoWorse) {
 TEST_P(SbvhScenes, ClosestHitsEqualTheObjectSplitBvhs) {
   const Scene scene = test::load_test_scene(GetParam());
   const GpuBvh object = make_gpu_layout(build_bvh(scene), scene);
-  const GpuBvh split = make_gpu_layout(build_bvh(scene, spatial()), scene);
+  const GpuBvh split = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
   RayBatchConfig c;
   c.width = c.height = 48;
   c.secondary_count = 4096;
@@ -327,24 +320,24 @@ TEST(SbvhEdgeCases, HugeAndTinyCoordinates) {
 
 TEST(SbvhEdgeCases, NoBudgetNoDuplicatesAndAlphaStops) {
   const Scene s = test::synthetic_scene(random_triangles(3000, 9, 1.0, 0.0));
-  BvhConfig c = spatial();
+  BvhConfig c = test::spatial_splits();
   c.duplicate_budget = 0.0f;
   const Bvh none = build_bvh(s, c);
   expect_valid_sbvh(s, none, c);
   EXPECT_EQ(none.prim_ids.size(), s.triangles.size());
-  c = spatial();
+  c = test::spatial_splits();
   const Bvh some = build_bvh(s, c);
   EXPECT_GT(some.prim_ids.size(), s.triangles.size());  // random triangles overlap a lot
   c.spatial_alpha = 10.0f;  // overlap never exceeds 10 root areas: no spatial split
   EXPECT_EQ(build_bvh(s, c).prim_ids.size(), s.triangles.size());
-  c = spatial();
+  c = test::spatial_splits();
   c.unsplit = false;
   expect_valid_sbvh(s, build_bvh(s, c), c);
 }
 
 TEST(SbvhEdgeCases, BadBudgetIsAnError) {
   const Scene s = test::synthetic_scene({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
-  BvhConfig c = spatial();
+  BvhConfig c = test::spatial_splits();
   c.duplicate_budget = -1.0f;
   EXPECT_THROW(build_bvh(s, c), Error);
 }
@@ -352,7 +345,7 @@ TEST(SbvhEdgeCases, BadBudgetIsAnError) {
 // A triangle in several leaves predicts from the first of them in leaf order.
 TEST(SbvhPrediction, LeafOfPrimIsTheFirstLeafHoldingIt) {
   const Scene s = test::synthetic_scene(random_triangles(2000, 11, 1.0, 0.0));
-  const GpuBvh g = make_gpu_layout(build_bvh(s, spatial()), s);
+  const GpuBvh g = make_gpu_layout(build_bvh(s, test::spatial_splits()), s);
   const std::vector<std::uint32_t> leaf = leaf_of_prim(g);
   std::vector<std::uint32_t> first(s.triangles.size(), kNoLeaf);
   std::size_t shared = 0;

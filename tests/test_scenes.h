@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bvh/bvh.h"
 #include "scene/load_scene.h"
 
 namespace hrpp::test {
@@ -30,6 +31,13 @@ inline Scene synthetic_scene(std::vector<Triangle> tris) {
   s.shading.resize(s.triangles.size());
   s.materials.resize(1);
   return s;
+}
+
+// The BVH configuration with spatial splits (SBVH); the rest as BvhConfig's defaults.
+inline BvhConfig spatial_splits() {
+  BvhConfig c;
+  c.splits = BvhSplits::kSpatial;
+  return c;
 }
 
 // Test-name-safe form of a scene name for INSTANTIATE_TEST_SUITE_P.

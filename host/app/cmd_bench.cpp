@@ -28,6 +28,7 @@
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
+#include "common/median.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
 #include "reference/embree_tracer.h"
@@ -135,11 +136,6 @@ struct TracerResult {
   std::string timing;                         // what the ms measure
   bool speculative = false;  // HRPP speculative hit-all: mismatches are wrong predictions
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // Warm-up on a slice, then `repeat` timed runs over the whole batch; `hits`: the last run's.
 TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, bool any_hit, int repeat,

@@ -17,7 +17,7 @@ struct SharedOptions {
   std::string scene = "builtin:cornell";
   BvhConfig bvh;
   VulkanOptions vulkan;
-  GpuTracerConfig tracer;  // rays_per_invocation
+  GpuTracerConfig tracer;  // rays_per_invocation (trace: also count_steps)
 };
 
 enum class SharedGroup {

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <functional>
 #include <limits>
-#include <memory>
 #include <span>
 #include <thread>
 
@@ -15,7 +14,6 @@
 #include "bvh/small_node.h"
 #include "bvh/task_pool.h"
 #include "common/error.h"
-#include "scene/load_scene.h"
 
 namespace hrpp {
 namespace {

@@ -157,7 +157,7 @@ bool SbvhBuilder::split(Task& t, Task& left, Task& right, Scratch& s, bool paral
     object = bvh_build::best_split(s.bins, map, centroids, area, config_);
   }
   bvh_build::SpatialSplit spatial;
-  if (config_.splits == BvhSplits::kSpatial && t.budget > 0 &&
+  if (t.budget > 0 &&
       t.depth < bvh_build::kMedianSplitDepth &&
       (object.axis < 0 || overlap_area(object.left, object.right) > alpha_area_)) {
     spatial = s.spatial.best_split(t.refs, tris_, t.bounds, bins, config_,

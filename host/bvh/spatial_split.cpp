@@ -29,8 +29,7 @@ PrimRef make_ref(const Aabb& b, std::uint32_t id) {
   return r;
 }
 
-}  // namespace
-
+// The box of a reference.
 Aabb ref_box(const PrimRef& ref) {
   Aabb b;
   b.lo = {ref.lo[0], ref.lo[1], ref.lo[2]};
@@ -38,6 +37,8 @@ Aabb ref_box(const PrimRef& ref) {
   return b;
 }
 
+// The parts of a reference's triangle on either side of the plane p[axis] = plane, within the
+// reference's box (chop_triangle, bvh/triangle_clip.h): empty boxes for sides with no point.
 ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, float plane) {
   const Aabb box = ref_box(ref);
   ChoppedBoxes c = chop_triangle(tri, axis, plane);
@@ -45,6 +46,8 @@ ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, f
   c.above = intersection(c.above, box);
   return c;
 }
+
+}  // namespace
 
 // Planes lo = p_0 < p_1 < ... < p_bins = hi, evenly spread (in double, then rounded); false
 // when floats cannot hold them distinct.

@@ -56,13 +56,6 @@ class SpatialBins {
   std::uint32_t enter_[3][kMaxBins], exit_[3][kMaxBins];
 };
 
-// The box of a reference.
-Aabb ref_box(const PrimRef& ref);
-
-// The parts of a reference's triangle on either side of the plane p[axis] = plane, within the
-// reference's box (chop_triangle, bvh/triangle_clip.h): empty boxes for sides with no point.
-ChoppedBoxes chop_reference(const PrimRef& ref, const Triangle& tri, int axis, float plane);
-
 // Splits refs by the plane into `left` and `right` (appended, each in input order). A cut
 // reference goes whole to one side instead when Stich's reference unsplitting says so (with
 // `unsplit`), when cutting it would make more than `max_duplicates` duplicates in all (then to

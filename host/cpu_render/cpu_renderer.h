@@ -28,7 +28,6 @@ class CpuRenderer {
   // bounce, shadow) and wall times; no kernel times.
   RenderResult render(const std::function<void(std::uint32_t)>& progress = {}) const;
 
-  const RenderScene& render_scene() const { return rs_; }
 
  private:
   const GpuBvh& bvh_;

@@ -372,7 +372,6 @@ bool GpuTracer::records_indirect(RayClass c) const { return s_->records_indirect
 
 std::uint32_t GpuTracer::rays_per_workgroup() const { return s_->rays_per_workgroup(); }
 
-std::size_t GpuTracer::max_dispatch_rays() const { return s_->chunk_rays(); }
 
 // Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
 // workgroups reach.

@@ -30,7 +30,7 @@ class TexelView;
 
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
-  // instead). Lavapipe's loop limiter (docs/ARCHITECTURE.md, "Lavapipe facts") ends every loop
+  // instead). Lavapipe's loop limiter (docs/ARCHITECTURE.md, "Lavapipe") ends every loop
   // of a subgroup after 65,535 iterations in total, a few hundred rays' worth; 16 keeps a wide
   // margin. A dispatch whose rays do not all finish throws hrpp::Error naming the limit.
   std::uint32_t rays_per_invocation = 16;
@@ -120,9 +120,8 @@ class GpuTracer {
   bool records_indirect(RayClass c) const;
   // Rays one workgroup of a trace takes, with or without HRPP (indirect dispatch arguments).
   std::uint32_t rays_per_workgroup() const;
-  // Most rays one dispatch reaches (storage-buffer range, texel-buffer size, workgroup count).
-  std::size_t max_dispatch_rays() const;
-  // The same for a device and configuration, before a tracer exists.
+  // Most rays one dispatch reaches on `device` with `config` (storage-buffer range,
+  // texel-buffer size, workgroup count).
   static std::size_t max_dispatch_rays(const DeviceInfo& device, const GpuTracerConfig& config);
 
   // begin + record + submit + finish of ray_buffer(c)[0..count); with `sorter`, sorted first

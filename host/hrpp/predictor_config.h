@@ -74,8 +74,9 @@ struct PredictorConfig {
   // and try it again now and then (host/hrpp/adaptive_predictor.h). Off: every enabled class
   // probes every ray (the limit study's counting runs).
   bool adaptive = true;
-  // The adaptive predictor's sample frames: every `sample`-th ray of the class runs the HRPP
-  // stage, then the plain trace traces every ray (>= 2).
+  // The adaptive predictor's sample frames: every `sample`-th block of HRPP_SAMPLE_BLOCK
+  // consecutive rays of the class runs the HRPP stage, then the plain trace traces every ray
+  // (>= 1; 1 samples every ray).
   std::uint32_t sample = 32;
 
   bool predicts(RayClass c) const { return enabled && classes[c]; }

@@ -155,8 +155,9 @@ uint ray_index(uint j) { return hrpp_pass_ray_index(j, pc.pilot_pass, pc.pilot_s
 void main() {
   if (hrpp.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup
   const uint count = pass_ray_count(queue.ray_count);
-  // Workgroups past the pass's rays leave before their atomics: an indirect pilot or sample pass
-  // is dispatched with the workgroups of every ray.
+  // Workgroups past the pass's rays leave before their atomics: the second pass of the pilot
+  // schedule is dispatched with the trace's own arguments (a workgroup per trace_group_rays of
+  // every ray), and HRPP_PASS_NONE has no ray at all.
   if (gl_WorkGroupID.x * pc.trace_group_rays >= count) return;
   uint resolved_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {

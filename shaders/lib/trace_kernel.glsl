@@ -5,7 +5,7 @@
 //
 // Persistent invocations: one lane per subgroup fetches the next rays with atomicAdd on a global
 // cursor, but at most pc.rays_per_invocation per invocation, because lavapipe's loop limiter
-// (docs/ARCHITECTURE.md, "Lavapipe facts") silently ends every loop once a subgroup has run
+// (docs/ARCHITECTURE.md, "Lavapipe") silently ends every loop once a subgroup has run
 // 65,535 loop iterations in total. Every ray proves it finished: its traversal loop must end at
 // the sentinel and a canary loop with a bound unknown to the compiler (pc.canary_iterations)
 // must still run in full. Rays that pass count in HRPP_COUNTER_RAYS; the others in
@@ -80,7 +80,8 @@ void main() {
 
   const uint sums[HRPP_COUNTER_COUNT] = uint[](subgroupAdd(done), subgroupAdd(g_interior),
                                                subgroupAdd(g_leaves), subgroupAdd(g_triangles),
-                                               subgroupAdd(hit_count), subgroupAdd(g_steps));
+                                               subgroupAdd(hit_count),
+                                               kCountSteps ? subgroupAdd(g_steps) : 0u);
   const uint aborted_sum = subgroupAdd(aborted);
   // No loop here: a limiter that fired during the last ray would cut a loop short and lose
   // counts of rays that did finish.

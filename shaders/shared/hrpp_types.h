@@ -124,7 +124,7 @@ struct InsertRequest {
 
 // Predictor counters of one ray class, summed over a dispatch (64-bit atomics). One list,
 // expanded by both sides: X(NAME, key, index) gives the index constant HRPP_PC_NAME, the JSON key
-// `key` (host) and the kernels' count variables (h_key in hrpp_predict, r_key in hrpp_resolve).
+// `key` (host) and the kernels' count variables (count_<key>, HRPP_DECLARE_COUNT).
 //   probes = predictor_hits + negatives; predictor_hits = true_positives + false_positives;
 //   insert_requests = inserts + insert_present + insert_drops.
 // Interior nodes / leaves / triangles visited are TraceCounters' (they include verification).
