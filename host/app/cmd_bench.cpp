@@ -465,7 +465,7 @@ void run_bench(const BenchOptions& o) {
   const Scene scene = load_scene(o.shared.scene);
   const Bvh base = build_bvh(scene, o.shared.bvh);
   report["scene"] = describe_scene(o, scene, base);
-  const GpuBvh bvh = make_gpu_layout(base, scene);
+  const GpuBvh bvh = make_gpu_layout(base, scene, NodeLayout::kDfs, o.shared.nodes);
   Backends backends = make_backends(o, scene, bvh, ctx.get(), threads, report);
   const RayBatches batches = make_batches(o, scene, bvh, threads, report);
   if (!o.save_rays.empty()) save_batches(o.save_rays, scene, batches);

@@ -137,7 +137,8 @@ void run_render(RenderOptions& o) {
   o.render.tracer = o.shared.tracer;
   o.render.predictor = o.hrpp.config();
   const Scene scene = load_scene(o.shared.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, NodeLayout::kDfs,
+                                     o.shared.nodes);
   if (o.backend == RenderBackend::kCpu) return run_cpu_render(o, scene, bvh);
   VulkanContext ctx(o.shared.vulkan);
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);

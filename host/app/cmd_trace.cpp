@@ -101,7 +101,8 @@ void run_trace(const TraceOptions& o) {
                 "--reorder off with HRPP on");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
   const Scene scene = load_scene(o.shared.scene);
-  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout);
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout,
+                                     o.shared.nodes);
   VulkanContext ctx(o.shared.vulkan);
   GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
   const std::unique_ptr<RaySorter> sorter = make_sorter(ctx, bvh, o.reorder, rays.size());

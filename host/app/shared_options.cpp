@@ -23,6 +23,11 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
                                            {"spatial", BvhSplits::kSpatial}}))
       ->default_str("object");
   if (group == SharedGroup::kScene) return;
+  cmd->add_option("--bvh-nodes", o.nodes,
+                  "binary: Aila-Laine 64-byte nodes (the reference; HRPP needs them); wide4: "
+                  "4-wide nodes with 8-bit quantised child boxes (HRPP off only)")
+      ->transform(CLI::CheckedTransformer(node_format_names()))
+      ->default_str(node_format_name(o.nodes));
   cmd->add_option("--device", o.vulkan.device,
                   "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
   cmd->add_flag("--validate,--vulkan-validate", o.vulkan.validate,

@@ -1,6 +1,6 @@
 // The options that every subcommand loading a scene shares, defined once: the scene, the BVH
-// build (--bvh-*), and for the commands that open the Vulkan device --device, --validate and
-// --rays-per-invocation.
+// build (--bvh-*), and for the commands that open the Vulkan device --bvh-nodes, --device,
+// --validate and --rays-per-invocation.
 #pragma once
 
 #include <string>
@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
 
@@ -16,6 +17,7 @@ namespace hrpp::app {
 struct SharedOptions {
   std::string scene = "builtin:cornell";
   BvhConfig bvh;
+  NodeFormat nodes = NodeFormat::kBinary;  // --bvh-nodes (device commands)
   VulkanOptions vulkan;
   GpuTracerConfig tracer;  // rays_per_invocation (trace: also count_steps)
 };

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "bvh/wide_nodes.h"
 #include "common/error.h"
 
 namespace hrpp {
@@ -102,7 +103,21 @@ const std::map<std::string, NodeLayout>& node_layout_names() {
   return kNames;
 }
 
-GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout) {
+const char* node_format_name(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::kBinary: return "binary";
+    case NodeFormat::kWide4: return "wide4";
+  }
+  return "?";
+}
+
+const std::map<std::string, NodeFormat>& node_format_names() {
+  static const std::map<std::string, NodeFormat> kNames = {{"binary", NodeFormat::kBinary},
+                                                           {"wide4", NodeFormat::kWide4}};
+  return kNames;
+}
+
+GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout, NodeFormat format) {
   GpuBvh out;
   if (bvh.nodes.empty()) throw Error("BVH has no nodes");
   out.bounds = bvh.nodes[0].bounds;
@@ -114,6 +129,7 @@ GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout) {
     f.place_lone_leaf();
   else
     f.place(0, -1, 0);
+  if (format == NodeFormat::kWide4) out.wide_nodes = make_wide_nodes(out);
   return out;
 }
 

@@ -44,16 +44,26 @@ void to_occlusion_records(std::span<gpu::Hit> hits) {
   for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
 }
 
+// The node array the trace kernels read: BvhNodes, or WideNodes (--bvh-nodes wide4).
+std::size_t node_array_bytes(const GpuBvh& bvh) {
+  if (bvh.format() == NodeFormat::kWide4) return bvh.wide_nodes.size() * sizeof(gpu::WideNode);
+  return bvh.nodes.size() * sizeof(gpu::BvhNode);
+}
+
 std::array<BufferNeed, 3> bvh_buffer_needs(const GpuBvh& bvh) {
   constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
-  return {{{"BVH node array", bvh.nodes.size() * sizeof(gpu::BvhNode), kTexel},
+  return {{{"BVH node array", node_array_bytes(bvh), kTexel},
            {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel},
            {"BVH triangle array", bvh.triangles.size() * sizeof(gpu::TriangleRecord), kTexel}}};
 }
 
-// Before anything is allocated: the tracer's buffers against the device (gpu/memory_plan.h).
+// Before anything is allocated: the tracer's buffers against the device (gpu/memory_plan.h),
+// and HRPP's need for binary nodes.
 void check_tracer_fits(const VulkanContext& ctx, const GpuBvh& bvh,
                        const PredictorConfig& predictor) {
+  if (predictor.enabled && bvh.format() != NodeFormat::kBinary)
+    throw Error(std::string("--bvh-nodes ") + node_format_name(bvh.format()) +
+                " traces with HRPP off only: HRPP's predictor tests binary nodes");
   check_fits("the BVH of " + std::to_string(bvh.triangles.size()) + " triangles",
              GpuTracer::buffer_needs(bvh, predictor, 0), memory_limits(ctx.info()));
 }
@@ -87,11 +97,11 @@ struct QueryArrays {
   Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
   // `count_steps`: the kernels count the interior loop's subgroup iterations
-  // (GpuTracerConfig::count_steps).
-  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps)
+  // (GpuTracerConfig::count_steps); `wide`: they read WideNodes (--bvh-nodes wide4).
+  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps, bool wide)
       : QueryArrays(c, any_hit,
-                    std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS,
-                                                      count_steps ? 1u : 0u}}) {}
+                    std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS, count_steps ? 1u : 0u},
+                               SpecializationConstant{HRPP_SPEC_WIDE_NODES, wide ? 1u : 0u}}) {}
 
   QueryArrays(VulkanContext& c, bool any_hit, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
@@ -130,11 +140,15 @@ struct GpuTracer::State {
         triangle_view(c, triangles),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
-    nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
+    if (bvh.format() == NodeFormat::kWide4)
+      nodes.upload(std::span<const gpu::WideNode>(bvh.wide_nodes));
+    else
+      nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {
-      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps);
+      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps,
+                                                       bvh.format() == NodeFormat::kWide4);
       for (ComputePipeline* k : {&queries[any_hit]->kernel, &queries[any_hit]->indexed}) {
         k->bind(HRPP_TRACE_BINDING_NODES, node_view);
         k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);

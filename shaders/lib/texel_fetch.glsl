@@ -1,7 +1,7 @@
 // The trace kernels' inputs (the BVH arrays and the rays of shaders/shared/gpu_types.h) read
 // through uniform texel buffers (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4
-// texels, a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted, never converted, so
-// values are exactly the host's.
+// texels (a WideNode too), a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted,
+// never converted, so values are exactly the host's.
 // Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
 // word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
 #ifndef HRPP_TEXEL_FETCH_GLSL
@@ -19,6 +19,19 @@ BvhNode load_node(int index) {
   n.right_xy = uintBitsToFloat(texelFetch(node_texels, t + 1));
   n.lr_z = uintBitsToFloat(texelFetch(node_texels, t + 2));
   n.link = ivec4(texelFetch(node_texels, t + 3));
+  return n;
+}
+
+// A WideNode (--bvh-nodes wide4) in place of BvhNodes: the same 4 texels per node.
+WideNode load_wide_node(int index) {
+  const int t = 4 * index;
+  const uvec4 a = texelFetch(node_texels, t);
+  WideNode n;
+  n.origin = uintBitsToFloat(a.xyz);
+  n.exponents = a.w;
+  n.child = ivec4(texelFetch(node_texels, t + 1));
+  n.lo = texelFetch(node_texels, t + 2);
+  n.hi = texelFetch(node_texels, t + 3);
   return n;
 }
 

@@ -37,6 +37,7 @@ using glm::pow;
 using glm::reflect;
 using glm::refract;
 using glm::smoothstep;
+using glm::uintBitsToFloat;
 using glm::unpackUnorm4x8;
 using std::cos;
 using std::sin;

@@ -17,6 +17,7 @@ namespace hrpp::gpu {
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
+using uvec4 = glm::uvec4;
 using uint = std::uint32_t;
 #endif
 
@@ -32,6 +33,25 @@ struct BvhNode {
   vec4 right_xy;
   vec4 lr_z;
   ivec4 link;
+};
+
+// A 4-wide node with quantised child boxes (--bvh-nodes wide4; host/bvh/wide_nodes.h): 64
+// bytes like BvhNode, for up to four children, so a traversal step covers about two binary
+// levels for the same four texel fetches. Each child box lies on a grid over this node's box:
+//   origin    = the node box's low corner
+//   exponents = the grid step per axis as a biased float exponent: step = 2^(byte - 127), x in
+//               byte 0, y in byte 1, z in byte 2 (byte 3 is 0)
+//   child     = child references as BvhNode::link's (>= 0 wide node, < 0 ~leaf); an empty slot
+//               holds 0x7fffffff
+//   lo, hi    = (x, y, z, 0): byte i of each word is child i's grid coordinate q on that axis;
+//               the bound is origin + q × step (shaders/shared/wide_node.h), rounded outward
+//               when built, so the decoded box holds the child's exact box.
+struct WideNode {
+  vec3 origin;
+  uint exponents;
+  ivec4 child;
+  uvec4 lo;
+  uvec4 hi;
 };
 
 // A leaf: a run of triangle records. parent/depth serve HRPP's go-up level.

@@ -60,6 +60,9 @@ namespace hrpp::gpu {
 // (steps × subgroup size)); 0 (the default) compiles the count out. Its id is not one of
 // hrpp_predict's (HRPP_SPEC_* in hrpp_interface.h), which includes the same traversal.
 #define HRPP_SPEC_COUNT_STEPS 2
+// 1: the node array holds WideNodes (--bvh-nodes wide4, host/bvh/wide_nodes.h) and the
+// traversal steps through them; 0 (the default, and hrpp_predict's): BvhNodes.
+#define HRPP_SPEC_WIDE_NODES 3
 
 struct TraceCounters {
   uint next_ray;   // persistent fetch cursor (atomicAdd by one lane per subgroup)

@@ -1,0 +1,207 @@
+// The trace kernels over 4-wide nodes (--bvh-nodes wide4) on the Vulkan device (lavapipe here):
+// their answers equal the CPU reference traversal's bit for bit (closest hit: same triangle, t,
+// u, v; any hit: the same verdict), on the stand-ins' primary, AO and diffuse rays, through the
+// indexed kernels of a sorted trace, and on the extreme-case and leak suites with their exact
+// rules; a wide step covers more of the tree than a binary one (fewer loop steps); HRPP on
+// refuses the format with a one-line error; `hrpp bench` takes the option and a bad value names
+// the flag. The validation layer reports nothing.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "cli_runner.h"
+#include "common/error.h"
+#include "extreme_cases.h"
+#include "gpu/gpu_tracer.h"
+#include "gpu/ray_sorter.h"
+#include "gpu/vulkan_context.h"
+#include "test_scenes.h"
+#include "trace/cpu_traversal.h"
+#include "trace/ray_batches.h"
+
+namespace hrpp {
+namespace {
+
+using test::RayGroup;
+
+VulkanContext& context() {
+  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
+  return *ctx;
+}
+
+bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
+  return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
+}
+
+GpuBvh wide(const Scene& scene) {
+  return make_gpu_layout(build_bvh(scene), scene, NodeLayout::kDfs, NodeFormat::kWide4);
+}
+
+// GPU closest and any hits over the wide nodes (sorted first with `sorter`) against the CPU
+// reference over the binary ones; returns the number of rays that differ (the first few
+// reported).
+int count_differences(const GpuBvh& bvh, const std::vector<gpu::Ray>& rays,
+                      const std::string& what, RaySorter* sorter = nullptr) {
+  GpuTracer tracer(context(), bvh);
+  const GpuTraceResult closest = tracer.trace(rays, false, sorter);
+  const GpuTraceResult any = tracer.trace(rays, true, sorter);
+  int differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const gpu::Hit ref = trace_closest(bvh, rays[i]);
+    const bool ok = same_hit(closest.hits[i], ref) &&
+                    (any.hits[i].prim >= 0) == trace_any(bvh, rays[i]);
+    if (!ok && ++differ <= 3)
+      ADD_FAILURE() << what << " ray " << i << ": wide gpu " << closest.hits[i].prim << " t "
+                    << closest.hits[i].t << ", cpu " << ref.prim << " t " << ref.t;
+  }
+  return differ;
+}
+
+class WideNodesGpu : public testing::TestWithParam<std::string> {};
+
+TEST_P(WideNodesGpu, AnswersEqualTheCpuReference) {
+  const Scene scene = test::load_test_scene(GetParam());
+  const GpuBvh bvh = wide(scene);
+  RayBatchConfig c;
+  c.width = c.height = 48;
+  c.secondary_count = 2304;
+  c.threads = 1;
+  const RayBatches b = make_ray_batches(scene, bvh, c);
+  EXPECT_EQ(count_differences(bvh, b.primary, "primary"), 0);
+  EXPECT_EQ(count_differences(bvh, b.ao.rays, "ao"), 0);
+  EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse"), 0);
+  RaySorter sorter(context(), bvh.bounds, b.diffuse.rays.size());
+  EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse, sorted", &sorter), 0);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(StandIns, WideNodesGpu, testing::ValuesIn(test::reference_scene_names()),
+                         test::scene_param_name);
+
+// Fewer subgroup steps of the interior loop than over binary nodes, the same hits.
+TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
+  const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
+  const GpuBvh bvh = wide(scene);
+  GpuBvh binary = bvh;
+  binary.wide_nodes.clear();
+  RayBatchConfig c;
+  c.width = c.height = 32;
+  c.secondary_count = 1024;
+  c.threads = 1;
+  const RayBatches b = make_ray_batches(scene, bvh, c);
+  GpuTracerConfig counting;
+  counting.count_steps = true;
+  GpuTracer on_wide(context(), bvh, counting), on_binary(context(), binary, counting);
+  for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
+    const GpuTraceResult w = on_wide.trace(*rays, false), n = on_binary.trace(*rays, false);
+    for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(same_hit(w.hits[i], n.hits[i]));
+    EXPECT_GT(w.counters.interior_steps, 0u);
+    EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
+    EXPECT_LT(w.counters.interior_visited * 4, n.counters.interior_visited * 3);
+  }
+}
+
+// The extreme-case suite (tests/extreme_cases.h) over wide nodes: the CPU reference's answers,
+// and the exact rules (no escape from closed meshes, no self-hits) on the device's answers
+// (without the huge triangle, as the suite checks them).
+class ExtremeRaysWide : public testing::TestWithParam<test::Frame> {};
+
+TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
+  for (const bool huge : {false, true}) {
+    const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
+    const GpuBvh bvh = wide(x.scene);
+    std::vector<gpu::Ray> rays;
+    for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+    const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
+    rays.insert(rays.end(), invalid.begin(), invalid.end());
+    EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
+    GpuTracer tracer(context(), bvh);
+    const GpuTraceResult closest = tracer.trace(rays, false);
+    std::size_t i = 0;
+    int rule_fails = 0;
+    for (const RayGroup& g : x.groups)
+      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i) {
+        const bool in_range = closest.hits[i].prim >= g.first && closest.hits[i].prim < g.last;
+        rule_fails += (g.rule == RayGroup::Rule::kHitRange && !in_range) ||
+                      (g.rule == RayGroup::Rule::kAvoidRange && in_range);
+      }
+    if (!huge) {  // with the huge triangle the suite checks no rules (extreme_cases.h)
+      EXPECT_EQ(rule_fails, 0) << GetParam().name;
+    }
+    for (; i < rays.size(); ++i) EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysWide, testing::ValuesIn(test::extreme_frames()),
+                         [](const testing::TestParamInfo<test::Frame>& f) {
+                           std::string n = f.param.name;
+                           for (char& c : n)
+                             if (c == '-') c = 'm';
+                           return n;
+                         });
+
+// The leak suite (tests/extreme_cases.h) over wide nodes: the CPU reference's answers, and no
+// ray from inside a closed mesh escapes it (rounded-outward boxes leave no gap).
+class LeakRaysWide : public testing::TestWithParam<test::LeakFrame> {};
+
+TEST_P(LeakRaysWide, EqualTheCpuReferenceAndNothingEscapes) {
+  const test::LeakScene x = test::make_leak_scene(GetParam());
+  const GpuBvh bvh = wide(x.scene);
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0);
+  GpuTracer tracer(context(), bvh);
+  const GpuTraceResult closest = tracer.trace(rays, false);
+  std::size_t i = 0;
+  int escapes = 0;
+  for (const RayGroup& g : x.groups)
+    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
+      escapes += g.rule == RayGroup::Rule::kHitRange &&
+                 (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
+  EXPECT_EQ(escapes, 0) << GetParam().name;
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysWide, testing::ValuesIn(test::leak_frames()),
+                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
+                           return f.param.name;
+                         });
+
+TEST(WideNodesHrpp, HrppOnRefusesTheFormat) {
+  const GpuBvh bvh = wide(test::load_test_scene("builtin:cornell"));
+  PredictorConfig p;
+  p.enabled = true;
+  try {
+    GpuTracer tracer(context(), bvh, {}, p);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--bvh-nodes wide4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("HRPP off"), std::string::npos) << e.what();
+  }
+}
+
+// `hrpp bench` over wide nodes: every tracer checked against the CPU reference (--strict exits
+// 1 on a mismatch); a bad value names the flag; `hrpp render` with HRPP on says what to do.
+class WideNodesCli : public test::CliTest {};
+
+TEST_F(WideNodesCli, BenchTracesWideNodesAndBadUseSaysWhy) {
+  const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
+                                "--check-rays 2048 --bvh-nodes wide4");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const test::CliResult bad = run("bench teapot --bvh-nodes wide8");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("--bvh-nodes"), std::string::npos) << bad.err;
+  const test::CliResult hrpp = run("render builtin:cornell --size 16x16 --spp 1 --hrpp on "
+                                   "--bvh-nodes wide4 --out " + (dir_ / "wide.exr").string());
+  EXPECT_NE(hrpp.status, 0);
+  EXPECT_NE(hrpp.err.find("HRPP off only"), std::string::npos) << hrpp.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "wide.exr"));
+}
+
+}  // namespace
+}  // namespace hrpp

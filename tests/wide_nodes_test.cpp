@@ -1,0 +1,148 @@
+// The 4-wide node format (host/bvh/wide_nodes.h): on every stand-in and on degenerate inputs
+// (one triangle, equal triangles, a flat scene, subnormal, tiny, huge and translated
+// coordinates) the wide nodes form a tree over the binary layout's leaves (each leaf that holds
+// triangles and each node below the root referenced once, at most four children, fewer nodes
+// than the binary layout), and every decoded child box (shaders/shared/wide_node.h) holds the
+// exact box of the triangles under the child, also as a device that flushes subnormals computes
+// it. A scene too wide for the 8-bit grid is a one-line error naming the option.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
+#include "common/error.h"
+#include "test_scenes.h"
+#include "wide_node.h"
+
+namespace hrpp {
+namespace {
+
+float flushed(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
+
+class WideTreeChecker {
+ public:
+  explicit WideTreeChecker(const GpuBvh& g)
+      : g_(g), node_refs_(g.wide_nodes.size(), 0), leaf_refs_(g.leaves.size(), 0) {}
+
+  void check() {
+    ASSERT_FALSE(g_.wide_nodes.empty());
+    EXPECT_LE(g_.wide_nodes.size(), g_.nodes.size());
+    node_refs_[0] = 1;
+    subtree_box(0);
+    for (int c : node_refs_) EXPECT_EQ(c, 1);
+    for (std::size_t i = 0; i < g_.leaves.size(); ++i)
+      if (g_.leaves[i].triangle_count > 0) {
+        EXPECT_EQ(leaf_refs_[i], 1) << "leaf " << i;
+      }
+  }
+
+ private:
+  // The exact box of the triangles under child reference `ref`; checks its node's boxes.
+  Aabb subtree_box(int ref) {
+    Aabb box;
+    if (is_leaf_ref(ref)) {
+      const gpu::BvhLeaf& leaf = g_.leaves.at(leaf_index(ref));
+      ++leaf_refs_.at(leaf_index(ref));
+      for (gpu::uint i = leaf.first_triangle; i < leaf.first_triangle + leaf.triangle_count; ++i)
+        for (const glm::vec3& v : {g_.triangles[i].v0, g_.triangles[i].v1, g_.triangles[i].v2})
+          box.grow(v);
+      return box;
+    }
+    const gpu::WideNode& n = g_.wide_nodes.at(ref);
+    for (int i = 0; i < HRPP_WIDE_CHILDREN; ++i) {
+      const int child = n.child[i];
+      if (child == HRPP_WIDE_EMPTY_SLOT) continue;
+      if (!is_leaf_ref(child) && ++node_refs_.at(child) > 1) continue;  // counted: not a tree
+      const Aabb exact = subtree_box(child);
+      gpu::vec3 lo, hi;
+      gpu::hrpp_wide_child_box(n, static_cast<gpu::uint>(i), lo, hi);
+      for (int a = 0; a < 3 && !exact.empty(); ++a) {
+        EXPECT_TRUE(lo[a] <= exact.lo[a] && flushed(lo[a]) <= exact.lo[a])
+            << "node " << ref << " child " << i << " axis " << a << ": " << lo[a] << " > "
+            << exact.lo[a];
+        EXPECT_TRUE(hi[a] >= exact.hi[a] && flushed(hi[a]) >= exact.hi[a])
+            << "node " << ref << " child " << i << " axis " << a << ": " << hi[a] << " < "
+            << exact.hi[a];
+        EXPECT_TRUE(std::isfinite(lo[a]) && std::isfinite(hi[a]));
+      }
+      box.grow(exact);
+    }
+    return box;
+  }
+
+  const GpuBvh& g_;
+  std::vector<int> node_refs_, leaf_refs_;
+};
+
+GpuBvh wide_layout(const Scene& scene) {
+  return make_gpu_layout(build_bvh(scene, BvhConfig{}), scene, NodeLayout::kDfs,
+                         NodeFormat::kWide4);
+}
+
+class WideNodes : public testing::TestWithParam<std::string> {};
+
+TEST_P(WideNodes, FormATreeWhoseBoxesHoldTheirChildren) {
+  const Scene scene = test::load_test_scene(GetParam());
+  const GpuBvh g = wide_layout(scene);
+  EXPECT_EQ(g.format(), NodeFormat::kWide4);
+  WideTreeChecker(g).check();
+  // Collapsing halves the levels: well under the binary node count.
+  EXPECT_LT(g.wide_nodes.size() * 2, g.nodes.size() + 2) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(StandIns, WideNodes, testing::ValuesIn(test::reference_scene_names()),
+                         test::scene_param_name);
+
+// A grid of `n` × `n` unit triangles at `scale`, moved by `offset`.
+std::vector<Triangle> triangle_grid(int n, float scale, glm::vec3 offset) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const glm::vec3 p = offset + scale * glm::vec3(i, j, (i * 7 + j * 3) % 5);
+      tris.push_back({p, p + glm::vec3(scale, 0, 0), p + glm::vec3(0, scale, scale)});
+    }
+  return tris;
+}
+
+TEST(WideNodes, DegenerateAndExtremeInputs) {
+  const std::vector<std::pair<std::string, std::vector<Triangle>>> cases = {
+      {"one triangle", {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}},
+      {"equal triangles", std::vector<Triangle>(50, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})},
+      {"flat", [] {
+         std::vector<Triangle> t = triangle_grid(12, 1.0f, glm::vec3(0));
+         for (Triangle& x : t) x.v0.z = x.v1.z = x.v2.z = 2.0f;
+         return t;
+       }()},
+      {"subnormal low corner below 0", triangle_grid(8, 1.0f, glm::vec3(-3e-40f))},
+      {"subnormal low corner above 0", triangle_grid(8, 1.0f, glm::vec3(3e-40f))},
+      {"tiny", triangle_grid(8, 1e-30f, glm::vec3(0))},
+      {"huge", triangle_grid(8, 1e30f, glm::vec3(-4e30f))},
+      {"translated", triangle_grid(8, 1e-3f, glm::vec3(1e6f, -1e6f, 1e6f))},
+      {"near the largest float", triangle_grid(4, 3e37f, glm::vec3(-6e37f))},
+  };
+  for (const auto& [name, tris] : cases) {
+    SCOPED_TRACE(name);
+    WideTreeChecker(wide_layout(test::synthetic_scene(tris))).check();
+  }
+}
+
+TEST(WideNodes, ASceneTooWideForTheGridNamesTheOption) {
+  const Scene scene = test::synthetic_scene(
+      {{{-3e38f, 0, 0}, {-3e38f, 1, 0}, {-3e38f, 0, 1}}, {{3e38f, 0, 0}, {3e38f, 1, 0}, {3e38f, 0, 1}}});
+  try {
+    wide_layout(scene);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--bvh-nodes wide4"), std::string::npos) << e.what();
+  }
+}
+
+TEST(WideNodes, NamesRoundTrip) {
+  for (const auto& [name, format] : node_format_names()) EXPECT_EQ(node_format_name(format), name);
+}
+
+}  // namespace
+}  // namespace hrpp
