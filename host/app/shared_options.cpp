@@ -15,6 +15,9 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
       ->capture_default_str();
   cmd->add_option("--bvh-max-leaf", o.bvh.max_leaf_size, "Largest leaf, triangles (1..255)")
       ->capture_default_str();
+  cmd->add_option("--bvh-intersection-cost", o.bvh.intersection_cost,
+                  "SAH cost of a triangle test, in interior node visits (lower: larger leaves)")
+      ->capture_default_str();
   cmd->add_option("--bvh-splits", o.bvh.splits,
                   "object: binned SAH object splits; spatial: also spatial splits (SBVH), at most "
                   "30% more references than triangles")
