@@ -48,8 +48,7 @@ PredictorConfig HrppOptions::config() const {
   c.serial = serial;
   c.count_baseline = count_baseline;
   c.classes = parse_ray_classes(rays);
-  // The deterministic order (batches) is for reproducible counts: no decisions from timings.
-  c.adaptive = adaptive && batch == 0;
+  c.adaptive = adaptive;  // with batches it does not adapt (PredictorConfig::adapts)
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
 }
@@ -145,7 +144,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
           {"table_policy", table_policy_name(c.table.policy)},
           {"table_bytes", c.table.bytes()},
           {"ray_classes", class_names(c)},
-          {"adaptive", c.adaptive},
+          {"adaptive", c.adapts()},
           {"count_baseline", c.count_baseline},
           {"batch", c.batch},
           {"pilot", c.pilot},

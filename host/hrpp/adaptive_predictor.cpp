@@ -13,9 +13,8 @@ const char* probe_name(Probe p) {
   return "off";
 }
 
-// Batches (the deterministic order) cannot sample and are for reproducible counts: fixed.
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
-    : adaptive_(config.adaptive && config.batch == 0), passes_(config.pilot >= 2 ? 2 : 1) {
+    : adaptive_(config.adapts()), passes_(config.pilot >= 2 ? 2 : 1) {
   for (RayClass c : kRayClasses) {
     State& s = state_[c];
     s.enabled = config.predicts(c);

@@ -80,6 +80,9 @@ struct PredictorConfig {
   std::uint32_t sample = 32;
 
   bool predicts(RayClass c) const { return enabled && classes[c]; }
+  // Whether the adaptive predictor decides per frame: batches (the deterministic order, for
+  // reproducible counts) cannot sample, so with them every enabled class probes every ray.
+  bool adapts() const { return adaptive && batch == 0; }
 };
 
 PredictorMode parse_predictor_mode(std::string_view name);
