@@ -1,12 +1,13 @@
-// The trace kernels over 4-wide nodes (--bvh-nodes wide4) on the Vulkan device (lavapipe here):
-// their answers equal the CPU reference traversal's bit for bit (closest hit: same triangle, t,
-// u, v; any hit: the same verdict), on the stand-ins' primary, AO and diffuse rays, through the
-// indexed kernels of a sorted trace, and on the extreme-case and leak suites with their exact
-// rules; a wide step covers more of the tree than a binary one (fewer loop steps); HRPP on
-// refuses the format with a one-line error; `hrpp bench` takes the option. The validation layer
-// reports nothing.
+// The trace kernels over 4-wide nodes (--bvh-nodes wide4 and wide4-float) on the Vulkan device
+// (lavapipe here): their answers equal the CPU reference traversal's bit for bit (closest hit:
+// same triangle, t, u, v; any hit: the same verdict), on the stand-ins' primary, AO and diffuse
+// rays, through the indexed kernels of a sorted trace, and on the extreme-case and leak suites
+// with their exact rules; a wide step covers more of the tree than a binary one (fewer loop
+// steps); HRPP on refuses the formats with a one-line error; `hrpp bench` takes the option. The
+// validation layer reports nothing.
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -37,9 +38,11 @@ bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
   return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
 }
 
-GpuBvh wide(const Scene& scene) {
-  return make_gpu_layout(build_bvh(scene), scene, NodeLayout::kDfs, NodeFormat::kWide4);
+GpuBvh wide(const Scene& scene, NodeFormat format = NodeFormat::kWide4) {
+  return make_gpu_layout(build_bvh(scene), scene, NodeLayout::kDfs, format);
 }
+
+constexpr NodeFormat kWideFormats[] = {NodeFormat::kWide4, NodeFormat::kWide4Float};
 
 // GPU closest and any hits over the wide nodes (sorted first with `sorter`) against the CPU
 // reference over the binary ones; returns the number of rays that differ (the first few
@@ -65,17 +68,20 @@ class WideNodesGpu : public testing::TestWithParam<std::string> {};
 
 TEST_P(WideNodesGpu, AnswersEqualTheCpuReference) {
   const Scene scene = test::load_test_scene(GetParam());
-  const GpuBvh bvh = wide(scene);
   RayBatchConfig c;
   c.width = c.height = 48;
   c.secondary_count = 2304;
   c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, bvh, c);
-  EXPECT_EQ(count_differences(bvh, b.primary, "primary"), 0);
-  EXPECT_EQ(count_differences(bvh, b.ao.rays, "ao"), 0);
-  EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse"), 0);
-  RaySorter sorter(context(), bvh.bounds, b.diffuse.rays.size());
-  EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse, sorted", &sorter), 0);
+  const RayBatches b = make_ray_batches(scene, make_gpu_layout(build_bvh(scene), scene), c);
+  for (const NodeFormat f : kWideFormats) {
+    SCOPED_TRACE(node_format_name(f));
+    const GpuBvh bvh = wide(scene, f);
+    EXPECT_EQ(count_differences(bvh, b.primary, "primary"), 0);
+    EXPECT_EQ(count_differences(bvh, b.ao.rays, "ao"), 0);
+    EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse"), 0);
+    RaySorter sorter(context(), bvh.bounds, b.diffuse.rays.size());
+    EXPECT_EQ(count_differences(bvh, b.diffuse.rays, "diffuse, sorted", &sorter), 0);
+  }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
@@ -85,23 +91,25 @@ INSTANTIATE_TEST_SUITE_P(StandIns, WideNodesGpu, testing::ValuesIn(test::referen
 // Fewer subgroup steps of the interior loop than over binary nodes, the same hits.
 TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
   const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
-  const GpuBvh bvh = wide(scene);
-  GpuBvh binary = bvh;
-  binary.wide_nodes.clear();
+  const GpuBvh binary = make_gpu_layout(build_bvh(scene), scene);
   RayBatchConfig c;
   c.width = c.height = 32;
   c.secondary_count = 1024;
   c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, bvh, c);
+  const RayBatches b = make_ray_batches(scene, binary, c);
   GpuTracerConfig counting;
   counting.count_steps = true;
-  GpuTracer on_wide(context(), bvh, counting), on_binary(context(), binary, counting);
-  for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
-    const GpuTraceResult w = on_wide.trace(*rays, false), n = on_binary.trace(*rays, false);
-    for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(same_hit(w.hits[i], n.hits[i]));
-    EXPECT_GT(w.counters.interior_steps, 0u);
-    EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
-    EXPECT_LT(w.counters.interior_visited * 4, n.counters.interior_visited * 3);
+  GpuTracer on_binary(context(), binary, counting);
+  for (const NodeFormat f : kWideFormats) {
+    SCOPED_TRACE(node_format_name(f));
+    GpuTracer on_wide(context(), wide(scene, f), counting);
+    for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
+      const GpuTraceResult w = on_wide.trace(*rays, false), n = on_binary.trace(*rays, false);
+      for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(same_hit(w.hits[i], n.hits[i]));
+      EXPECT_GT(w.counters.interior_steps, 0u);
+      EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
+      EXPECT_LT(w.counters.interior_visited * 4, n.counters.interior_visited * 3);
+    }
   }
 }
 
@@ -111,9 +119,11 @@ TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
 class ExtremeRaysWide : public testing::TestWithParam<test::Frame> {};
 
 TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
-  for (const bool huge : {false, true}) {
+  for (const auto& [huge, f] : {std::pair{false, NodeFormat::kWide4}, {true, NodeFormat::kWide4},
+                                 {false, NodeFormat::kWide4Float}, {true, NodeFormat::kWide4Float}}) {
+    SCOPED_TRACE(node_format_name(f));
     const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
-    const GpuBvh bvh = wide(x.scene);
+    const GpuBvh bvh = wide(x.scene, f);
     std::vector<gpu::Ray> rays;
     for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
     const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
@@ -151,19 +161,22 @@ class LeakRaysWide : public testing::TestWithParam<test::LeakFrame> {};
 
 TEST_P(LeakRaysWide, EqualTheCpuReferenceAndNothingEscapes) {
   const test::LeakScene x = test::make_leak_scene(GetParam());
-  const GpuBvh bvh = wide(x.scene);
   std::vector<gpu::Ray> rays;
   for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
-  EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0);
-  GpuTracer tracer(context(), bvh);
-  const GpuTraceResult closest = tracer.trace(rays, false);
-  std::size_t i = 0;
-  int escapes = 0;
-  for (const RayGroup& g : x.groups)
-    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
-      escapes += g.rule == RayGroup::Rule::kHitRange &&
-                 (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
-  EXPECT_EQ(escapes, 0) << GetParam().name;
+  for (const NodeFormat f : kWideFormats) {
+    SCOPED_TRACE(node_format_name(f));
+    const GpuBvh bvh = wide(x.scene, f);
+    EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0);
+    GpuTracer tracer(context(), bvh);
+    const GpuTraceResult closest = tracer.trace(rays, false);
+    std::size_t i = 0;
+    int escapes = 0;
+    for (const RayGroup& g : x.groups)
+      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
+        escapes += g.rule == RayGroup::Rule::kHitRange &&
+                   (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
+    EXPECT_EQ(escapes, 0) << GetParam().name;
+  }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
@@ -172,16 +185,19 @@ INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysWide, testing::ValuesIn(test::leak_fram
                            return f.param.name;
                          });
 
-TEST(WideNodesHrpp, HrppOnRefusesTheFormat) {
-  const GpuBvh bvh = wide(test::load_test_scene("builtin:cornell"));
-  PredictorConfig p;
-  p.enabled = true;
-  try {
-    GpuTracer tracer(context(), bvh, {}, p);
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("--bvh-nodes wide4"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("HRPP off"), std::string::npos) << e.what();
+TEST(WideNodesHrpp, HrppOnRefusesTheFormats) {
+  for (const NodeFormat f : kWideFormats) {
+    const GpuBvh bvh = wide(test::load_test_scene("builtin:cornell"), f);
+    PredictorConfig p;
+    p.enabled = true;
+    try {
+      GpuTracer tracer(context(), bvh, {}, p);
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      const std::string flag = std::string("--bvh-nodes ") + node_format_name(f);
+      EXPECT_NE(std::string(e.what()).find(flag), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("HRPP off"), std::string::npos) << e.what();
+    }
   }
 }
 
@@ -191,9 +207,11 @@ TEST(WideNodesHrpp, HrppOnRefusesTheFormat) {
 class WideNodesCli : public test::CliTest {};
 
 TEST_F(WideNodesCli, BenchTracesWideNodesAndHrppOnSaysWhy) {
-  const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
-                                "--check-rays 2048 --bvh-nodes wide4");
-  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"wide4", "wide4-float"}) {
+    const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
+                                  "--check-rays 2048 --bvh-nodes " + std::string(f));
+    EXPECT_EQ(r.status, 0) << f << ": " << r.err;
+  }
   const test::CliResult hrpp = run("render builtin:cornell --size 16x16 --spp 1 --hrpp on "
                                    "--bvh-nodes wide4 --out " + (dir_ / "wide.exr").string());
   EXPECT_NE(hrpp.status, 0);

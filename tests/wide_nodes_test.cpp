@@ -1,10 +1,11 @@
-// The 4-wide node format (host/bvh/wide_nodes.h): on every stand-in and on degenerate inputs
+// The 4-wide node formats (host/bvh/wide_nodes.h): on every stand-in and on degenerate inputs
 // (one triangle, equal triangles, a flat scene, subnormal, tiny, huge and translated
 // coordinates) the wide nodes form a tree over the binary layout's leaves (each leaf that holds
 // triangles and each node below the root referenced once, at most four children, fewer nodes
-// than the binary layout), and every decoded child box (shaders/shared/wide_node.h) holds the
-// exact box of the triangles under the child, also as a device that flushes subnormals computes
-// it. A scene too wide for the 8-bit grid is a one-line error naming the option.
+// than the binary layout; both formats the same tree), and every child box as the traversal
+// tests it (WideNode: decoded by shaders/shared/wide_node.h) holds the exact box of the
+// triangles under the child, also as a device that flushes subnormals computes it. A scene too
+// wide for the 8-bit grid is a one-line error naming the option.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -22,14 +23,43 @@ namespace {
 
 float flushed(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
 
+// A wide node's children as the traversal tests them, whatever the format.
+struct WideChildren {
+  glm::ivec4 child;
+  gpu::vec3 lo[HRPP_WIDE_CHILDREN], hi[HRPP_WIDE_CHILDREN];
+};
+
+WideChildren children_of(const GpuBvh& g, int node) {
+  WideChildren c;
+  if (g.format() == NodeFormat::kWide4) {
+    const gpu::WideNode& n = g.wide_nodes.at(node);
+    c.child = n.child;
+    for (int i = 0; i < HRPP_WIDE_CHILDREN; ++i)
+      gpu::hrpp_wide_child_box(n, static_cast<gpu::uint>(i), c.lo[i], c.hi[i]);
+    return c;
+  }
+  const gpu::WideFloatNode& n = g.wide_float_nodes.at(node);
+  c.child = n.child;
+  for (int i = 0; i < HRPP_WIDE_CHILDREN; ++i) {
+    c.lo[i] = {n.lo_x[i], n.lo_y[i], n.lo_z[i]};
+    c.hi[i] = {n.hi_x[i], n.hi_y[i], n.hi_z[i]};
+  }
+  return c;
+}
+
+std::size_t wide_node_count(const GpuBvh& g) {
+  return g.format() == NodeFormat::kWide4 ? g.wide_nodes.size() : g.wide_float_nodes.size();
+}
+
 class WideTreeChecker {
  public:
   explicit WideTreeChecker(const GpuBvh& g)
-      : g_(g), node_refs_(g.wide_nodes.size(), 0), leaf_refs_(g.leaves.size(), 0) {}
+      : g_(g), node_refs_(wide_node_count(g), 0), leaf_refs_(g.leaves.size(), 0) {}
 
   void check() {
-    ASSERT_FALSE(g_.wide_nodes.empty());
-    EXPECT_LE(g_.wide_nodes.size(), g_.nodes.size());
+    ASSERT_NE(g_.format(), NodeFormat::kBinary);
+    ASSERT_FALSE(node_refs_.empty());
+    EXPECT_LE(node_refs_.size(), g_.nodes.size());
     node_refs_[0] = 1;
     subtree_box(0);
     for (int c : node_refs_) EXPECT_EQ(c, 1);
@@ -51,22 +81,25 @@ class WideTreeChecker {
           box.grow(v);
       return box;
     }
-    const gpu::WideNode& n = g_.wide_nodes.at(ref);
+    const WideChildren n = children_of(g_, ref);
     for (int i = 0; i < HRPP_WIDE_CHILDREN; ++i) {
       const int child = n.child[i];
       if (child == HRPP_WIDE_EMPTY_SLOT) continue;
       if (!is_leaf_ref(child) && ++node_refs_.at(child) > 1) continue;  // counted: not a tree
       const Aabb exact = subtree_box(child);
-      gpu::vec3 lo, hi;
-      gpu::hrpp_wide_child_box(n, static_cast<gpu::uint>(i), lo, hi);
       for (int a = 0; a < 3 && !exact.empty(); ++a) {
-        EXPECT_TRUE(lo[a] <= exact.lo[a] && flushed(lo[a]) <= exact.lo[a])
-            << "node " << ref << " child " << i << " axis " << a << ": " << lo[a] << " > "
+        // A decoded bound is a computed result, which a device may flush to zero; a float
+        // node's bounds are stored values, as the binary layout's are.
+        const bool decoded = g_.format() == NodeFormat::kWide4;
+        const float lo = n.lo[i][a], hi = n.hi[i][a];
+        const float lo_flushed = decoded ? flushed(lo) : lo, hi_flushed = decoded ? flushed(hi) : hi;
+        EXPECT_TRUE(lo <= exact.lo[a] && lo_flushed <= exact.lo[a])
+            << "node " << ref << " child " << i << " axis " << a << ": " << lo << " > "
             << exact.lo[a];
-        EXPECT_TRUE(hi[a] >= exact.hi[a] && flushed(hi[a]) >= exact.hi[a])
-            << "node " << ref << " child " << i << " axis " << a << ": " << hi[a] << " < "
+        EXPECT_TRUE(hi >= exact.hi[a] && hi_flushed >= exact.hi[a])
+            << "node " << ref << " child " << i << " axis " << a << ": " << hi << " < "
             << exact.hi[a];
-        EXPECT_TRUE(std::isfinite(lo[a]) && std::isfinite(hi[a]));
+        EXPECT_TRUE(std::isfinite(lo) && std::isfinite(hi));
       }
       box.grow(exact);
     }
@@ -77,20 +110,29 @@ class WideTreeChecker {
   std::vector<int> node_refs_, leaf_refs_;
 };
 
-GpuBvh wide_layout(const Scene& scene) {
-  return make_gpu_layout(build_bvh(scene, BvhConfig{}), scene, NodeLayout::kDfs,
-                         NodeFormat::kWide4);
+GpuBvh wide_layout(const Scene& scene, NodeFormat format = NodeFormat::kWide4) {
+  return make_gpu_layout(build_bvh(scene, BvhConfig{}), scene, NodeLayout::kDfs, format);
 }
+
+constexpr NodeFormat kWideFormats[] = {NodeFormat::kWide4, NodeFormat::kWide4Float};
 
 class WideNodes : public testing::TestWithParam<std::string> {};
 
 TEST_P(WideNodes, FormATreeWhoseBoxesHoldTheirChildren) {
   const Scene scene = test::load_test_scene(GetParam());
-  const GpuBvh g = wide_layout(scene);
-  EXPECT_EQ(g.format(), NodeFormat::kWide4);
-  WideTreeChecker(g).check();
-  // Collapsing halves the levels: well under the binary node count.
-  EXPECT_LT(g.wide_nodes.size() * 2, g.nodes.size() + 2) << GetParam();
+  for (const NodeFormat f : kWideFormats) {
+    SCOPED_TRACE(node_format_name(f));
+    const GpuBvh g = wide_layout(scene, f);
+    EXPECT_EQ(g.format(), f);
+    WideTreeChecker(g).check();
+    // Collapsing halves the levels: well under the binary node count.
+    EXPECT_LT(wide_node_count(g) * 2, g.nodes.size() + 2) << GetParam();
+  }
+  // Both formats are the same tree: the same child references.
+  const GpuBvh q = wide_layout(scene), f = wide_layout(scene, NodeFormat::kWide4Float);
+  ASSERT_EQ(q.wide_nodes.size(), f.wide_float_nodes.size());
+  for (std::size_t i = 0; i < q.wide_nodes.size(); ++i)
+    ASSERT_EQ(q.wide_nodes[i].child, f.wide_float_nodes[i].child) << "node " << i;
 }
 
 INSTANTIATE_TEST_SUITE_P(StandIns, WideNodes, testing::ValuesIn(test::reference_scene_names()),
@@ -123,10 +165,11 @@ TEST(WideNodes, DegenerateAndExtremeInputs) {
       {"translated", triangle_grid(8, 1e-3f, glm::vec3(1e6f, -1e6f, 1e6f))},
       {"near the largest float", triangle_grid(4, 3e37f, glm::vec3(-6e37f))},
   };
-  for (const auto& [name, tris] : cases) {
-    SCOPED_TRACE(name);
-    WideTreeChecker(wide_layout(test::synthetic_scene(tris))).check();
-  }
+  for (const auto& [name, tris] : cases)
+    for (const NodeFormat f : kWideFormats) {
+      SCOPED_TRACE(name + ", " + node_format_name(f));
+      WideTreeChecker(wide_layout(test::synthetic_scene(tris), f)).check();
+    }
 }
 
 TEST(WideNodes, ASceneTooWideForTheGridNamesTheOption) {

@@ -28,7 +28,8 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
   if (group == SharedGroup::kScene) return;
   cmd->add_option("--bvh-nodes", o.nodes,
                   "binary: Aila-Laine 64-byte nodes (the reference; HRPP needs them); wide4: "
-                  "4-wide nodes with 8-bit quantised child boxes (HRPP off only)")
+                  "4-wide 64-byte nodes, child boxes quantised to 8 bits; wide4-float: 4-wide "
+                  "112-byte nodes, child boxes as floats (the wide ones: HRPP off only)")
       ->transform(CLI::CheckedTransformer(node_format_names()))
       ->default_str(node_format_name(o.nodes));
   cmd->add_option("--device", o.vulkan.device,

@@ -103,17 +103,29 @@ const std::map<std::string, NodeLayout>& node_layout_names() {
   return kNames;
 }
 
+std::size_t GpuBvh::traced_node_bytes() const {
+  switch (format()) {
+    case NodeFormat::kBinary: return nodes.size() * sizeof(gpu::BvhNode);
+    case NodeFormat::kWide4: return wide_nodes.size() * sizeof(gpu::WideNode);
+    case NodeFormat::kWide4Float: return wide_float_nodes.size() * sizeof(gpu::WideFloatNode);
+  }
+  return 0;
+}
+
 const char* node_format_name(NodeFormat f) {
   switch (f) {
     case NodeFormat::kBinary: return "binary";
     case NodeFormat::kWide4: return "wide4";
+    case NodeFormat::kWide4Float: return "wide4-float";
   }
   return "?";
 }
 
 const std::map<std::string, NodeFormat>& node_format_names() {
-  static const std::map<std::string, NodeFormat> kNames = {{"binary", NodeFormat::kBinary},
-                                                           {"wide4", NodeFormat::kWide4}};
+  static const std::map<std::string, NodeFormat> kNames = {
+      {"binary", NodeFormat::kBinary},
+      {"wide4", NodeFormat::kWide4},
+      {"wide4-float", NodeFormat::kWide4Float}};
   return kNames;
 }
 
@@ -130,6 +142,7 @@ GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout, No
   else
     f.place(0, -1, 0);
   if (format == NodeFormat::kWide4) out.wide_nodes = make_wide_nodes(out);
+  if (format == NodeFormat::kWide4Float) out.wide_float_nodes = make_wide_float_nodes(out);
   return out;
 }
 

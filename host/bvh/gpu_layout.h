@@ -22,6 +22,7 @@ static_assert(offsetof(gpu::BvhNode, right_xy) == 16 && offsetof(gpu::BvhNode, l
               offsetof(gpu::BvhNode, link) == 48);
 static_assert(sizeof(gpu::WideNode) == 64 && offsetof(gpu::WideNode, child) == 16 &&
               offsetof(gpu::WideNode, lo) == 32 && offsetof(gpu::WideNode, hi) == 48);
+static_assert(sizeof(gpu::WideFloatNode) == 112 && offsetof(gpu::WideFloatNode, child) == 96);
 static_assert(sizeof(gpu::BvhLeaf) == 16);
 static_assert(sizeof(gpu::TriangleRecord) == 48);
 static_assert(offsetof(gpu::TriangleRecord, prim) == 12 && offsetof(gpu::TriangleRecord, v1) == 16 &&
@@ -38,7 +39,8 @@ inline int leaf_ref(int leaf) { return ~leaf; }
 // Which interior nodes the trace kernels read (--bvh-nodes).
 enum class NodeFormat {
   kBinary,  // the Aila–Laine 64-byte BvhNode: the reference format, and HRPP's
-  kWide4,   // 4-wide WideNodes with quantised child boxes (bvh/wide_nodes.h); HRPP off only
+  kWide4,       // 4-wide WideNodes, child boxes quantised (bvh/wide_nodes.h); HRPP off only
+  kWide4Float,  // 4-wide WideFloatNodes, child boxes as floats; HRPP off only
 };
 const char* node_format_name(NodeFormat f);
 const std::map<std::string, NodeFormat>& node_format_names();
@@ -47,13 +49,21 @@ struct GpuBvh {
   std::vector<gpu::BvhNode> nodes;            // nodes[0] is the root, always interior
   std::vector<gpu::BvhLeaf> leaves;
   std::vector<gpu::TriangleRecord> triangles;  // in leaf order
-  // NodeFormat::kWide4: the nodes the trace kernels read instead of `nodes` (which the CPU
-  // reference and HRPP keep using); the same leaves and triangles. Empty: kBinary.
-  std::vector<gpu::WideNode> wide_nodes;
-  Aabb bounds;                                  // of the whole scene's tree
-  NodeFormat format() const { return wide_nodes.empty() ? NodeFormat::kBinary : NodeFormat::kWide4; }
+  // The 4-wide formats: the nodes the trace kernels read instead of `nodes` (which the CPU
+  // reference and HRPP keep using), over the same leaves and triangles. At most one is filled;
+  // neither: NodeFormat::kBinary.
+  std::vector<gpu::WideNode> wide_nodes;             // kWide4
+  std::vector<gpu::WideFloatNode> wide_float_nodes;  // kWide4Float
+  Aabb bounds;                                       // of the whole scene's tree
+  NodeFormat format() const {
+    if (!wide_nodes.empty()) return NodeFormat::kWide4;
+    return wide_float_nodes.empty() ? NodeFormat::kBinary : NodeFormat::kWide4Float;
+  }
+  // The node array the trace kernels read.
+  std::size_t traced_node_bytes() const;
   std::size_t bytes() const {
     return nodes.size() * sizeof(gpu::BvhNode) + wide_nodes.size() * sizeof(gpu::WideNode) +
+           wide_float_nodes.size() * sizeof(gpu::WideFloatNode) +
            leaves.size() * sizeof(gpu::BvhLeaf) + triangles.size() * sizeof(gpu::TriangleRecord);
   }
 };
@@ -72,8 +82,8 @@ const std::map<std::string, NodeLayout>& node_layout_names();
 // Interior nodes numbered depth-first (which subtree first: `layout`), leaves in the order met,
 // triangle records in leaf order: the same tree always gets the same layout. A tree that is one
 // leaf gets an interior root whose right child is an empty leaf. Throws hrpp::Error when the tree
-// is deeper than HRPP_STACK_SIZE. NodeFormat::kWide4 adds the wide nodes (make_wide_nodes, which
-// may throw too).
+// is deeper than HRPP_STACK_SIZE. A 4-wide `format` adds its wide nodes (bvh/wide_nodes.h;
+// kWide4 may throw too).
 GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout = NodeLayout::kDfs,
                        NodeFormat format = NodeFormat::kBinary);
 

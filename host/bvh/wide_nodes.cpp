@@ -89,6 +89,10 @@ struct Grid {
   }
 };
 
+// The wide tree: per wide node (depth-first, the root first) its children, whose references
+// are wide node indices or ~leaf.
+using WideTree = std::vector<std::vector<Child>>;
+
 class Collapser {
  public:
   explicit Collapser(const GpuBvh& bvh) : bvh_(bvh) {}
@@ -96,17 +100,16 @@ class Collapser {
   // Places the wide node standing for binary node `node`; returns its index. No depth check:
   // every wide level takes at least one binary level, and make_gpu_layout checked those.
   int place(int node) {
-    const std::vector<Child> children = open(node);
+    std::vector<Child> children = open(node);
     const int self = static_cast<int>(out_.size());
     out_.emplace_back();
-    int refs[HRPP_WIDE_CHILDREN];
-    for (std::size_t i = 0; i < children.size(); ++i)
-      refs[i] = is_leaf_ref(children[i].ref) ? children[i].ref : place(children[i].ref);
-    write(self, children, refs);
+    for (Child& c : children)
+      if (!is_leaf_ref(c.ref)) c.ref = place(c.ref);
+    out_[self] = std::move(children);
     return self;
   }
 
-  std::vector<gpu::WideNode> take() { return std::move(out_); }
+  WideTree take() { return std::move(out_); }
 
  private:
   // Binary node `node`'s two children, the largest interior one opened until there are four;
@@ -128,36 +131,69 @@ class Collapser {
     return c;
   }
 
-  void write(int self, const std::vector<Child>& children, const int* refs) {
-    Aabb box;
-    for (const Child& c : children) box.grow(c.box);
-    if (children.empty()) box = Aabb{glm::vec3(0.0f), glm::vec3(0.0f)};
-    gpu::WideNode w{};
-    w.child = glm::ivec4(HRPP_WIDE_EMPTY_SLOT);
-    for (int axis = 0; axis < 3; ++axis) {
-      const Grid g(box.lo[axis], box.hi[axis]);
-      w.origin[axis] = g.origin;
-      w.exponents |= g.exponent << (8 * axis);
-      for (std::size_t i = 0; i < children.size(); ++i) {
-        w.lo[axis] |= g.below(children[i].box.lo[axis]) << (8 * i);
-        w.hi[axis] |= g.above(children[i].box.hi[axis]) << (8 * i);
-      }
-    }
-    for (std::size_t i = 0; i < children.size(); ++i) w.child[static_cast<int>(i)] = refs[i];
-    out_[self] = w;
-  }
-
   const GpuBvh& bvh_;
-  std::vector<gpu::WideNode> out_;
+  WideTree out_;
 };
 
-}  // namespace
-
-std::vector<gpu::WideNode> make_wide_nodes(const GpuBvh& bvh) {
+WideTree collapse(const GpuBvh& bvh) {
   if (bvh.nodes.empty()) throw Error("BVH has no nodes");
   Collapser c(bvh);
   c.place(0);
   return c.take();
+}
+
+gpu::WideNode quantised(const std::vector<Child>& children) {
+  Aabb box;
+  for (const Child& c : children) box.grow(c.box);
+  if (children.empty()) box = Aabb{glm::vec3(0.0f), glm::vec3(0.0f)};
+  gpu::WideNode w{};
+  w.child = glm::ivec4(HRPP_WIDE_EMPTY_SLOT);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Grid g(box.lo[axis], box.hi[axis]);
+    w.origin[axis] = g.origin;
+    w.exponents |= g.exponent << (8 * axis);
+    for (std::size_t i = 0; i < children.size(); ++i) {
+      w.lo[axis] |= g.below(children[i].box.lo[axis]) << (8 * i);
+      w.hi[axis] |= g.above(children[i].box.hi[axis]) << (8 * i);
+    }
+  }
+  for (std::size_t i = 0; i < children.size(); ++i) w.child[static_cast<int>(i)] = children[i].ref;
+  return w;
+}
+
+gpu::WideFloatNode exact(const std::vector<Child>& children) {
+  gpu::WideFloatNode w{};
+  w.child = glm::ivec4(HRPP_WIDE_EMPTY_SLOT);
+  for (std::size_t k = 0; k < children.size(); ++k) {
+    const int i = static_cast<int>(k);
+    const Aabb& b = children[k].box;
+    w.lo_x[i] = b.lo.x;
+    w.hi_x[i] = b.hi.x;
+    w.lo_y[i] = b.lo.y;
+    w.hi_y[i] = b.hi.y;
+    w.lo_z[i] = b.lo.z;
+    w.hi_z[i] = b.hi.z;
+    w.child[i] = children[k].ref;
+  }
+  return w;
+}
+
+}  // namespace
+
+std::vector<gpu::WideNode> make_wide_nodes(const GpuBvh& bvh) {
+  const WideTree tree = collapse(bvh);
+  std::vector<gpu::WideNode> out;
+  out.reserve(tree.size());
+  for (const std::vector<Child>& children : tree) out.push_back(quantised(children));
+  return out;
+}
+
+std::vector<gpu::WideFloatNode> make_wide_float_nodes(const GpuBvh& bvh) {
+  const WideTree tree = collapse(bvh);
+  std::vector<gpu::WideFloatNode> out;
+  out.reserve(tree.size());
+  for (const std::vector<Child>& children : tree) out.push_back(exact(children));
+  return out;
 }
 
 }  // namespace hrpp

@@ -29,8 +29,10 @@ static_assert(HRPP_STACK_SIZE == 64, "shaders/shared/trace_interface.h and host/
 static_assert(std::bit_cast<std::uint32_t>(kSlabFarScale) == HRPP_SLAB_FAR_SCALE_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p-80f) == HRPP_TWO_POW_M80_BITS);
 static_assert(std::bit_cast<std::uint32_t>(0x1p80f) == HRPP_TWO_POW_80_BITS);
-// shaders/lib/texel_fetch.glsl reads these records as 4, 1, 3 and 2 16-byte texels.
+// shaders/lib/texel_fetch.glsl reads these records as 4 (4, 7), 1, 3 and 2 16-byte texels.
 static_assert(sizeof(gpu::BvhNode) == 4 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::WideNode) == 4 * TexelView::kTexelBytes);
+static_assert(sizeof(gpu::WideFloatNode) == 7 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::BvhLeaf) == 1 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::TriangleRecord) == 3 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
@@ -44,15 +46,9 @@ void to_occlusion_records(std::span<gpu::Hit> hits) {
   for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
 }
 
-// The node array the trace kernels read: BvhNodes, or WideNodes (--bvh-nodes wide4).
-std::size_t node_array_bytes(const GpuBvh& bvh) {
-  if (bvh.format() == NodeFormat::kWide4) return bvh.wide_nodes.size() * sizeof(gpu::WideNode);
-  return bvh.nodes.size() * sizeof(gpu::BvhNode);
-}
-
 std::array<BufferNeed, 3> bvh_buffer_needs(const GpuBvh& bvh) {
   constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
-  return {{{"BVH node array", node_array_bytes(bvh), kTexel},
+  return {{{"BVH node array", bvh.traced_node_bytes(), kTexel},
            {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel},
            {"BVH triangle array", bvh.triangles.size() * sizeof(gpu::TriangleRecord), kTexel}}};
 }
@@ -84,6 +80,16 @@ std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const Predict
   return needs;
 }
 
+// HRPP_SPEC_NODE_FORMAT's value for `f`.
+std::uint32_t spec_value(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::kBinary: return HRPP_NODES_BINARY;
+    case NodeFormat::kWide4: return HRPP_NODES_WIDE;
+    case NodeFormat::kWide4Float: return HRPP_NODES_WIDE_FLOAT;
+  }
+  return HRPP_NODES_BINARY;
+}
+
 // The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
 // rays), its trace kernels (HRPP off, or a class that does not probe) and their counters.
 struct QueryArrays {
@@ -97,11 +103,11 @@ struct QueryArrays {
   Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
   // `count_steps`: the kernels count the interior loop's subgroup iterations
-  // (GpuTracerConfig::count_steps); `wide`: they read WideNodes (--bvh-nodes wide4).
-  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps, bool wide)
+  // (GpuTracerConfig::count_steps); `nodes`: the node array holds them (--bvh-nodes).
+  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps, NodeFormat nodes)
       : QueryArrays(c, any_hit,
                     std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS, count_steps ? 1u : 0u},
-                               SpecializationConstant{HRPP_SPEC_WIDE_NODES, wide ? 1u : 0u}}) {}
+                               SpecializationConstant{HRPP_SPEC_NODE_FORMAT, spec_value(nodes)}}) {}
 
   QueryArrays(VulkanContext& c, bool any_hit, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
@@ -140,15 +146,17 @@ struct GpuTracer::State {
         triangle_view(c, triangles),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
-    if (bvh.format() == NodeFormat::kWide4)
-      nodes.upload(std::span<const gpu::WideNode>(bvh.wide_nodes));
-    else
-      nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes));
+    switch (bvh.format()) {
+      case NodeFormat::kBinary: nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes)); break;
+      case NodeFormat::kWide4: nodes.upload(std::span<const gpu::WideNode>(bvh.wide_nodes)); break;
+      case NodeFormat::kWide4Float:
+        nodes.upload(std::span<const gpu::WideFloatNode>(bvh.wide_float_nodes));
+        break;
+    }
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {
-      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps,
-                                                       bvh.format() == NodeFormat::kWide4);
+      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps, bvh.format());
       for (ComputePipeline* k : {&queries[any_hit]->kernel, &queries[any_hit]->indexed}) {
         k->bind(HRPP_TRACE_BINDING_NODES, node_view);
         k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);

@@ -1,6 +1,6 @@
 // The trace kernels' inputs (the BVH arrays and the rays of shaders/shared/gpu_types.h) read
 // through uniform texel buffers (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4
-// texels (a WideNode too), a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted,
+// texels (a WideNode too; a WideFloatNode 7), a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted,
 // never converted, so values are exactly the host's.
 // Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
 // word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
@@ -32,6 +32,20 @@ WideNode load_wide_node(int index) {
   n.child = ivec4(texelFetch(node_texels, t + 1));
   n.lo = texelFetch(node_texels, t + 2);
   n.hi = texelFetch(node_texels, t + 3);
+  return n;
+}
+
+// A WideFloatNode (--bvh-nodes wide4-float): 7 texels per node.
+WideFloatNode load_wide_float_node(int index) {
+  const int t = 7 * index;
+  WideFloatNode n;
+  n.lo_x = uintBitsToFloat(texelFetch(node_texels, t));
+  n.hi_x = uintBitsToFloat(texelFetch(node_texels, t + 1));
+  n.lo_y = uintBitsToFloat(texelFetch(node_texels, t + 2));
+  n.hi_y = uintBitsToFloat(texelFetch(node_texels, t + 3));
+  n.lo_z = uintBitsToFloat(texelFetch(node_texels, t + 4));
+  n.hi_z = uintBitsToFloat(texelFetch(node_texels, t + 5));
+  n.child = ivec4(texelFetch(node_texels, t + 6));
   return n;
 }
 

@@ -30,8 +30,8 @@ uint g_triangles = 0u;
 // the kernel is specialised to count them (trace_interface.h, HRPP_SPEC_COUNT_STEPS).
 layout(constant_id = HRPP_SPEC_COUNT_STEPS) const bool kCountSteps = false;
 uint g_steps = 0u;
-// The node array holds WideNodes (trace_interface.h, HRPP_SPEC_WIDE_NODES; traversal_wide.glsl).
-layout(constant_id = HRPP_SPEC_WIDE_NODES) const bool kWideNodes = false;
+// What the node array holds (trace_interface.h, HRPP_SPEC_NODE_FORMAT; traversal_wide.glsl).
+layout(constant_id = HRPP_SPEC_NODE_FORMAT) const uint kNodeFormat = HRPP_NODES_BINARY;
 
 bool is_interior(int ref) { return uint(ref) < uint(kSentinel); }  // leaves are negative
 

@@ -1,7 +1,8 @@
-// The traversal of one ray through WideNodes (--bvh-nodes wide4: host/bvh/wide_nodes.h), for
-// the trace kernels specialised to them (HRPP_SPEC_WIDE_NODES). The same while-while loop, leaf
-// postponing and leaf test as traversal.glsl's binary traverse_from, and the same answer: the
-// decoded child boxes hold the exact ones and the leaves are the binary layout's.
+// The traversal of one ray through 4-wide nodes (host/bvh/wide_nodes.h), for the trace kernels
+// specialised to them (HRPP_SPEC_NODE_FORMAT): WideNodes (--bvh-nodes wide4) or WideFloatNodes
+// (wide4-float). The same while-while loop, leaf postponing and leaf test as traversal.glsl's
+// binary traverse_from, and the same answer: the child boxes hold the exact ones (decoded
+// WideNode boxes are rounded outward) and the leaves are the binary layout's.
 //
 // A step tests up to four children and may leave three for later. They are kept together as
 // one group (nearest first), and the top group lives in registers: a step spills at most one
@@ -14,13 +15,38 @@
 #include "traversal.glsl"
 #include "wide_node.h"
 
-// Entry distance of wide node `n`'s child `i`; +∞ when the ray misses it or the slot is empty.
-float child_entry(RaySetup r, WideNode n, uint i, float tmax) {
+// The entry distance of a child whose box the ray enters, else +∞ (a miss or an empty slot).
+float entry(RaySetup r, vec3 lo, vec3 hi, int child, float tmax) {
+  float t;
+  const bool hit = slab_test(r, lo, hi, tmax, t) && child != HRPP_WIDE_EMPTY_SLOT;
+  return hit ? t : uintBitsToFloat(0x7F800000u);
+}
+
+// Child `i` of a WideNode: its decoded box.
+float quantised_entry(RaySetup r, WideNode n, uint i, float tmax) {
   vec3 lo, hi;
   hrpp_wide_child_box(n, i, lo, hi);
-  float t;
-  const bool hit = slab_test(r, lo, hi, tmax, t) && n.child[i] != HRPP_WIDE_EMPTY_SLOT;
-  return hit ? t : uintBitsToFloat(0x7F800000u);
+  return entry(r, lo, hi, n.child[i], tmax);
+}
+
+// Child `i` of a WideFloatNode: its exact box.
+float float_entry(RaySetup r, WideFloatNode n, uint i, float tmax) {
+  return entry(r, vec3(n.lo_x[i], n.lo_y[i], n.lo_z[i]), vec3(n.hi_x[i], n.hi_y[i], n.hi_z[i]),
+               n.child[i], tmax);
+}
+
+// The entry distances of wide node `node`'s four children, and their references.
+vec4 child_entries(RaySetup r, int node, float tmax, out ivec4 child) {
+  if (kNodeFormat == HRPP_NODES_WIDE_FLOAT) {
+    const WideFloatNode n = load_wide_float_node(node);
+    child = n.child;
+    return vec4(float_entry(r, n, 0u, tmax), float_entry(r, n, 1u, tmax),
+                float_entry(r, n, 2u, tmax), float_entry(r, n, 3u, tmax));
+  }
+  const WideNode n = load_wide_node(node);
+  child = n.child;
+  return vec4(quantised_entry(r, n, 0u, tmax), quantised_entry(r, n, 1u, tmax),
+              quantised_entry(r, n, 2u, tmax), quantised_entry(r, n, 3u, tmax));
 }
 
 // Puts the child with the smaller entry distance first.
@@ -37,10 +63,8 @@ void order_pair(inout float ta, inout int a, inout float tb, inout int b) {
 // One step at wide node `node`: the children the ray enters (`entered`: 0..4), nearest first
 // (a sorting network of five compare-exchanges, branch-free).
 ivec4 visit_wide(RaySetup r, int node, float tmax, out uint entered) {
-  const WideNode n = load_wide_node(node);
-  vec4 t = vec4(child_entry(r, n, 0u, tmax), child_entry(r, n, 1u, tmax),
-                child_entry(r, n, 2u, tmax), child_entry(r, n, 3u, tmax));
-  ivec4 c = n.child;
+  ivec4 c;
+  vec4 t = child_entries(r, node, tmax, c);
   order_pair(t.x, c.x, t.y, c.y);
   order_pair(t.z, c.z, t.w, c.w);
   order_pair(t.x, c.x, t.z, c.z);

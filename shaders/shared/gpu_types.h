@@ -54,6 +54,20 @@ struct WideNode {
   uvec4 hi;
 };
 
+// A 4-wide node with its child boxes as floats (--bvh-nodes wide4-float): 112 bytes, 7 texels;
+// the boxes are the binary layout's exactly, so it costs three texel fetches more than a
+// WideNode and no decoding. Per axis a, lo_a and hi_a hold the 4 children's bounds (child i in
+// component i); child as WideNode::child (an empty slot's box is 0).
+struct WideFloatNode {
+  vec4 lo_x;
+  vec4 hi_x;
+  vec4 lo_y;
+  vec4 hi_y;
+  vec4 lo_z;
+  vec4 hi_z;
+  ivec4 child;
+};
+
 // A leaf: a run of triangle records. parent/depth serve HRPP's go-up level.
 struct BvhLeaf {
   uint first_triangle;  // index into the triangle records

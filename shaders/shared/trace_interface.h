@@ -60,9 +60,13 @@ namespace hrpp::gpu {
 // (steps × subgroup size)); 0 (the default) compiles the count out. Its id is not one of
 // hrpp_predict's (HRPP_SPEC_* in hrpp_interface.h), which includes the same traversal.
 #define HRPP_SPEC_COUNT_STEPS 2
-// 1: the node array holds WideNodes (--bvh-nodes wide4, host/bvh/wide_nodes.h) and the
-// traversal steps through them; 0 (the default, and hrpp_predict's): BvhNodes.
-#define HRPP_SPEC_WIDE_NODES 3
+// Which nodes the node array holds (--bvh-nodes; host/bvh/wide_nodes.h), and so which traversal
+// the trace kernels run: HRPP_NODES_BINARY (BvhNodes: the default, and hrpp_predict's),
+// HRPP_NODES_WIDE (WideNodes) or HRPP_NODES_WIDE_FLOAT (WideFloatNodes).
+#define HRPP_SPEC_NODE_FORMAT 3
+#define HRPP_NODES_BINARY 0u
+#define HRPP_NODES_WIDE 1u
+#define HRPP_NODES_WIDE_FLOAT 2u
 
 struct TraceCounters {
   uint next_ray;   // persistent fetch cursor (atomicAdd by one lane per subgroup)
