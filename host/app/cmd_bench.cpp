@@ -222,9 +222,9 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
 nlohmann::json describe_scene(const BenchOptions& o, const Scene& scene, const Bvh& base) {
   const BvhStats stats = compute_bvh_stats(base, o.shared.bvh);
   std::printf("scene       %s: %zu triangles (%u degenerate), BVH %.1f ms, %u interior, %u leaves, "
-              "depth %u\n",
+              "depth %u, %s nodes\n",
               scene.name.c_str(), scene.triangles.size(), stats.degenerate, base.build_ms,
-              stats.interior_nodes, stats.leaves, stats.max_depth);
+              stats.interior_nodes, stats.leaves, stats.max_depth, node_format_name(o.shared.nodes));
   return {{"name", scene.name},
           {"spec", o.shared.scene},
           {"triangles", scene.triangles.size()},
@@ -233,7 +233,8 @@ nlohmann::json describe_scene(const BenchOptions& o, const Scene& scene, const B
           {"bvh_interior_nodes", stats.interior_nodes},
           {"bvh_leaves", stats.leaves},
           {"bvh_max_depth", stats.max_depth},
-          {"bvh_sah_cost", stats.sah_cost}};
+          {"bvh_sah_cost", stats.sah_cost},
+          {"bvh_nodes", node_format_name(o.shared.nodes)}};
 }
 
 // The backends a bench compares and what they need to stay alive; tracers[0] is the CPU reference.

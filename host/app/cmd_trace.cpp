@@ -84,6 +84,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
               static_cast<int>(o.shared.tracer.rays_per_invocation));
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorted ? " (the sort's device time is in the kernel time)" : "");
+  std::printf("bvh nodes   %s\n", node_format_name(o.shared.nodes));
   std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
               per_ray(c.interior_visited), per_ray(c.leaves_visited), per_ray(c.triangles_tested));
   if (o.shared.tracer.count_steps)
@@ -146,6 +147,7 @@ void run_trace(const TraceOptions& o) {
                         {"kernel_ms_median", median},
                         {"reorder", ray_order_name(o.reorder)},
                         {"bvh_layout", node_layout_name(o.bvh_layout)},
+                        {"bvh_nodes", node_format_name(o.shared.nodes)},
                         {"hits", c.hits},
                         {"interior_visited", c.interior_visited},
                         {"leaves_visited", c.leaves_visited},
