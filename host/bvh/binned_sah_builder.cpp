@@ -5,7 +5,6 @@
 #include <functional>
 #include <limits>
 #include <span>
-#include <thread>
 
 #include "bvh/prim_refs.h"
 #include "bvh/ref_partition.h"
@@ -314,10 +313,7 @@ Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
     throw Error("--bvh-splits spatial: the duplicate budget and alpha must be 0 or more");
 
   const auto start = std::chrono::steady_clock::now();
-  const int threads = config.threads > 0
-                          ? config.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  TaskPool pool(threads);
+  TaskPool pool(resolve_threads(config.threads));
   References refs = bvh_build::make_references(scene, pool);
   Bvh bvh = config.splits == BvhSplits::kSpatial ? build_sbvh(scene, config, refs, pool)
                                                  : Builder(config, refs, pool).run();

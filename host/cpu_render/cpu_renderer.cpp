@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <thread>
 #include <vector>
 
+#include "bvh/task_pool.h"
 #include "cpu_render/scene_lookups.h"
 #include "path_vertex.h"
 #include "render/render_params.h"
@@ -15,6 +15,10 @@ namespace hrpp {
 namespace {
 
 using gpu::vec3;
+
+// Pixels per task of a sample pass: consecutive pixels, handed out to the pool's threads
+// dynamically (paths differ in length).
+constexpr std::uint32_t kPixelBlock = 256;
 
 struct PathTracer {
   const GpuBvh& bvh;
@@ -88,6 +92,8 @@ CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConf
       rs_(make_render_scene(scene)),
       params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {}
 
+int CpuRenderer::threads() { return resolve_threads(0); }
+
 RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progress) const {
   const auto start = std::chrono::steady_clock::now();
   RenderResult out;
@@ -95,17 +101,17 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
   out.height = cfg_.height;
   const std::uint32_t pixels = cfg_.width * cfg_.height;
   std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
-  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  TaskPool pool(threads());
+  const std::size_t blocks = (pixels + kPixelBlock - 1) / kPixelBlock;
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
-    std::vector<PerClass<TraversalCounters>> counters(threads);
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t)
-      pool.emplace_back([&, t] {
-        PathTracer tracer{bvh_, rs_, params_, counters[t]};
-        for (std::uint32_t p = t; p < pixels; p += threads) tracer.trace_path(p, sample, sum[p]);
-      });
-    for (std::thread& t : pool) t.join();
+    std::vector<PerClass<TraversalCounters>> counters(static_cast<std::size_t>(pool.size()));
+    pool.parallel_for(blocks, [&](std::size_t block, int thread) {
+      PathTracer tracer{bvh_, rs_, params_, counters[static_cast<std::size_t>(thread)]};
+      const auto begin = static_cast<std::uint32_t>(block * kPixelBlock);
+      const std::uint32_t end = std::min(pixels, begin + kPixelBlock);
+      for (std::uint32_t p = begin; p < end; ++p) tracer.trace_path(p, sample, sum[p]);
+    });
     FrameStats frame;
     for (const auto& c : counters)
       for (RayClass k : kRayClasses) frame.classes[k].counters += c[k];

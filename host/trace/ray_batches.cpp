@@ -1,12 +1,8 @@
 #include "trace/ray_batches.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
-#include <thread>
 
 #include "trace/cpu_traversal.h"
 #include "trace/offset_ray.h"
@@ -64,42 +60,15 @@ const char* ray_kind_name(RayKind kind) {
   return "?";
 }
 
-int resolve_threads(int threads) {
-  if (threads > 0) return threads;
-  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-}
-
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body, std::size_t chunk) {
   chunk = std::max<std::size_t>(chunk, 1);
-  const int t = static_cast<int>(
-      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), (n + chunk - 1) / chunk));
-  if (t <= 1) {
-    if (n > 0) body(0, n);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    try {
-      for (;;) {
-        const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
-        if (begin >= n) break;
-        body(begin, std::min(n, begin + chunk));
-      }
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next.store(n);
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(static_cast<std::size_t>(t - 1));
-  for (int i = 1; i < t; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  TaskPool pool(static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), chunks)));
+  pool.parallel_for(chunks, [&](std::size_t c, int) {
+    body(c * chunk, std::min(n, (c + 1) * chunk));
+  });
 }
 
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,

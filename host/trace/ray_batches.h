@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bvh/gpu_layout.h"
+#include "bvh/task_pool.h"  // resolve_threads: the thread count of `threads` below
 #include "gpu_types.h"
 #include "scene/scene.h"
 
@@ -74,8 +75,8 @@ SecondaryRays make_secondary_rays(const Scene& scene, std::span<const gpu::Ray> 
 // diffuse batches.
 RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatchConfig& config);
 
-// Runs body(begin, end) over [0, n) in chunks on `threads` threads (0: hardware_concurrency()),
-// chunks handed out dynamically; rethrows the first exception of a worker.
+// Runs body(begin, end) over [0, n) in chunks on a TaskPool of resolve_threads(threads) threads
+// (bvh/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body,
                      std::size_t chunk = 4096);
@@ -84,8 +85,5 @@ void parallel_ranges(std::size_t n, int threads,
 // use the hits format: prim 0 occluded, -1 free, t = u = v = 0.
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
                                       bool any_hit, int threads = 0);
-
-// Threads parallel work uses for `threads` (0: hardware_concurrency(), at least 1).
-int resolve_threads(int threads);
 
 }  // namespace hrpp
