@@ -25,7 +25,6 @@
 
 #ifdef __cplusplus
 namespace hrpp::gpu {
-using uint = std::uint32_t;
 #endif
 
 HRPP_SHARED_FN uint hrpp_pass_ray_count(uint total, uint pass, uint stride) {

@@ -9,8 +9,6 @@
 
 #ifdef __cplusplus
 namespace hrpp::gpu {
-using uint = std::uint32_t;
-using uint64_t = std::uint64_t;
 #endif
 
 HRPP_SHARED_FN uint hrpp_set_of(uint64_t key, uint sets) {
