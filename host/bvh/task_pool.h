@@ -25,6 +25,9 @@ namespace hrpp {
 // hardware's threads, at least 1.
 int resolve_threads(int threads);
 
+// Tasks of `chunk` items each (the last one shorter) that cover n items.
+constexpr std::size_t chunks(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
+
 class TaskPool {
  public:
   // `threads` threads in all: the caller and threads - 1 workers (at least one thread).

@@ -102,7 +102,7 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
   const std::uint32_t pixels = cfg_.width * cfg_.height;
   std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
   TaskPool pool(threads());
-  const std::size_t blocks = (pixels + kPixelBlock - 1) / kPixelBlock;
+  const std::size_t blocks = chunks(pixels, kPixelBlock);
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     std::vector<PerClass<TraversalCounters>> counters(static_cast<std::size_t>(pool.size()));

@@ -63,10 +63,10 @@ const char* ray_kind_name(RayKind kind) {
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body, std::size_t chunk) {
   chunk = std::max<std::size_t>(chunk, 1);
-  const std::size_t chunks = (n + chunk - 1) / chunk;
+  const std::size_t tasks = chunks(n, chunk);
   TaskPool pool(static_cast<int>(
-      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), chunks)));
-  pool.parallel_for(chunks, [&](std::size_t c, int) {
+      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), tasks)));
+  pool.parallel_for(tasks, [&](std::size_t c, int) {
     body(c * chunk, std::min(n, (c + 1) * chunk));
   });
 }
