@@ -9,6 +9,7 @@
 #include "cpu_render/scene_lookups.h"
 #include "path_vertex.h"
 #include "render/render_params.h"
+#include "render/render_result.h"
 #include "trace/cpu_traversal.h"
 
 namespace hrpp {
@@ -96,9 +97,7 @@ int CpuRenderer::threads() { return resolve_threads(0); }
 
 RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progress) const {
   const auto start = std::chrono::steady_clock::now();
-  RenderResult out;
-  out.width = cfg_.width;
-  out.height = cfg_.height;
+  RenderResult out = make_render_result(cfg_, rs_);
   const std::uint32_t pixels = cfg_.width * cfg_.height;
   std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
   TaskPool pool(threads());
@@ -121,14 +120,7 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
     out.stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);
   }
-  out.rgb.resize(std::size_t{pixels} * 3);
-  const float inv = 1.0f / static_cast<float>(cfg_.spp);
-  for (std::uint32_t i = 0; i < pixels; ++i)
-    for (int c = 0; c < 3; ++c) out.rgb[std::size_t{i} * 3 + c] = sum[i][c] * inv;
-  out.stats.features = rs_.features.names_on();
-  out.stats.triangles = rs_.triangles.size();
-  out.stats.emissive_triangles = rs_.emissive_triangles;
-  out.stats.delta_lights = rs_.delta_lights;
+  set_mean_image(out, sum, cfg_.spp);
   out.stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
