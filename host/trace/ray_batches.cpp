@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 #include "trace/cpu_traversal.h"
@@ -58,6 +59,12 @@ const char* ray_kind_name(RayKind kind) {
     case RayKind::kDiffuse: return "diffuse";
   }
   return "?";
+}
+
+std::optional<RayKind> ray_kind_named(std::string_view name) {
+  for (RayKind kind : {RayKind::kPrimary, RayKind::kAo, RayKind::kDiffuse})
+    if (name == ray_kind_name(kind)) return kind;
+  return std::nullopt;
 }
 
 void parallel_ranges(std::size_t n, int threads,
@@ -128,6 +135,15 @@ SecondaryRays make_secondary_rays(const Scene& scene, std::span<const gpu::Ray> 
     out.source_prim[i] = h.prim;
   }
   return out;
+}
+
+std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind) {
+  switch (kind) {
+    case RayKind::kPrimary: return batches.primary;
+    case RayKind::kAo: return batches.ao.rays;
+    case RayKind::kDiffuse: return batches.diffuse.rays;
+  }
+  return {};
 }
 
 RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatchConfig& config) {

@@ -19,8 +19,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bvh/gpu_layout.h"
@@ -34,6 +36,8 @@ enum class RayKind { kPrimary, kAo, kDiffuse };
 const char* ray_kind_name(RayKind kind);  // "primary", "ao", "diffuse"
 // Closest-hit kinds (primary, diffuse) versus any-hit kinds (AO).
 inline bool is_any_hit_kind(RayKind kind) { return kind == RayKind::kAo; }
+// The kind ray_kind_name() calls `name`, if any.
+std::optional<RayKind> ray_kind_named(std::string_view name);
 
 struct RayBatchConfig {
   std::uint32_t width = 1024;         // primary grid: width × height rays
@@ -74,6 +78,8 @@ SecondaryRays make_secondary_rays(const Scene& scene, std::span<const gpu::Ray> 
 // Everything above for one view: primaries, their CPU reference hits (multithreaded), AO and
 // diffuse batches.
 RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatchConfig& config);
+// The batch of `kind` in `batches`: its primary, AO or diffuse rays.
+std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind);
 
 // Runs body(begin, end) over [0, n) in chunks on a TaskPool of resolve_threads(threads) threads
 // (bvh/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
