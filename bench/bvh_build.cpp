@@ -18,6 +18,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
+#include "bvh/task_pool.h"
 #include "common/error.h"
 #include "scene/load_scene.h"
 
@@ -164,9 +165,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-leaf", o.config.max_leaf_size, "Largest leaf")->capture_default_str();
   app.add_flag("!--no-embree", o.embree, "Skip Embree");
   CLI11_PARSE(app, argc, argv);
-  const int threads = o.config.threads > 0
-                          ? o.config.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = hrpp::resolve_threads(o.config.threads);
   o.config.threads = threads;
 
   print_header(o, threads);

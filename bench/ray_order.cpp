@@ -47,7 +47,7 @@ struct Timed {
   TraversalCounters counters;
 };
 
-Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ray>& rays,
+Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray> rays,
                  const Variant& v, bool any_hit) {
   Timed t;
   if (!v.gather) {
@@ -71,7 +71,7 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, const std::vector<gpu::Ra
 // Each variant's lane use of the interior-node loop: one more, untimed trace by the layout's
 // counting tracer (GpuTracerConfig::count_steps: a kernel variant that counts subgroup steps).
 std::vector<double> lane_uses(std::unique_ptr<GpuTracer> (&counting)[2], RaySorter& sorter,
-                              const std::vector<gpu::Ray>& batch,
+                              std::span<const gpu::Ray> batch,
                               const std::vector<Variant>& variants, bool any_hit,
                               std::uint32_t subgroup_size) {
   std::vector<double> uses;
@@ -108,9 +108,9 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
   RaySorter sorter(ctx, layouts[0].bounds, std::max(b.primary.size(), rays));
   int failures = 0;
   for (const std::string& kind : kinds) {
-    const bool any_hit = kind == "ao";
-    const std::vector<gpu::Ray>& batch =
-        kind == "primary" ? b.primary : kind == "ao" ? b.ao.rays : b.diffuse.rays;
+    const RayKind k = *ray_kind_named(kind);  // --kinds holds only names of kinds
+    const bool any_hit = is_any_hit_kind(k);
+    const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> total(variants.size()), sort(variants.size());
     std::vector<gpu::Hit> baseline;
     // JIT warm-up of the sort kernels, the gather and the indexed trace kernels

@@ -89,9 +89,9 @@ int run_scene(VulkanContext& ctx, const std::string& name, const Options& o) {
   const RayBatches b = make_ray_batches(scene, layouts[0], bc);
   int failures = 0;
   for (const std::string& kind : o.kinds) {
-    const bool any_hit = kind == "ao";
-    const std::vector<gpu::Ray>& batch =
-        kind == "primary" ? b.primary : kind == "ao" ? b.ao.rays : b.diffuse.rays;
+    const RayKind k = *ray_kind_named(kind);  // --kinds holds only names of kinds
+    const bool any_hit = is_any_hit_kind(k);
+    const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> ms(2);
     std::vector<gpu::Hit> answers[2];
     for (int round = 0; round < o.repeat; ++round)

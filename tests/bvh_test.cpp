@@ -9,6 +9,8 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -483,6 +485,33 @@ TEST(BvhBuilderParts, TaskPoolRunsEveryTaskOnceAndRethrows) {
   std::atomic<int> after{0};
   pool.parallel_for(10, [&](std::size_t, int) { after.fetch_add(1); });
   EXPECT_EQ(after.load(), 10);
+}
+
+// An exception thrown by a task on a worker thread (not the caller's) reaches parallel_for's
+// caller, and the pool still works. The caller's task waits until a worker has run the other
+// task, so a worker always throws, whatever the scheduler does.
+TEST(BvhBuilderParts, TaskPoolRethrowsAWorkersException) {
+  TaskPool pool(2);
+  for (int round = 0; round < 20; ++round) {
+    std::atomic<bool> worker_threw{false};
+    std::string caught;
+    try {
+      pool.parallel_for(2, [&](std::size_t, int thread) {
+        if (thread != 0) {
+          worker_threw = true;
+          throw std::runtime_error("thrown on thread " + std::to_string(thread));
+        }
+        while (!worker_threw.load()) std::this_thread::yield();
+      });
+    } catch (const std::runtime_error& e) {
+      caught = e.what();
+    }
+    EXPECT_TRUE(worker_threw.load());
+    EXPECT_EQ(caught, "thrown on thread 1");
+  }
+  std::atomic<int> after{0};
+  pool.parallel_for(4, [&](std::size_t, int) { after.fetch_add(1); });
+  EXPECT_EQ(after.load(), 4);
 }
 
 }  // namespace

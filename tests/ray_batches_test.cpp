@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -153,6 +155,25 @@ TEST(RayBatches, CycleOverHitsAndEmptyWhenNothingHits) {
   ASSERT_EQ(s.rays.size(), 10u);
   for (int p : s.source_prim) EXPECT_EQ(p, 5);
   for (const gpu::Ray& r : s.rays) EXPECT_EQ(r.origin, s.rays[0].origin);
+}
+
+// rays_of_kind hands out each kind's own batch; ray_kind_named inverts ray_kind_name.
+TEST(RayBatches, KindsSelectTheirBatchAndNamesRoundTrip) {
+  const Scene scene = load_scene("builtin:cornell");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+  RayBatchConfig c = small_config();
+  c.secondary_count = 1000;
+  const RayBatches b = make_ray_batches(scene, bvh, c);
+  const std::pair<RayKind, const std::vector<gpu::Ray>*> batches[] = {
+      {RayKind::kPrimary, &b.primary}, {RayKind::kAo, &b.ao.rays}, {RayKind::kDiffuse, &b.diffuse.rays}};
+  for (const auto& [kind, rays] : batches) {
+    ASSERT_FALSE(rays->empty()) << ray_kind_name(kind);
+    EXPECT_EQ(rays_of_kind(b, kind).data(), rays->data()) << ray_kind_name(kind);
+    EXPECT_EQ(rays_of_kind(b, kind).size(), rays->size()) << ray_kind_name(kind);
+    EXPECT_EQ(ray_kind_named(ray_kind_name(kind)), kind);
+  }
+  EXPECT_FALSE(ray_kind_named("shadow").has_value());
+  EXPECT_FALSE(ray_kind_named("").has_value());
 }
 
 TEST(RayBatches, JitterStaysInsideThePixel) {

@@ -431,9 +431,7 @@ void print_ratios(const std::vector<TracerResult>& results,
 std::size_t bench_kind(const BenchOptions& o, Backends& b, const RayBatches& batches, RayKind kind,
                        nlohmann::json& report) {
   const bool any_hit = is_any_hit_kind(kind);
-  const std::span<const gpu::Ray> rays = kind == RayKind::kPrimary ? std::span<const gpu::Ray>(batches.primary)
-                                         : kind == RayKind::kAo ? std::span<const gpu::Ray>(batches.ao.rays)
-                                                                : std::span<const gpu::Ray>(batches.diffuse.rays);
+  const std::span<const gpu::Ray> rays = rays_of_kind(batches, kind);
   const char* kname = ray_kind_name(kind);
   if (rays.empty()) {
     std::printf("%-8s no rays: no primary ray hit the scene\n", kname);

@@ -11,7 +11,6 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include "app/commands.h"
 #include "app/hrpp_options.h"
@@ -113,7 +112,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   DeviceInfo cpu;
   cpu.name = "CPU reference renderer";
   cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
-  cpu.driver = std::to_string(std::max(1u, std::thread::hardware_concurrency())) + " threads";
+  cpu.driver = std::to_string(CpuRenderer::threads()) + " threads";
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, cpu, result);
     j["backend"] = "cpu";

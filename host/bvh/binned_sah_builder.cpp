@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
-#include <limits>
 #include <span>
-#include <thread>
 
 #include "bvh/prim_refs.h"
 #include "bvh/ref_partition.h"
 #include "bvh/sah_bins.h"
 #include "bvh/sbvh_builder.h"
 #include "bvh/small_node.h"
+#include "bvh/subtrees.h"
 #include "bvh/task_pool.h"
 #include "common/error.h"
 
@@ -30,13 +29,6 @@ using bvh_build::Split;
 constexpr std::uint32_t kBinChunk = 1u << 14;
 // Nodes with at least this many references are binned into two sets of bins (SahBins::add).
 constexpr std::uint32_t kDualBinsMin = 64;
-// With T threads, nodes over max(kMinSubtree, N / (kSubtreesPerThread T)) references are split
-// by all threads together (parallel binning and partition); smaller ones become subtrees that
-// one thread builds alone, handed out largest first.
-constexpr std::uint32_t kMinSubtree = 1u << 12;
-constexpr std::uint32_t kSubtreesPerThread = 8;
-
-constexpr std::size_t chunks(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
 
 struct NodeTask {
   std::uint32_t begin = 0, end = 0;
@@ -215,11 +207,7 @@ void Builder::median_split(const NodeTask& t, const Box4& centroids, NodeTask& l
 // Splits the top of the tree breadth first with all threads until the nodes are small enough to
 // be subtrees; the threshold only changes who does the work, not the tree.
 void Builder::build_top() {
-  const std::uint64_t n = refs_.size();
-  const std::uint32_t threshold =
-      pool_.size() == 1 ? std::numeric_limits<std::uint32_t>::max()
-                        : static_cast<std::uint32_t>(std::max<std::uint64_t>(
-                              kMinSubtree, n / (kSubtreesPerThread * pool_.size())));
+  const std::size_t threshold = bvh_build::subtree_threshold(refs_.size(), pool_.size());
   std::vector<std::pair<NodeTask, std::uint32_t>> queue{{root_, 0}};  // task, top node
   top_.resize(1);
   for (std::size_t i = 0; i < queue.size(); ++i) {
@@ -293,12 +281,7 @@ void Builder::stitch(std::vector<Bvh::Node>& nodes) {
   }
   for (std::size_t k = 0; k < subtrees_.size(); ++k) {  // memory-bound: one thread is enough
     const auto [root, base] = subtree_place_[k];
-    const std::vector<Bvh::Node>& local = locals_[k];
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      Bvh::Node n = local[i];
-      if (!n.is_leaf() && local.size() > 1) n.first += base - 1;
-      nodes[i == 0 ? root : base + i - 1] = n;
-    }
+    bvh_build::copy_subtree(locals_[k], root, base, 0, nodes);  // leaves index refs_ already
   }
 }
 
@@ -317,10 +300,7 @@ Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
     throw Error("--bvh-splits spatial: the duplicate budget and alpha must be 0 or more");
 
   const auto start = std::chrono::steady_clock::now();
-  const int threads = config.threads > 0
-                          ? config.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  TaskPool pool(threads);
+  TaskPool pool(resolve_threads(config.threads));
   References refs = bvh_build::make_references(scene, pool);
   Bvh bvh = config.splits == BvhSplits::kSpatial ? build_sbvh(scene, config, refs, pool)
                                                  : Builder(config, refs, pool).run();

@@ -11,8 +11,6 @@ namespace {
 // Triangles per task when making references.
 constexpr std::uint32_t kRefChunk = 1u << 14;
 
-constexpr std::size_t chunks(std::size_t n, std::size_t chunk) { return (n + chunk - 1) / chunk; }
-
 // Writes the references of the non-degenerate triangles among tris[begin, end) from out[0] on,
 // growing the bounds; returns how many.
 std::uint32_t write_references(const std::vector<Triangle>& tris, std::size_t begin,

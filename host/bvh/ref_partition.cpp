@@ -129,7 +129,7 @@ void RefPartitioner::collect_misplaced(std::uint32_t mid) {
 void RefPartitioner::swap_misplaced(PrimRef* refs, TaskPool* pool) {
   std::size_t count = 0;
   for (const Run& r : wrong_right_) count += r.end - r.begin;
-  const std::size_t pieces = (count + kChunk - 1) / kChunk;
+  const std::size_t pieces = chunks(count, kChunk);
   auto swap_piece = [&](std::size_t piece, int) {
     RunCursor a(wrong_right_, piece * kChunk), b(wrong_left_, piece * kChunk);
     const std::size_t n = std::min<std::size_t>(kChunk, count - piece * kChunk);

@@ -1,24 +1,19 @@
 #include "bvh/sbvh_builder.h"
 
 #include <algorithm>
-#include <limits>
 #include <span>
 #include <vector>
 
 #include "bvh/ref_partition.h"
 #include "bvh/sah_bins.h"
 #include "bvh/spatial_split.h"
+#include "bvh/subtrees.h"
 
 namespace hrpp {
 namespace {
 
 using bvh_build::Box4;
 using bvh_build::PrimRef;
-
-// With T threads, nodes over max(kMinSubtree, N / (kSubtreesPerThread T)) references are split
-// on the calling thread; smaller ones become subtrees built on the pool.
-constexpr std::size_t kMinSubtree = 1u << 12;
-constexpr std::size_t kSubtreesPerThread = 8;
 
 struct Task {
   std::vector<PrimRef> refs;
@@ -68,14 +63,7 @@ Bvh stitch(Part& top, std::vector<Part>& parts, const std::vector<std::uint32_t>
     const auto base = static_cast<std::uint32_t>(bvh.nodes.size());
     const auto id_base = static_cast<std::uint32_t>(bvh.prim_ids.size());
     bvh.nodes.resize(bvh.nodes.size() + local.size() - 1);
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      Bvh::Node n = local[i];
-      if (n.is_leaf())
-        n.first += id_base;
-      else if (local.size() > 1)
-        n.first += base - 1;
-      bvh.nodes[i == 0 ? roots[k] : base + i - 1] = n;
-    }
+    bvh_build::copy_subtree(local, roots[k], base, id_base, bvh.nodes);
     bvh.prim_ids.insert(bvh.prim_ids.end(), parts[k].ids.begin(), parts[k].ids.end());
   }
   return bvh;
@@ -246,10 +234,7 @@ std::vector<SbvhBuilder::Subtree> SbvhBuilder::build_top(Task root, std::size_t 
 
 Bvh SbvhBuilder::run(Task root) {
   alpha_area_ = config_.spatial_alpha * root.bounds.area();
-  const std::size_t n = root.refs.size();
-  const std::size_t threshold =
-      pool_.size() == 1 ? std::numeric_limits<std::size_t>::max()
-                        : std::max(kMinSubtree, n / (kSubtreesPerThread * pool_.size()));
+  const std::size_t threshold = bvh_build::subtree_threshold(root.refs.size(), pool_.size());
   Part top;
   std::vector<Subtree> subtrees = build_top(std::move(root), threshold, top);
   std::stable_sort(subtrees.begin(), subtrees.end(), [](const Subtree& x, const Subtree& y) {

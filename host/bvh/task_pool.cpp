@@ -4,6 +4,11 @@
 
 namespace hrpp {
 
+int resolve_threads(int threads) {
+  if (threads > 0) return threads;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 TaskPool::TaskPool(int threads) {
   for (int t = 1; t < std::max(1, threads); ++t) workers_.emplace_back([this, t] { worker_loop(t); });
 }
@@ -22,7 +27,7 @@ void TaskPool::parallel_for(std::size_t tasks, const Task& fn) {
     for (std::size_t i = 0; i < tasks; ++i) fn(i, 0);
     return;
   }
-  Job job{&fn, tasks, {0}, {0}, 0, nullptr};
+  Job job{&fn, tasks, {0}, {0}, {false}, 0, nullptr};
   {
     std::lock_guard lock(mutex_);
     job_ = &job;
@@ -41,10 +46,11 @@ void TaskPool::parallel_for(std::size_t tasks, const Task& fn) {
 void TaskPool::run(Job& job, int thread) {
   for (std::size_t i = job.next.fetch_add(1); i < job.tasks; i = job.next.fetch_add(1)) {
     try {
-      (*job.fn)(i, thread);
+      if (!job.failed.load()) (*job.fn)(i, thread);
     } catch (...) {
       std::lock_guard lock(mutex_);
       if (!job.error) job.error = std::current_exception();
+      job.failed.store(true);
     }
     job.done.fetch_add(1);
   }

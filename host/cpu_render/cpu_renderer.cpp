@@ -3,18 +3,23 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <thread>
 #include <vector>
 
+#include "bvh/task_pool.h"
 #include "cpu_render/scene_lookups.h"
 #include "path_vertex.h"
 #include "render/render_params.h"
+#include "render/render_result.h"
 #include "trace/cpu_traversal.h"
 
 namespace hrpp {
 namespace {
 
 using gpu::vec3;
+
+// Pixels per task of a sample pass: consecutive pixels, handed out to the pool's threads
+// dynamically (paths differ in length).
+constexpr std::uint32_t kPixelBlock = 256;
 
 struct PathTracer {
   const GpuBvh& bvh;
@@ -88,24 +93,24 @@ CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConf
       rs_(make_render_scene(scene)),
       params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {}
 
+int CpuRenderer::threads() { return resolve_threads(0); }
+
 RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progress) const {
   const auto start = std::chrono::steady_clock::now();
-  RenderResult out;
-  out.width = cfg_.width;
-  out.height = cfg_.height;
+  RenderResult out = make_render_result(cfg_, rs_);
   const std::uint32_t pixels = cfg_.width * cfg_.height;
   std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
-  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  TaskPool pool(threads());
+  const std::size_t blocks = chunks(pixels, kPixelBlock);
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
-    std::vector<PerClass<TraversalCounters>> counters(threads);
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t)
-      pool.emplace_back([&, t] {
-        PathTracer tracer{bvh_, rs_, params_, counters[t]};
-        for (std::uint32_t p = t; p < pixels; p += threads) tracer.trace_path(p, sample, sum[p]);
-      });
-    for (std::thread& t : pool) t.join();
+    std::vector<PerClass<TraversalCounters>> counters(static_cast<std::size_t>(pool.size()));
+    pool.parallel_for(blocks, [&](std::size_t block, int thread) {
+      PathTracer tracer{bvh_, rs_, params_, counters[static_cast<std::size_t>(thread)]};
+      const auto begin = static_cast<std::uint32_t>(block * kPixelBlock);
+      const std::uint32_t end = std::min(pixels, begin + kPixelBlock);
+      for (std::uint32_t p = begin; p < end; ++p) tracer.trace_path(p, sample, sum[p]);
+    });
     FrameStats frame;
     for (const auto& c : counters)
       for (RayClass k : kRayClasses) frame.classes[k].counters += c[k];
@@ -115,14 +120,7 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
     out.stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);
   }
-  out.rgb.resize(std::size_t{pixels} * 3);
-  const float inv = 1.0f / static_cast<float>(cfg_.spp);
-  for (std::uint32_t i = 0; i < pixels; ++i)
-    for (int c = 0; c < 3; ++c) out.rgb[std::size_t{i} * 3 + c] = sum[i][c] * inv;
-  out.stats.features = rs_.features.names_on();
-  out.stats.triangles = rs_.triangles.size();
-  out.stats.emissive_triangles = rs_.emissive_triangles;
-  out.stats.delta_lights = rs_.delta_lights;
+  set_mean_image(out, sum, cfg_.spp);
   out.stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

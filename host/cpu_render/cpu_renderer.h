@@ -23,11 +23,13 @@ class CpuRenderer {
   // the image, samples, depths, seed and camera apply (no wavefronts, tracer or HRPP).
   CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config);
 
-  // Renders config.spp samples per pixel on every hardware thread. `progress(samples_done)` is
-  // called after each sample pass. The stats hold the traversal counters per ray class (camera,
-  // bounce, shadow) and wall times; no kernel times.
+  // Renders config.spp samples per pixel on threads() threads (one TaskPool for the whole
+  // render). `progress(samples_done)` is called after each sample pass. The stats hold the
+  // traversal counters per ray class (camera, bounce, shadow) and wall times; no kernel times.
+  // An exception thrown while tracing, on any thread, reaches the caller.
   RenderResult render(const std::function<void(std::uint32_t)>& progress = {}) const;
-
+  // The threads render() uses: every hardware thread (resolve_threads(0), bvh/task_pool.h).
+  static int threads();
 
  private:
   const GpuBvh& bvh_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hrpp_table_set.h"
+
 namespace hrpp {
 
 namespace {
@@ -16,11 +18,9 @@ ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
   for (Way& w : ways_) w.slots.assign(params.nodes, kEmptyNode);
 }
 
-// hrpp_set_of: (key × golden-ratio constant) >> 32, modulo the power-of-two set count.
+// The GPU table's set function, shared with it.
 std::size_t ReferenceTable::set_base(std::uint64_t key) const {
-  const auto set = static_cast<std::uint32_t>((key * 0x9E3779B97F4A7C15ull) >> 32) &
-                   (params_.sets - 1u);
-  return std::size_t{set} * params_.ways;
+  return std::size_t{gpu::hrpp_set_of(key, params_.sets)} * params_.ways;
 }
 
 const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock) {

@@ -45,7 +45,7 @@ class EmbreeTracer {
   // Any hit in [tmin, tmax].
   bool occluded(const gpu::Ray& ray) const;
 
-  // Every ray on `threads` std::threads over ray ranges (0: hardware_concurrency()). Any-hit
+  // Every ray on `threads` threads over ray ranges (parallel_ranges; 0: all). Any-hit
   // results: prim 0 occluded, -1 free, t = u = v = 0.
   std::vector<gpu::Hit> trace(std::span<const gpu::Ray> rays, bool any_hit, int threads = 0) const;
 

@@ -19,6 +19,7 @@
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
 #include "render/render_params.h"
+#include "render/render_result.h"
 #include "render_interface.h"
 
 namespace hrpp {
@@ -405,17 +406,8 @@ const RenderScene& WavefrontRenderer::render_scene() const { return s_->rs; }
 
 RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>& progress) {
   const auto start = std::chrono::steady_clock::now();
-  RenderResult out;
-  out.width = s_->cfg.width;
-  out.height = s_->cfg.height;
+  RenderResult out = make_render_result(s_->cfg, s_->rs);
   RenderStats& stats = out.stats;
-  stats.features = s_->rs.features.names_on();
-  stats.triangles = s_->rs.triangles.size();
-  stats.emissive_triangles = s_->rs.emissive_triangles;
-  stats.delta_lights = s_->rs.delta_lights;
-  stats.textures = s_->rs.features.on[HRPP_FEATURE_TEXTURES] ? s_->rs.textures.size() : 0;
-  stats.texel_bytes = stats.textures ? s_->rs.texels.size() * sizeof(std::uint32_t) : 0;
-  stats.texture_halvings = s_->rs.texture_halvings;
   const std::uint32_t pixels = out.width * out.height;
   if (s_->cfg.warm_up) {
     FrameStats discard;
@@ -444,10 +436,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   }
   std::vector<glm::vec4> sum(pixels);
   s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
-  out.rgb.resize(std::size_t{pixels} * 3);
-  const float inv = 1.0f / static_cast<float>(s_->cfg.spp);
-  for (std::uint32_t i = 0; i < pixels; ++i)
-    for (int c = 0; c < 3; ++c) out.rgb[std::size_t{i} * 3 + c] = sum[i][c] * inv;
+  set_mean_image(out, sum, s_->cfg.spp);
   stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -1,12 +1,9 @@
 #include "trace/ray_batches.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
+#include <initializer_list>
 #include <limits>
-#include <mutex>
-#include <thread>
 
 #include "trace/cpu_traversal.h"
 #include "trace/offset_ray.h"
@@ -64,42 +61,21 @@ const char* ray_kind_name(RayKind kind) {
   return "?";
 }
 
-int resolve_threads(int threads) {
-  if (threads > 0) return threads;
-  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+std::optional<RayKind> ray_kind_named(std::string_view name) {
+  for (RayKind kind : {RayKind::kPrimary, RayKind::kAo, RayKind::kDiffuse})
+    if (name == ray_kind_name(kind)) return kind;
+  return std::nullopt;
 }
 
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body, std::size_t chunk) {
   chunk = std::max<std::size_t>(chunk, 1);
-  const int t = static_cast<int>(
-      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), (n + chunk - 1) / chunk));
-  if (t <= 1) {
-    if (n > 0) body(0, n);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    try {
-      for (;;) {
-        const std::size_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
-        if (begin >= n) break;
-        body(begin, std::min(n, begin + chunk));
-      }
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next.store(n);
-    }
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(static_cast<std::size_t>(t - 1));
-  for (int i = 1; i < t; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  const std::size_t tasks = chunks(n, chunk);
+  TaskPool pool(static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(resolve_threads(threads)), tasks)));
+  pool.parallel_for(tasks, [&](std::size_t c, int) {
+    body(c * chunk, std::min(n, (c + 1) * chunk));
+  });
 }
 
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
@@ -159,6 +135,15 @@ SecondaryRays make_secondary_rays(const Scene& scene, std::span<const gpu::Ray> 
     out.source_prim[i] = h.prim;
   }
   return out;
+}
+
+std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind) {
+  switch (kind) {
+    case RayKind::kPrimary: return batches.primary;
+    case RayKind::kAo: return batches.ao.rays;
+    case RayKind::kDiffuse: return batches.diffuse.rays;
+  }
+  return {};
 }
 
 RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatchConfig& config) {

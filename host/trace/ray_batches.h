@@ -19,11 +19,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bvh/gpu_layout.h"
+#include "bvh/task_pool.h"  // resolve_threads: the thread count of `threads` below
 #include "gpu_types.h"
 #include "scene/scene.h"
 
@@ -33,6 +36,8 @@ enum class RayKind { kPrimary, kAo, kDiffuse };
 const char* ray_kind_name(RayKind kind);  // "primary", "ao", "diffuse"
 // Closest-hit kinds (primary, diffuse) versus any-hit kinds (AO).
 inline bool is_any_hit_kind(RayKind kind) { return kind == RayKind::kAo; }
+// The kind ray_kind_name() calls `name`, if any.
+std::optional<RayKind> ray_kind_named(std::string_view name);
 
 struct RayBatchConfig {
   std::uint32_t width = 1024;         // primary grid: width × height rays
@@ -73,9 +78,11 @@ SecondaryRays make_secondary_rays(const Scene& scene, std::span<const gpu::Ray> 
 // Everything above for one view: primaries, their CPU reference hits (multithreaded), AO and
 // diffuse batches.
 RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatchConfig& config);
+// The batch of `kind` in `batches`: its primary, AO or diffuse rays.
+std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind);
 
-// Runs body(begin, end) over [0, n) in chunks on `threads` threads (0: hardware_concurrency()),
-// chunks handed out dynamically; rethrows the first exception of a worker.
+// Runs body(begin, end) over [0, n) in chunks on a TaskPool of resolve_threads(threads) threads
+// (bvh/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body,
                      std::size_t chunk = 4096);
@@ -84,8 +91,5 @@ void parallel_ranges(std::size_t n, int threads,
 // use the hits format: prim 0 occluded, -1 free, t = u = v = 0.
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
                                       bool any_hit, int threads = 0);
-
-// Threads parallel work uses for `threads` (0: hardware_concurrency(), at least 1).
-int resolve_threads(int threads);
 
 }  // namespace hrpp

@@ -1,6 +1,6 @@
 // The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag (the full key;
 // all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
-// set (key × golden-ratio constant) >> 32 mod sets, in any of its ways. Concurrent rays update it
+// set hrpp_set_of (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
 // with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
 // claimed only by a CAS from empty, after every earlier slot was seen holding another node).
 //
@@ -16,6 +16,7 @@
 #define HRPP_TABLE_GLSL
 
 #include "hrpp_interface.h"
+#include "hrpp_table_set.h"
 
 layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_PARAMS) readonly restrict buffer
     HrppParamBuffer {
@@ -58,10 +59,6 @@ const uint kHrppInserted = 0u;
 const uint kHrppPresent = 1u;
 const uint kHrppDropped = 2u;
 
-uint hrpp_set_of(uint64_t key) {
-  return uint((key * 0x9E3779B97F4A7C15ul) >> 32) & (hrpp.sets - 1u);
-}
-
 // No return or continue inside loops here: on lavapipe (Mesa 22.3) an early return from a loop
 // in divergent control flow gave wrong answers (measured: most probes of keys in the table
 // missed with 8 lanes active, none with one); loops carry a state variable instead.
@@ -74,7 +71,7 @@ uint hrpp_set_of(uint64_t key) {
 
 // Entry index holding `key`, or -1. A hit renews the entry's stamp (LRU).
 int hrpp_table_lookup(uint64_t key, uint clock) {
-  const uint base = hrpp_set_of(key) * hrpp.ways;
+  const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
   int found = -1;
   for (uint w = 0u; w < hrpp.ways; ++w)
     if (found < 0 && HRPP_TABLE_FETCH_TAG(base + w) == key) found = int(base + w);
@@ -85,7 +82,7 @@ int hrpp_table_lookup(uint64_t key, uint clock) {
 // Inserts node `node` under `key`; returns kHrppInserted / kHrppPresent / kHrppDropped and adds
 // the entries and nodes it replaced to `evictions`.
 uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions) {
-  const uint base = hrpp_set_of(key) * hrpp.ways;
+  const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
   int entry = -1;
   for (uint w = 0u; w < hrpp.ways && entry < 0; ++w) {
     const uint64_t tag = hrpp_load_tag(base + w);

@@ -21,13 +21,10 @@
 #define HRPP_PASS_NONE 4u
 #define HRPP_SAMPLE_BLOCK 256u
 
+#include "shared_fn.h"
+
 #ifdef __cplusplus
-#include <cstdint>
 namespace hrpp::gpu {
-using uint = std::uint32_t;
-#define HRPP_SHARED_FN inline constexpr
-#else
-#define HRPP_SHARED_FN
 #endif
 
 HRPP_SHARED_FN uint hrpp_pass_ray_count(uint total, uint pass, uint stride) {
@@ -52,7 +49,6 @@ HRPP_SHARED_FN uint hrpp_pass_ray_index(uint j, uint pass, uint stride) {
   return (j / others) * stride + j % others + 1u;
 }
 
-#undef HRPP_SHARED_FN
 #ifdef __cplusplus
 }  // namespace hrpp::gpu
 #endif
