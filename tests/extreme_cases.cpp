@@ -504,6 +504,24 @@ LeakScene make_leak_scene(const LeakFrame& frame) {
   return x;
 }
 
+std::vector<gpu::Ray> group_rays(const std::vector<RayGroup>& groups) {
+  std::vector<gpu::Ray> rays;
+  for (const RayGroup& g : groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  return rays;
+}
+
+int count_rule_breaks(const std::vector<RayGroup>& groups, std::span<const gpu::Hit> hits) {
+  int breaks = 0;
+  std::size_t i = 0;
+  for (const RayGroup& g : groups)
+    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i) {
+      const bool in_range = hits[i].prim >= g.first && hits[i].prim < g.last;
+      breaks += (g.rule == RayGroup::Rule::kHitRange && !in_range) ||
+                (g.rule == RayGroup::Rule::kAvoidRange && in_range);
+    }
+  return breaks;
+}
+
 std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = kInf;

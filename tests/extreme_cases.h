@@ -20,6 +20,7 @@
 #pragma once
 
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,23 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge);
 
 // Rays with NaN / Inf / zero parts: each must miss (closest) and be free (any hit).
 std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside);
+
+// GoogleTest's parameter name for a frame: its name, '-' written 'm'.
+template <class ParamInfo>
+std::string frame_param_name(const ParamInfo& info) {
+  std::string n = info.param.name;
+  for (char& c : n)
+    if (c == '-') c = 'm';
+  return n;
+}
+
+// Every ray of the groups, in group order.
+std::vector<gpu::Ray> group_rays(const std::vector<RayGroup>& groups);
+
+// Of the closest hits `hits` (hits[i] for ray i of group_rays(groups); more may follow), how many
+// break their group's rule: kHitRange, a hit outside [first, last) or a miss (an escape);
+// kAvoidRange, a hit inside it.
+int count_rule_breaks(const std::vector<RayGroup>& groups, std::span<const gpu::Hit> hits);
 
 // Leak suite: two closed meshes of thousands of triangles, a subdivided icosphere (radius R,
 // 5120 triangles) and the surface of a cube of side 2R cut into 16 × 16 quads a face (3072

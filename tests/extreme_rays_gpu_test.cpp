@@ -38,13 +38,6 @@ VulkanContext& context() {
 
 class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
 
-// Every ray of the groups, in group order.
-std::vector<gpu::Ray> group_rays(const std::vector<RayGroup>& groups) {
-  std::vector<gpu::Ray> rays;
-  for (const RayGroup& g : groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
-  return rays;
-}
-
 // Closest and any hit of every ray on the device.
 std::pair<GpuTraceResult, GpuTraceResult> trace_both(const GpuBvh& bvh,
                                                      const std::vector<gpu::Ray>& rays) {
@@ -58,7 +51,7 @@ std::pair<GpuTraceResult, GpuTraceResult> trace_both(const GpuBvh& bvh,
 TEST_P(ExtremeRaysGpu, EqualsCpuReferenceAndKeepsTheExactRules) {
   const test::ExtremeScene x = test::make_extreme_scene(GetParam(), false);
   const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
-  std::vector<gpu::Ray> rays = group_rays(x.groups);
+  std::vector<gpu::Ray> rays = test::group_rays(x.groups);
   const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
   rays.insert(rays.end(), invalid.begin(), invalid.end());
   const auto [closest, any] = trace_both(bvh, rays);
@@ -94,12 +87,7 @@ TEST_P(ExtremeRaysGpu, EqualsCpuReferenceAndKeepsTheExactRules) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysGpu, testing::ValuesIn(test::extreme_frames()),
-                         [](const testing::TestParamInfo<test::Frame>& f) {
-                           std::string n = f.param.name;
-                           for (char& c : n)
-                             if (c == '-') c = 'm';
-                           return n;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::Frame>>);
 
 // Leak suite (tests/extreme_cases.h) on the device: every answer equals the CPU reference's
 // (same triangle, same t), and no ray from inside a closed mesh escapes it (box_on_face starts
@@ -109,7 +97,7 @@ class LeakRaysGpu : public testing::TestWithParam<test::LeakFrame> {};
 TEST_P(LeakRaysGpu, EqualsCpuReferenceAndNothingEscapes) {
   const test::LeakScene x = test::make_leak_scene(GetParam());
   const GpuBvh bvh = make_gpu_layout(build_bvh(x.scene), x.scene);
-  const std::vector<gpu::Ray> rays = group_rays(x.groups);
+  const std::vector<gpu::Ray> rays = test::group_rays(x.groups);
   const auto [closest, any] = trace_both(bvh, rays);
   std::size_t i = 0;
   for (const RayGroup& g : x.groups) {

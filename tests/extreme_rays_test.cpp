@@ -154,11 +154,7 @@ TEST_P(ExtremeRays, CpuReferenceAgainstDoubleOracleAndExactRules) { check(false)
 TEST_P(ExtremeRays, WithAHugeTriangleAgainstDoubleOracle) { check(true); }
 
 INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRays, testing::ValuesIn(test::extreme_frames()),
-                         [](const testing::TestParamInfo<test::Frame>& i) {
-                           std::string n = i.param.name;
-                           std::replace(n.begin(), n.end(), '-', 'm');
-                           return n;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::Frame>>);
 
 // Leak suite (tests/extreme_cases.h): no ray from inside either closed mesh escapes it, closest
 // or any hit; every kOracleStride-th closest hit is judged by the double oracle too, and every

@@ -25,8 +25,6 @@
 namespace hrpp {
 namespace {
 
-using test::RayGroup;
-
 VulkanContext& context() {
   static auto* ctx = new VulkanContext(VulkanOptions{"", true});
   return *ctx;
@@ -87,36 +85,24 @@ TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
     const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
     const GpuBvh object = make_gpu_layout(build_bvh(x.scene), x.scene);
     const GpuBvh split = make_gpu_layout(build_bvh(x.scene, test::spatial_splits()), x.scene);
-    std::vector<gpu::Ray> rays;
-    for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+    std::vector<gpu::Ray> rays = test::group_rays(x.groups);
+    const std::size_t grouped = rays.size();
     const std::vector<gpu::Ray> invalid = test::invalid_rays(split.bounds.center());
     rays.insert(rays.end(), invalid.begin(), invalid.end());
     EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0) << huge;
     GpuTracer tracer(context(), split);
     const GpuTraceResult closest = tracer.trace(rays, false);
-    std::size_t i = 0;
-    int rule_fails = 0;
-    for (const RayGroup& g : x.groups)
-      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i) {
-        const bool in_range = closest.hits[i].prim >= g.first && closest.hits[i].prim < g.last;
-        rule_fails += (g.rule == RayGroup::Rule::kHitRange && !in_range) ||
-                      (g.rule == RayGroup::Rule::kAvoidRange && in_range);
-      }
     if (!huge) {  // with the huge triangle the suite checks no rules (extreme_cases.h)
-      EXPECT_EQ(rule_fails, 0) << GetParam().name;
+      EXPECT_EQ(test::count_rule_breaks(x.groups, closest.hits), 0) << GetParam().name;
     }
-    for (; i < rays.size(); ++i) EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
+    for (std::size_t i = grouped; i < rays.size(); ++i)
+      EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysSbvh, testing::ValuesIn(test::extreme_frames()),
-                         [](const testing::TestParamInfo<test::Frame>& f) {
-                           std::string n = f.param.name;
-                           for (char& c : n)
-                             if (c == '-') c = 'm';
-                           return n;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::Frame>>);
 
 // The leak suite (tests/extreme_cases.h) over SBVHs: the object-split BVH's answers, and no ray
 // from inside a closed mesh escapes it (cut references must leave no gap between leaf boxes).
@@ -128,18 +114,11 @@ TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
   const Bvh sbvh = build_bvh(x.scene, test::spatial_splits());
   EXPECT_GT(sbvh.prim_ids.size(), x.scene.triangles.size());  // some triangles were cut
   const GpuBvh split = make_gpu_layout(sbvh, x.scene);
-  std::vector<gpu::Ray> rays;
-  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  const std::vector<gpu::Ray> rays = test::group_rays(x.groups);
   EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0);
   GpuTracer tracer(context(), split);
-  const GpuTraceResult closest = tracer.trace(rays, false);
-  std::size_t i = 0;
-  int escapes = 0;
-  for (const RayGroup& g : x.groups)
-    for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
-      escapes += g.rule == RayGroup::Rule::kHitRange &&
-                 (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
-  EXPECT_EQ(escapes, 0) << GetParam().name;
+  EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, false).hits), 0)
+      << GetParam().name;  // escapes: the leak suite's groups hit their own mesh
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

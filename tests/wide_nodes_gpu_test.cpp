@@ -27,8 +27,6 @@
 namespace hrpp {
 namespace {
 
-using test::RayGroup;
-
 VulkanContext& context() {
   static auto* ctx = new VulkanContext(VulkanOptions{"", true});
   return *ctx;
@@ -124,36 +122,24 @@ TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
     SCOPED_TRACE(node_format_name(f));
     const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
     const GpuBvh bvh = wide(x.scene, f);
-    std::vector<gpu::Ray> rays;
-    for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+    std::vector<gpu::Ray> rays = test::group_rays(x.groups);
+    const std::size_t grouped = rays.size();
     const std::vector<gpu::Ray> invalid = test::invalid_rays(bvh.bounds.center());
     rays.insert(rays.end(), invalid.begin(), invalid.end());
     EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
     GpuTracer tracer(context(), bvh);
     const GpuTraceResult closest = tracer.trace(rays, false);
-    std::size_t i = 0;
-    int rule_fails = 0;
-    for (const RayGroup& g : x.groups)
-      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i) {
-        const bool in_range = closest.hits[i].prim >= g.first && closest.hits[i].prim < g.last;
-        rule_fails += (g.rule == RayGroup::Rule::kHitRange && !in_range) ||
-                      (g.rule == RayGroup::Rule::kAvoidRange && in_range);
-      }
     if (!huge) {  // with the huge triangle the suite checks no rules (extreme_cases.h)
-      EXPECT_EQ(rule_fails, 0) << GetParam().name;
+      EXPECT_EQ(test::count_rule_breaks(x.groups, closest.hits), 0) << GetParam().name;
     }
-    for (; i < rays.size(); ++i) EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
+    for (std::size_t i = grouped; i < rays.size(); ++i)
+      EXPECT_EQ(closest.hits[i].prim, -1) << "invalid ray " << i;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, ExtremeRaysWide, testing::ValuesIn(test::extreme_frames()),
-                         [](const testing::TestParamInfo<test::Frame>& f) {
-                           std::string n = f.param.name;
-                           for (char& c : n)
-                             if (c == '-') c = 'm';
-                           return n;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::Frame>>);
 
 // The leak suite (tests/extreme_cases.h) over wide nodes: the CPU reference's answers, and no
 // ray from inside a closed mesh escapes it (rounded-outward boxes leave no gap).
@@ -161,21 +147,14 @@ class LeakRaysWide : public testing::TestWithParam<test::LeakFrame> {};
 
 TEST_P(LeakRaysWide, EqualTheCpuReferenceAndNothingEscapes) {
   const test::LeakScene x = test::make_leak_scene(GetParam());
-  std::vector<gpu::Ray> rays;
-  for (const RayGroup& g : x.groups) rays.insert(rays.end(), g.rays.begin(), g.rays.end());
+  const std::vector<gpu::Ray> rays = test::group_rays(x.groups);
   for (const NodeFormat f : kWideFormats) {
     SCOPED_TRACE(node_format_name(f));
     const GpuBvh bvh = wide(x.scene, f);
     EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0);
     GpuTracer tracer(context(), bvh);
-    const GpuTraceResult closest = tracer.trace(rays, false);
-    std::size_t i = 0;
-    int escapes = 0;
-    for (const RayGroup& g : x.groups)
-      for (std::size_t k = 0; k < g.rays.size(); ++k, ++i)
-        escapes += g.rule == RayGroup::Rule::kHitRange &&
-                   (closest.hits[i].prim < g.first || closest.hits[i].prim >= g.last);
-    EXPECT_EQ(escapes, 0) << GetParam().name;
+    EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, false).hits), 0)
+        << GetParam().name;  // escapes: the leak suite's groups hit their own mesh
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

@@ -1,7 +1,7 @@
 // Body of the trace kernels: trace_closest.comp (HRPP_ANY_HIT 0) and trace_any.comp
 // (HRPP_ANY_HIT 1), which HRPP off runs on a class's rays and HRPP on runs on the queue of rays
 // its prediction did not answer (shaders/hrpp_predict.comp). No predictor code here: the
-// traversal is shaders/lib/traversal.glsl (traversal_wide.glsl for 4-wide nodes).
+// traversal is shaders/lib/traversal.glsl.
 //
 // Persistent invocations: one lane per subgroup fetches the next rays with atomicAdd on a global
 // cursor, but at most pc.rays_per_invocation per invocation, because lavapipe's loop limiter
@@ -35,7 +35,7 @@ layout(std430, set = 0, binding = HRPP_TRACE_BINDING_COUNTERS) restrict buffer C
 };
 layout(push_constant) uniform PushConstants { TracePushConstants pc; };
 
-#include "traversal_wide.glsl"
+#include "traversal.glsl"
 
 #if HRPP_TRACE_INDEXED
 layout(set = 0, binding = HRPP_TRACE_BINDING_RAY_INDICES) uniform usamplerBuffer ray_index_texels;
@@ -67,8 +67,7 @@ void main() {
     const uint index = ray_at(slot);
     const RaySetup r = setup_ray(load_ray(index));
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
-    const bool finished = kNodeFormat != HRPP_NODES_BINARY ? traverse_wide(r, best)
-                                                           : traverse_from(r, 0, best);
+    const bool finished = traverse_from(r, 0, best);
     if (loop_budget_left() && finished) {
       imageStore(hit_texels, int(index), uvec4(uint(best.prim), floatBitsToUint(best.t),
                                                floatBitsToUint(best.u), floatBitsToUint(best.v)));

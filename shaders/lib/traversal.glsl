@@ -1,5 +1,6 @@
 // The traversal of one ray, shared by the trace kernels (shaders/lib/trace_kernel.glsl) and
-// HRPP's predict kernel (shaders/hrpp_predict.comp, which tests predicted nodes with it).
+// HRPP's predict kernel (shaders/hrpp_predict.comp, which tests predicted nodes with it), over
+// binary nodes or (the trace kernels specialised to them) 4-wide ones (traversal_wide.glsl).
 // Semantics are those of the CPU reference (host/trace/cpu_traversal.h): same ray setup, slab
 // and triangle tests, inclusive [tmin, tmax], equal t → lower triangle id, invalid rays miss;
 // the visiting order differs (leaf postponing), the answer does not.
@@ -58,12 +59,55 @@ bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
   return false;
 }
 
+// The traversal stack of the ray being traced, global so that the node steps push onto it:
+// over binary nodes one child per entry (g_stack[0..g_sp)); over wide nodes the groups of
+// traversal_wide.glsl.
+int g_stack[HRPP_STACK_SIZE];
+int g_sp = 0;
+
+// One step at binary node `node`: the children the ray enters (`entered`: 0..2), nearest first
+// (equal distances: the left first).
+ivec4 visit_binary(RaySetup r, int node, float tmax, out uint entered) {
+  const BvhNode n = load_node(node);
+  float t_left, t_right;
+  const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
+                                  vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
+  const bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
+                                   vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
+  entered = uint(hit_left) + uint(hit_right);
+  const bool right_first = hit_right && (!hit_left || t_right < t_left);
+  return right_first ? ivec4(n.link.y, n.link.x, kSentinel, kSentinel)
+                     : ivec4(n.link.x, n.link.y, kSentinel, kSentinel);
+}
+
+#include "traversal_wide.glsl"
+
+// One step at interior node `node` in the node format: returns the nearest child the ray enters
+// (kSentinel: none) and pushes the others it enters.
+int visit(RaySetup r, int node, float tmax) {
+  uint entered;
+  if (kNodeFormat == HRPP_NODES_BINARY) {
+    const ivec4 c = visit_binary(r, node, tmax, entered);
+    if (entered > 1u) g_stack[g_sp++] = c.y;
+    return entered > 0u ? c.x : kSentinel;
+  }
+  const ivec4 c = visit_wide(r, node, tmax, entered);
+  push_group(c, entered);
+  return entered > 0u ? c.x : kSentinel;
+}
+
+// The nearest child left for later, or kSentinel when there is none.
+int pop() {
+  if (kNodeFormat != HRPP_NODES_BINARY) return pop_group_child();
+  return g_sp > 0 ? g_stack[--g_sp] : kSentinel;
+}
+
 // Traces one ray into `best` through the subtree under interior node `start` (0: the whole
 // tree; HRPP verifies predicted interior nodes this way). Returns false when the traversal did
 // not reach its end.
 bool traverse_from(RaySetup r, int start, inout Hit best) {
-  int stack[HRPP_STACK_SIZE];
-  int sp = 0;
+  g_sp = 0;
+  clear_groups();
   float tmax = r.tmax;
   int node = r.valid ? start : kSentinel;
   int leaf = 0;  // postponed leaf (< 0); >= 0: none
@@ -73,20 +117,7 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
     while (is_interior(node)) {
       ++g_interior;
       if (kCountSteps && subgroupElect()) ++g_steps;
-      const BvhNode n = load_node(node);
-      float t_left, t_right;
-      const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
-                                      vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
-      const bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
-                                       vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
-      int next = kSentinel;  // kSentinel: continue with the stack top
-      if (hit_left && hit_right) {
-        const bool right_first = t_right < t_left;
-        stack[sp++] = right_first ? n.link.x : n.link.y;
-        next = right_first ? n.link.y : n.link.x;
-      } else if (hit_left || hit_right) {
-        next = hit_left ? n.link.x : n.link.y;
-      }
+      int next = visit(r, node, tmax);  // kSentinel: continue with the stack top
       if (next < 0 && leaf >= 0) {  // first leaf: postpone it and keep searching
         searching = false;
         leaf = next;
@@ -94,13 +125,13 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
       }
       // One pop site: lavapipe runs every branch of a subgroup, so each pop written costs a
       // gather whether a lane takes it or not.
-      node = next != kSentinel ? next : (sp > 0 ? stack[--sp] : kSentinel);
+      node = next != kSentinel ? next : pop();
       if (!subgroupAny(searching)) break;
     }
     // A leaf the search popped without a postponed one becomes the postponed one.
     if (node < 0 && leaf >= 0) {
       leaf = node;
-      node = sp > 0 ? stack[--sp] : kSentinel;
+      node = pop();
     }
     // The postponed leaf, then any leaf the traversal stopped at.
     while (leaf < 0) {
@@ -110,7 +141,7 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
         break;
       }
       leaf = node;
-      if (node < 0) node = sp > 0 ? stack[--sp] : kSentinel;
+      if (node < 0) node = pop();
     }
   }
   return node == kSentinel;

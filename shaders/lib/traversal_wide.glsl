@@ -1,8 +1,8 @@
-// The traversal of one ray through 4-wide nodes (host/bvh/wide_nodes.h), for the trace kernels
-// specialised to them (HRPP_SPEC_NODE_FORMAT): WideNodes (--bvh-nodes wide4) or WideFloatNodes
-// (wide4-float). The same while-while loop, leaf postponing and leaf test as traversal.glsl's
-// binary traverse_from, and the same answer: the child boxes hold the exact ones (decoded
-// WideNode boxes are rounded outward) and the leaves are the binary layout's.
+// The steps of traversal.glsl's loop through 4-wide nodes (host/bvh/wide_nodes.h), for the trace
+// kernels specialised to them (HRPP_SPEC_NODE_FORMAT): WideNodes (--bvh-nodes wide4) or
+// WideFloatNodes (wide4-float). The answer is the binary nodes': the child boxes hold the exact
+// ones (decoded WideNode boxes are rounded outward) and the leaves are the binary layout's.
+// Included by traversal.glsl.
 //
 // A step tests up to four children and may leave three for later. They are kept together as
 // one group (nearest first), and the top group lives in registers: a step spills at most one
@@ -12,7 +12,6 @@
 #ifndef HRPP_TRAVERSAL_WIDE_GLSL
 #define HRPP_TRAVERSAL_WIDE_GLSL
 
-#include "traversal.glsl"
 #include "wide_node.h"
 
 // The entry distance of a child whose box the ray enters, else +∞ (a miss or an empty slot).
@@ -76,72 +75,33 @@ ivec4 visit_wide(RaySetup r, int node, float tmax, out uint entered) {
   return c;
 }
 
-// The group stack of the ray being traced: groups[0..g_sp) in memory, g_top in registers
-// (x, y, z: children nearest first; w: how many are left). At most one group per tree level,
-// and a wide tree is never deeper than the binary one make_gpu_layout checked.
+// The groups of children left for later, over wide nodes: g_groups[0..g_group_count) in memory
+// and the top group in registers, g_top (x, y, z: children nearest first; w: how many are left).
+// At most one group per tree level, and a wide tree is never deeper than the binary one
+// make_gpu_layout checked.
 ivec4 g_groups[HRPP_STACK_SIZE];
-int g_sp = 0;
+int g_group_count = 0;
 ivec4 g_top = ivec4(kSentinel, kSentinel, kSentinel, 0);
+
+void clear_groups() {
+  g_group_count = 0;
+  g_top = ivec4(kSentinel, kSentinel, kSentinel, 0);
+}
 
 // A step's children beyond the first become the top group.
 void push_group(ivec4 c, uint entered) {
   if (entered < 2u) return;
-  if (g_top.w > 0) g_groups[g_sp++] = g_top;
+  if (g_top.w > 0) g_groups[g_group_count++] = g_top;
   g_top = ivec4(c.y, c.z, c.w, int(entered) - 1);
 }
 
 // The nearest child left for later, or kSentinel when there is none.
-int pop_child() {
-  if (g_top.w == 0 && g_sp > 0) g_top = g_groups[--g_sp];
+int pop_group_child() {
+  if (g_top.w == 0 && g_group_count > 0) g_top = g_groups[--g_group_count];
   if (g_top.w == 0) return kSentinel;
   const int child = g_top.x;
   g_top = ivec4(g_top.y, g_top.z, kSentinel, g_top.w - 1);
   return child;
-}
-
-// Traces one ray into `best` from the root. Returns false when the traversal did not reach its
-// end.
-bool traverse_wide(RaySetup r, inout Hit best) {
-  g_sp = 0;
-  g_top = ivec4(kSentinel, kSentinel, kSentinel, 0);
-  float tmax = r.tmax;
-  int node = r.valid ? 0 : kSentinel;
-  int leaf = 0;  // postponed leaf (< 0); >= 0: none
-  while (node != kSentinel) {
-    // Interior nodes until every lane still searching has postponed a leaf.
-    bool searching = true;
-    while (is_interior(node)) {
-      ++g_interior;
-      if (kCountSteps && subgroupElect()) ++g_steps;
-      uint entered;
-      const ivec4 c = visit_wide(r, node, tmax, entered);
-      push_group(c, entered);
-      int next = entered > 0u ? c.x : kSentinel;  // kSentinel: continue with the stack top
-      if (next < 0 && leaf >= 0) {  // first leaf: postpone it and keep searching
-        searching = false;
-        leaf = next;
-        next = kSentinel;
-      }
-      node = next != kSentinel ? next : pop_child();
-      if (!subgroupAny(searching)) break;
-    }
-    // A leaf the search popped without a postponed one becomes the postponed one.
-    if (node < 0 && leaf >= 0) {
-      leaf = node;
-      node = pop_child();
-    }
-    // The postponed leaf, then any leaf the traversal stopped at.
-    while (leaf < 0) {
-      if (test_leaf(r, leaf, best, tmax)) {  // any-hit answered
-        node = kSentinel;
-        leaf = 0;
-        break;
-      }
-      leaf = node;
-      if (node < 0) node = pop_child();
-    }
-  }
-  return node == kSentinel;
 }
 
 #endif  // HRPP_TRAVERSAL_WIDE_GLSL
