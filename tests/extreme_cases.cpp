@@ -522,6 +522,21 @@ int count_rule_breaks(const std::vector<RayGroup>& groups, std::span<const gpu::
   return breaks;
 }
 
+std::vector<gpu::Ray> extreme_rays(const ExtremeScene& x, const glm::vec3& centre) {
+  std::vector<gpu::Ray> rays = group_rays(x.groups);
+  const std::vector<gpu::Ray> invalid = invalid_rays(centre);
+  rays.insert(rays.end(), invalid.begin(), invalid.end());
+  return rays;
+}
+
+int count_extreme_failures(const ExtremeScene& x, bool huge, std::span<const gpu::Hit> hits) {
+  int failures = huge ? 0 : count_rule_breaks(x.groups, hits);
+  std::size_t grouped = 0;
+  for (const RayGroup& g : x.groups) grouped += g.rays.size();
+  for (std::size_t i = grouped; i < hits.size(); ++i) failures += hits[i].prim != -1;
+  return failures;
+}
+
 std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = kInf;

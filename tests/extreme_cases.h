@@ -80,6 +80,13 @@ std::string frame_param_name(const ParamInfo& info) {
 // Every ray of the groups, in group order.
 std::vector<gpu::Ray> group_rays(const std::vector<RayGroup>& groups);
 
+// The rays a device runs over an extreme scene: group_rays(x.groups), then invalid_rays(centre).
+std::vector<gpu::Ray> extreme_rays(const ExtremeScene& x, const glm::vec3& centre);
+
+// Of a device's closest hits over extreme_rays(x, ...), how many break the exact rules (not
+// checked with the huge triangle: see extreme_cases.cpp) or are an invalid ray's hit.
+int count_extreme_failures(const ExtremeScene& x, bool huge, std::span<const gpu::Hit> hits);
+
 // Of the closest hits `hits` (hits[i] for ray i of group_rays(groups); more may follow), how many
 // break their group's rule: kHitRange, a hit outside [first, last) or a miss (an escape);
 // kAvoidRange, a hit inside it.
