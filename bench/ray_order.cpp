@@ -116,7 +116,7 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
     // JIT warm-up of the sort kernels, the gather and the indexed trace kernels
     sorter.sort(batch);
     const std::size_t few = std::min<std::size_t>(batch.size(), 64);
-    for (auto& tracer : tracers) tracer->trace(std::span(batch).first(few), any_hit, &sorter);
+    for (auto& tracer : tracers) tracer->trace(batch.first(few), any_hit, &sorter);
     for (int round = 0; round < repeat; ++round)
       for (std::size_t v = 0; v < variants.size(); ++v) {
         const int l = variants[v].layout == NodeLayout::kDfs ? 0 : 1;

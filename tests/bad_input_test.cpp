@@ -202,6 +202,7 @@ TEST_F(BadInputCli, BadValuesNameTheFlag) {
       {"render --bvh-max-leaf 0", "--bvh-max-leaf"},
       {"scene --bvh-intersection-cost 0", "--bvh-intersection-cost"},
       {"scene --bvh-intersection-cost nan", "--bvh-intersection-cost"},
+      {"render --backend cpu --bvh-nodes wide4", "--bvh-nodes wide4"},
       {"trace --rays r.bin --hits h.bin --bvh-nodes wide8", "--bvh-nodes"},
       {"render --rays-per-invocation 0", "--rays-per-invocation"},
       {"bench --rays-per-invocation 0", "--rays-per-invocation"},

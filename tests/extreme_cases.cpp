@@ -112,6 +112,7 @@ std::vector<Frame> extreme_frames() {
 ExtremeScene make_extreme_scene(const Frame& frame, bool huge) {
   ExtremeScene x;
   x.frame = frame;
+  x.huge = huge;
   x.scene.name = "extreme-" + frame.name;
   x.scene.materials.emplace_back();
   Builder b{frame, x.scene};
@@ -529,8 +530,8 @@ std::vector<gpu::Ray> extreme_rays(const ExtremeScene& x, const glm::vec3& centr
   return rays;
 }
 
-int count_extreme_failures(const ExtremeScene& x, bool huge, std::span<const gpu::Hit> hits) {
-  int failures = huge ? 0 : count_rule_breaks(x.groups, hits);
+int count_extreme_failures(const ExtremeScene& x, std::span<const gpu::Hit> hits) {
+  int failures = x.huge ? 0 : count_rule_breaks(x.groups, hits);
   std::size_t grouped = 0;
   for (const RayGroup& g : x.groups) grouped += g.rays.size();
   for (std::size_t i = grouped; i < hits.size(); ++i) failures += hits[i].prim != -1;

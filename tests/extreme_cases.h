@@ -55,6 +55,7 @@ struct RayGroup {
 
 struct ExtremeScene {
   Frame frame;
+  bool huge = false;  // with the huge triangle
   Scene scene;
   int sphere_first = 0, sphere_last = 0;  // triangle id ranges [first, last)
   int cube_first = 0, cube_last = 0;
@@ -68,7 +69,12 @@ ExtremeScene make_extreme_scene(const Frame& frame, bool huge);
 // Rays with NaN / Inf / zero parts: each must miss (closest) and be free (any hit).
 std::vector<gpu::Ray> invalid_rays(const glm::vec3& inside);
 
-// GoogleTest's parameter name for a frame: its name, '-' written 'm'.
+// The same closest hit, bit for bit: triangle, t, u and v.
+inline bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
+  return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
+}
+
+// GoogleTest's parameter name for a frame (extreme or leak): its name, '-' written 'm'.
 template <class ParamInfo>
 std::string frame_param_name(const ParamInfo& info) {
   std::string n = info.param.name;
@@ -85,7 +91,7 @@ std::vector<gpu::Ray> extreme_rays(const ExtremeScene& x, const glm::vec3& centr
 
 // Of a device's closest hits over extreme_rays(x, ...), how many break the exact rules (not
 // checked with the huge triangle: see extreme_cases.cpp) or are an invalid ray's hit.
-int count_extreme_failures(const ExtremeScene& x, bool huge, std::span<const gpu::Hit> hits);
+int count_extreme_failures(const ExtremeScene& x, std::span<const gpu::Hit> hits);
 
 // Of the closest hits `hits` (hits[i] for ray i of group_rays(groups); more may follow), how many
 // break their group's rule: kHitRange, a hit outside [first, last) or a miss (an escape);

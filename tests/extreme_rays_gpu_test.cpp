@@ -127,9 +127,7 @@ TEST_P(LeakRaysGpu, EqualsCpuReferenceAndNothingEscapes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysGpu, testing::ValuesIn(test::leak_frames()),
-                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
-                           return f.param.name;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::LeakFrame>>);
 
 // Triangles 1e17..4e18 across (extreme_rays_test.cpp, HugeTriangles): the device's t is the
 // CPU reference's, finite, bit for bit.

@@ -30,10 +30,6 @@ VulkanContext& context() {
   return *ctx;
 }
 
-bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
-  return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
-}
-
 // GPU closest and any hits over the SBVH against the CPU reference over it and the GPU over
 // the object BVH; returns the number of rays that differ anywhere (the first few reported).
 int count_differences(const GpuBvh& object, const GpuBvh& split,
@@ -44,7 +40,7 @@ int count_differences(const GpuBvh& object, const GpuBvh& split,
   int differ = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit ref = trace_closest(split, rays[i]);
-    const bool ok = same_hit(sc.hits[i], ref) && same_hit(sc.hits[i], oc.hits[i]) &&
+    const bool ok = test::same_hit(sc.hits[i], ref) && test::same_hit(sc.hits[i], oc.hits[i]) &&
                     (sa.hits[i].prim >= 0) == trace_any(split, rays[i]) &&
                     (sa.hits[i].prim >= 0) == (oa.hits[i].prim >= 0);
     if (!ok && ++differ <= 3)
@@ -88,7 +84,7 @@ TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
     const std::vector<gpu::Ray> rays = test::extreme_rays(x, split.bounds.center());
     EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0) << huge;
     GpuTracer tracer(context(), split);
-    EXPECT_EQ(test::count_extreme_failures(x, huge, tracer.trace(rays, false).hits), 0) << huge;
+    EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, false).hits), 0) << huge;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
@@ -115,9 +111,7 @@ TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysSbvh, testing::ValuesIn(test::leak_frames()),
-                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
-                           return f.param.name;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::LeakFrame>>);
 
 // HRPP over an SBVH of the bunny scene (triangles in several leaves predict from the first):
 // exact answers equal HRPP off, and in the deterministic configuration the CPU reference
@@ -156,7 +150,7 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
         ReferencePredictor cpu_predictor(bvh, p);
         const PredictorTraceResult cpu = cpu_predictor.trace(rays, ray_file_class(any));
         int differ = 0;
-        for (std::size_t i = 0; i < rays.size(); ++i) differ += !same_hit(gpu.hits[i], cpu.hits[i]);
+        for (std::size_t i = 0; i < rays.size(); ++i) differ += !test::same_hit(gpu.hits[i], cpu.hits[i]);
         EXPECT_EQ(differ, 0) << what;
         for (int k = 0; k < HRPP_PC_COUNT; ++k)
           EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
@@ -166,7 +160,7 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
           int wrong = 0;
           for (std::size_t i = 0; i < rays.size(); ++i)
             wrong += any ? (gpu.hits[i].prim >= 0) != (reference.hits[i].prim >= 0)
-                         : !same_hit(gpu.hits[i], reference.hits[i]);
+                         : !test::same_hit(gpu.hits[i], reference.hits[i]);
           EXPECT_EQ(wrong, 0) << what;
         }
       }

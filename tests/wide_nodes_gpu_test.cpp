@@ -7,7 +7,6 @@
 // validation layer reports nothing.
 #include <filesystem>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -32,10 +31,6 @@ VulkanContext& context() {
   return *ctx;
 }
 
-bool same_hit(const gpu::Hit& a, const gpu::Hit& b) {
-  return a.prim == b.prim && a.t == b.t && a.u == b.u && a.v == b.v;
-}
-
 GpuBvh wide(const Scene& scene, NodeFormat format = NodeFormat::kWide4) {
   return make_gpu_layout(build_bvh(scene), scene, NodeLayout::kDfs, format);
 }
@@ -53,7 +48,7 @@ int count_differences(const GpuBvh& bvh, const std::vector<gpu::Ray>& rays,
   int differ = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit ref = trace_closest(bvh, rays[i]);
-    const bool ok = same_hit(closest.hits[i], ref) &&
+    const bool ok = test::same_hit(closest.hits[i], ref) &&
                     (any.hits[i].prim >= 0) == trace_any(bvh, rays[i]);
     if (!ok && ++differ <= 3)
       ADD_FAILURE() << what << " ray " << i << ": wide gpu " << closest.hits[i].prim << " t "
@@ -103,7 +98,7 @@ TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
     GpuTracer on_wide(context(), wide(scene, f), counting);
     for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
       const GpuTraceResult w = on_wide.trace(*rays, false), n = on_binary.trace(*rays, false);
-      for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(same_hit(w.hits[i], n.hits[i]));
+      for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(test::same_hit(w.hits[i], n.hits[i]));
       EXPECT_GT(w.counters.interior_steps, 0u);
       EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
       EXPECT_LT(w.counters.interior_visited * 4, n.counters.interior_visited * 3);
@@ -117,15 +112,16 @@ TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
 class ExtremeRaysWide : public testing::TestWithParam<test::Frame> {};
 
 TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
-  for (const auto& [huge, f] : {std::pair{false, NodeFormat::kWide4}, {true, NodeFormat::kWide4},
-                                 {false, NodeFormat::kWide4Float}, {true, NodeFormat::kWide4Float}}) {
-    SCOPED_TRACE(node_format_name(f));
+  for (const bool huge : {false, true}) {
     const test::ExtremeScene x = test::make_extreme_scene(GetParam(), huge);
-    const GpuBvh bvh = wide(x.scene, f);
-    const std::vector<gpu::Ray> rays = test::extreme_rays(x, bvh.bounds.center());
-    EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
-    GpuTracer tracer(context(), bvh);
-    EXPECT_EQ(test::count_extreme_failures(x, huge, tracer.trace(rays, false).hits), 0) << huge;
+    for (const NodeFormat f : kWideFormats) {
+      SCOPED_TRACE(node_format_name(f));
+      const GpuBvh bvh = wide(x.scene, f);
+      const std::vector<gpu::Ray> rays = test::extreme_rays(x, bvh.bounds.center());
+      EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
+      GpuTracer tracer(context(), bvh);
+      EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, false).hits), 0) << huge;
+    }
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
@@ -152,9 +148,7 @@ TEST_P(LeakRaysWide, EqualTheCpuReferenceAndNothingEscapes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysWide, testing::ValuesIn(test::leak_frames()),
-                         [](const testing::TestParamInfo<test::LeakFrame>& f) {
-                           return f.param.name;
-                         });
+                         test::frame_param_name<testing::TestParamInfo<test::LeakFrame>>);
 
 TEST(WideNodesHrpp, HrppOnRefusesTheFormats) {
   for (const NodeFormat f : kWideFormats) {

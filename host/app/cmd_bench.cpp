@@ -27,6 +27,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
+#include "bvh/task_pool.h"
 #include "common/error.h"
 #include "common/median.h"
 #include "gpu/gpu_tracer.h"
@@ -159,9 +160,7 @@ TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, bool an
 }
 
 RayKind parse_kind(const std::string& s) {
-  if (s == "primary") return RayKind::kPrimary;
-  if (s == "ao") return RayKind::kAo;
-  if (s == "diffuse") return RayKind::kDiffuse;
+  if (const std::optional<RayKind> k = ray_kind_named(s)) return *k;
   throw Error("--kinds: unknown kind '" + s + "' (primary, ao, diffuse)");
 }
 

@@ -133,6 +133,9 @@ void run_render(RenderOptions& o) {
   check_image_format(o.out);
   check_output_path(o.out, "--out");
   check_output_path(o.stats, "--stats");
+  if (o.backend == RenderBackend::kCpu && o.shared.nodes != NodeFormat::kBinary)
+    throw Error(std::string("--bvh-nodes ") + node_format_name(o.shared.nodes) +
+                ": the CPU backend (--backend cpu) traverses binary nodes");
   o.render.tracer = o.shared.tracer;
   o.render.predictor = o.hrpp.config();
   const Scene scene = load_scene(o.shared.scene);

@@ -292,9 +292,10 @@ Bvh build_bvh(const Scene& scene, const BvhConfig& config) {
     throw Error("--bvh-bins: must be between 2 and " + std::to_string(bvh_build::kMaxBins));
   if (config.max_leaf_size < 1 || config.max_leaf_size > 255)
     throw Error("--bvh-max-leaf: must be between 1 and 255");
-  if (!(config.intersection_cost > 0.0f && config.intersection_cost <= 1e6f) ||
-      !(config.traversal_cost > 0.0f && config.traversal_cost <= 1e6f))
-    throw Error("--bvh-intersection-cost: the SAH costs must be above 0 and at most 1e6");
+  if (!(config.intersection_cost > 0.0f && config.intersection_cost <= 1e6f))
+    throw Error("--bvh-intersection-cost: must be above 0 and at most 1e6");
+  if (!(config.traversal_cost > 0.0f && config.traversal_cost <= 1e6f))
+    throw Error("BvhConfig::traversal_cost: must be above 0 and at most 1e6");
   if (config.threads < 0) throw Error("--threads: must be 0 (all) or more");
   if (!(config.duplicate_budget >= 0.0f) || !(config.spatial_alpha >= 0.0f))
     throw Error("--bvh-splits spatial: the duplicate budget and alpha must be 0 or more");

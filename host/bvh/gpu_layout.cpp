@@ -103,13 +103,13 @@ const std::map<std::string, NodeLayout>& node_layout_names() {
   return kNames;
 }
 
-std::size_t GpuBvh::traced_node_bytes() const {
+std::span<const std::byte> GpuBvh::traced_nodes() const {
   switch (format()) {
-    case NodeFormat::kBinary: return nodes.size() * sizeof(gpu::BvhNode);
-    case NodeFormat::kWide4: return wide_nodes.size() * sizeof(gpu::WideNode);
-    case NodeFormat::kWide4Float: return wide_float_nodes.size() * sizeof(gpu::WideFloatNode);
+    case NodeFormat::kWide4: return std::as_bytes(std::span(wide_nodes));
+    case NodeFormat::kWide4Float: return std::as_bytes(std::span(wide_float_nodes));
+    case NodeFormat::kBinary: break;
   }
-  return 0;
+  return std::as_bytes(std::span(nodes));
 }
 
 const char* node_format_name(NodeFormat f) {

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,8 @@ struct GpuBvh {
     if (!wide_nodes.empty()) return NodeFormat::kWide4;
     return wide_float_nodes.empty() ? NodeFormat::kBinary : NodeFormat::kWide4Float;
   }
-  // The node array the trace kernels read.
-  std::size_t traced_node_bytes() const;
+  // The node array the trace kernels read, as bytes to upload.
+  std::span<const std::byte> traced_nodes() const;
   std::size_t bytes() const {
     return nodes.size() * sizeof(gpu::BvhNode) + wide_nodes.size() * sizeof(gpu::WideNode) +
            wide_float_nodes.size() * sizeof(gpu::WideFloatNode) +

@@ -38,8 +38,6 @@ float flushed(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysi
 bool at_or_below(float x, float bound) { return x <= bound && flushed(x) <= bound; }
 bool at_or_above(float x, float bound) { return x >= bound && flushed(x) >= bound; }
 
-float step_of(std::uint32_t exponent) { return std::ldexp(1.0f, static_cast<int>(exponent) - 127); }
-
 // One axis of a node's grid: its origin (the box's low bound, moved down to a normal float or
 // zero) and the smallest step whose 255 steps reach the box's high bound.
 struct Grid {
@@ -65,26 +63,27 @@ struct Grid {
     const float top = bound(kTopCoordinate);
     return std::isfinite(top) && at_or_above(top, hi);
   }
-  float bound(std::uint32_t q) const { return hrpp_grid_bound(origin, step_of(exponent), q); }
+  float bound(std::uint32_t q) const { return hrpp_grid_bound(origin, step(), q); }
 
   // The largest coordinate whose bound is at or below `lo` (0 always is: origin <= lo).
   std::uint32_t below(float lo) const {
-    std::uint32_t q = estimate(lo, std::floor((static_cast<double>(lo) - origin) / step()));
+    std::uint32_t q = estimate(std::floor((static_cast<double>(lo) - origin) / step()));
     while (q > 0 && !at_or_below(bound(q), lo)) --q;
     while (q < kTopCoordinate && at_or_below(bound(q + 1), lo)) ++q;
     return q;
   }
   // The smallest coordinate whose bound is at or above `hi` (255 always is: reaches()).
   std::uint32_t above(float hi) const {
-    std::uint32_t q = estimate(hi, std::ceil((static_cast<double>(hi) - origin) / step()));
+    std::uint32_t q = estimate(std::ceil((static_cast<double>(hi) - origin) / step()));
     while (q < kTopCoordinate && !at_or_above(bound(q), hi)) ++q;
     while (q > 0 && at_or_above(bound(q - 1), hi)) --q;
     return q;
   }
 
  private:
-  float step() const { return step_of(exponent); }
-  static std::uint32_t estimate(float, double q) {
+  // The kernels' decoding of a step: the exponent as axis 0 of a packed word.
+  float step() const { return gpu::hrpp_grid_step(exponent, 0u); }
+  static std::uint32_t estimate(double q) {
     return static_cast<std::uint32_t>(std::clamp(q, 0.0, static_cast<double>(kTopCoordinate)));
   }
 };

@@ -48,9 +48,19 @@ void to_occlusion_records(std::span<gpu::Hit> hits) {
 
 std::array<BufferNeed, 3> bvh_buffer_needs(const GpuBvh& bvh) {
   constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
-  return {{{"BVH node array", bvh.traced_node_bytes(), kTexel},
+  return {{{"BVH node array", bvh.traced_nodes().size(), kTexel},
            {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel},
            {"BVH triangle array", bvh.triangles.size() * sizeof(gpu::TriangleRecord), kTexel}}};
+}
+
+// HRPP_SPEC_NODE_FORMAT's value for `f`.
+std::uint32_t spec_value(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::kBinary: return HRPP_NODES_BINARY;
+    case NodeFormat::kWide4: return HRPP_NODES_WIDE;
+    case NodeFormat::kWide4Float: return HRPP_NODES_WIDE_FLOAT;
+  }
+  return HRPP_NODES_BINARY;
 }
 
 // Before anything is allocated: the tracer's buffers against the device (gpu/memory_plan.h),
@@ -78,16 +88,6 @@ std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const Predict
     needs.push_back({std::string(kind) + " hit array", resident_rays * sizeof(gpu::Hit)});
   }
   return needs;
-}
-
-// HRPP_SPEC_NODE_FORMAT's value for `f`.
-std::uint32_t spec_value(NodeFormat f) {
-  switch (f) {
-    case NodeFormat::kBinary: return HRPP_NODES_BINARY;
-    case NodeFormat::kWide4: return HRPP_NODES_WIDE;
-    case NodeFormat::kWide4Float: return HRPP_NODES_WIDE_FLOAT;
-  }
-  return HRPP_NODES_BINARY;
 }
 
 // The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
@@ -146,13 +146,7 @@ struct GpuTracer::State {
         triangle_view(c, triangles),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
     if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
-    switch (bvh.format()) {
-      case NodeFormat::kBinary: nodes.upload(std::span<const gpu::BvhNode>(bvh.nodes)); break;
-      case NodeFormat::kWide4: nodes.upload(std::span<const gpu::WideNode>(bvh.wide_nodes)); break;
-      case NodeFormat::kWide4Float:
-        nodes.upload(std::span<const gpu::WideFloatNode>(bvh.wide_float_nodes));
-        break;
-    }
+    nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (bool any_hit : {false, true}) {

@@ -26,7 +26,6 @@
 #include <vector>
 
 #include "bvh/gpu_layout.h"
-#include "bvh/task_pool.h"  // resolve_threads: the thread count of `threads` below
 #include "gpu_types.h"
 #include "scene/scene.h"
 

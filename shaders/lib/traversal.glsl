@@ -59,9 +59,9 @@ bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
   return false;
 }
 
-// The traversal stack of the ray being traced, global so that the node steps push onto it:
-// over binary nodes one child per entry (g_stack[0..g_sp)); over wide nodes the groups of
-// traversal_wide.glsl.
+// The traversal stack of the ray being traced over binary nodes, one child per entry
+// (g_stack[0..g_sp)), global so that the node step pushes onto it. Over wide nodes the groups
+// of traversal_wide.glsl take its place.
 int g_stack[HRPP_STACK_SIZE];
 int g_sp = 0;
 
@@ -86,13 +86,14 @@ ivec4 visit_binary(RaySetup r, int node, float tmax, out uint entered) {
 // (kSentinel: none) and pushes the others it enters.
 int visit(RaySetup r, int node, float tmax) {
   uint entered;
+  ivec4 c;
   if (kNodeFormat == HRPP_NODES_BINARY) {
-    const ivec4 c = visit_binary(r, node, tmax, entered);
+    c = visit_binary(r, node, tmax, entered);
     if (entered > 1u) g_stack[g_sp++] = c.y;
-    return entered > 0u ? c.x : kSentinel;
+  } else {
+    c = visit_wide(r, node, tmax, entered);
+    push_group(c, entered);
   }
-  const ivec4 c = visit_wide(r, node, tmax, entered);
-  push_group(c, entered);
   return entered > 0u ? c.x : kSentinel;
 }
 

@@ -21,10 +21,10 @@ float entry(RaySetup r, vec3 lo, vec3 hi, int child, float tmax) {
   return hit ? t : uintBitsToFloat(0x7F800000u);
 }
 
-// Child `i` of a WideNode: its decoded box.
-float quantised_entry(RaySetup r, WideNode n, uint i, float tmax) {
+// Child `i` of a WideNode: its decoded box (`steps`: the node's grid steps).
+float quantised_entry(RaySetup r, WideNode n, vec3 steps, uint i, float tmax) {
   vec3 lo, hi;
-  hrpp_wide_child_box(n, i, lo, hi);
+  hrpp_wide_child_box(n, steps, i, lo, hi);
   return entry(r, lo, hi, n.child[i], tmax);
 }
 
@@ -43,9 +43,10 @@ vec4 child_entries(RaySetup r, int node, float tmax, out ivec4 child) {
                 float_entry(r, n, 2u, tmax), float_entry(r, n, 3u, tmax));
   }
   const WideNode n = load_wide_node(node);
+  const vec3 steps = hrpp_grid_steps(n);
   child = n.child;
-  return vec4(quantised_entry(r, n, 0u, tmax), quantised_entry(r, n, 1u, tmax),
-              quantised_entry(r, n, 2u, tmax), quantised_entry(r, n, 3u, tmax));
+  return vec4(quantised_entry(r, n, steps, 0u, tmax), quantised_entry(r, n, steps, 1u, tmax),
+              quantised_entry(r, n, steps, 2u, tmax), quantised_entry(r, n, steps, 3u, tmax));
 }
 
 // Puts the child with the smaller entry distance first.

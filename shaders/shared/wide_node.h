@@ -36,17 +36,21 @@ HRPP_INLINE float hrpp_grid_bound(float origin, float step, uint q) {
   return origin + float(q) * step;
 }
 
-// Child `child`'s box as the traversal tests it.
-HRPP_INLINE void hrpp_wide_child_box(WideNode n, uint child, HRPP_OUT(vec3) lo, HRPP_OUT(vec3) hi) {
-  const float sx = hrpp_grid_step(n.exponents, 0u);
-  const float sy = hrpp_grid_step(n.exponents, 1u);
-  const float sz = hrpp_grid_step(n.exponents, 2u);
-  lo = vec3(hrpp_grid_bound(n.origin.x, sx, hrpp_grid_coordinate(n.lo.x, child)),
-            hrpp_grid_bound(n.origin.y, sy, hrpp_grid_coordinate(n.lo.y, child)),
-            hrpp_grid_bound(n.origin.z, sz, hrpp_grid_coordinate(n.lo.z, child)));
-  hi = vec3(hrpp_grid_bound(n.origin.x, sx, hrpp_grid_coordinate(n.hi.x, child)),
-            hrpp_grid_bound(n.origin.y, sy, hrpp_grid_coordinate(n.hi.y, child)),
-            hrpp_grid_bound(n.origin.z, sz, hrpp_grid_coordinate(n.hi.z, child)));
+// A node's grid steps (x, y, z), decoded once for its four children.
+HRPP_INLINE vec3 hrpp_grid_steps(WideNode n) {
+  return vec3(hrpp_grid_step(n.exponents, 0u), hrpp_grid_step(n.exponents, 1u),
+              hrpp_grid_step(n.exponents, 2u));
+}
+
+// Child `child`'s box as the traversal tests it (`steps`: hrpp_grid_steps(n)).
+HRPP_INLINE void hrpp_wide_child_box(WideNode n, vec3 steps, uint child, HRPP_OUT(vec3) lo,
+                                     HRPP_OUT(vec3) hi) {
+  lo = vec3(hrpp_grid_bound(n.origin.x, steps.x, hrpp_grid_coordinate(n.lo.x, child)),
+            hrpp_grid_bound(n.origin.y, steps.y, hrpp_grid_coordinate(n.lo.y, child)),
+            hrpp_grid_bound(n.origin.z, steps.z, hrpp_grid_coordinate(n.lo.z, child)));
+  hi = vec3(hrpp_grid_bound(n.origin.x, steps.x, hrpp_grid_coordinate(n.hi.x, child)),
+            hrpp_grid_bound(n.origin.y, steps.y, hrpp_grid_coordinate(n.hi.y, child)),
+            hrpp_grid_bound(n.origin.z, steps.z, hrpp_grid_coordinate(n.hi.z, child)));
 }
 
 #ifdef __cplusplus
