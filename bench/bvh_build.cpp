@@ -18,7 +18,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "common/error.h"
 #include "scene/load_scene.h"
 

@@ -20,7 +20,7 @@
 #include "bvh/ref_partition.h"
 #include "bvh/sah_bins.h"
 #include "bvh/small_node.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "common/error.h"
 #include "test_scenes.h"
 
@@ -512,6 +512,20 @@ TEST(BvhBuilderParts, TaskPoolRethrowsAWorkersException) {
   std::atomic<int> after{0};
   pool.parallel_for(4, [&](std::size_t, int) { after.fetch_add(1); });
   EXPECT_EQ(after.load(), 4);
+}
+
+// Once a task has thrown, the tasks not yet started are skipped. With the caller alone the tasks
+// run in order, so exactly the ones up to the thrower ran.
+TEST(BvhBuilderParts, TaskPoolSkipsTheTasksAfterAnException) {
+  TaskPool pool(1);
+  std::atomic<int> ran{0};
+  EXPECT_THROW(pool.parallel_for(100,
+                                 [&](std::size_t task, int) {
+                                   ran.fetch_add(1);
+                                   if (task == 3) throw std::runtime_error("task 3");
+                                 }),
+               std::runtime_error);
+  EXPECT_EQ(ran.load(), 4);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "common/error.h"
 #include "common/median.h"
 #include "gpu/gpu_tracer.h"

@@ -11,7 +11,7 @@
 #include "bvh/sbvh_builder.h"
 #include "bvh/small_node.h"
 #include "bvh/subtrees.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "common/error.h"
 
 namespace hrpp {

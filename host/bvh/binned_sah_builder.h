@@ -2,7 +2,7 @@
 // Hierarchies"): centroids binned per axis, the cheapest plane by the surface area heuristic.
 //
 // In parallel on BvhConfig::threads threads (0: all hardware threads), one fixed pool
-// (bvh/task_pool.h): the top of the tree is split breadth first by all threads together
+// (common/task_pool.h): the top of the tree is split breadth first by all threads together
 // (binning over chunks into per-thread bins that are merged, chunked in-place partition), then
 // the nodes under N / (8 T) references are built as whole subtrees, one thread each, largest
 // first, into their own node arrays, and stitched together numbered depth first as one thread

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "bvh/sah_bins.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "scene/scene.h"
 
 namespace hrpp::bvh_build {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bvh/sah_bins.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 
 namespace hrpp::bvh_build {
 

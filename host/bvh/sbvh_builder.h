@@ -15,7 +15,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/prim_refs.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "scene/scene.h"
 
 namespace hrpp {

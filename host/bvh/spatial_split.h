@@ -17,7 +17,7 @@
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
 #include "bvh/sah_bins.h"
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "bvh/triangle_clip.h"
 #include "scene/scene.h"
 

@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "cpu_render/scene_lookups.h"
 #include "path_vertex.h"
 #include "render/render_params.h"

@@ -28,7 +28,7 @@ class CpuRenderer {
   // traversal counters per ray class (camera, bounce, shadow) and wall times; no kernel times.
   // An exception thrown while tracing, on any thread, reaches the caller.
   RenderResult render(const std::function<void(std::uint32_t)>& progress = {}) const;
-  // The threads render() uses: every hardware thread (resolve_threads(0), bvh/task_pool.h).
+  // The threads render() uses: every hardware thread (resolve_threads(0), common/task_pool.h).
   static int threads();
 
  private:

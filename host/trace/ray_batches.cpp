@@ -5,7 +5,7 @@
 #include <initializer_list>
 #include <limits>
 
-#include "bvh/task_pool.h"
+#include "common/task_pool.h"
 #include "trace/cpu_traversal.h"
 #include "trace/offset_ray.h"
 

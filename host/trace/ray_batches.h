@@ -81,7 +81,7 @@ RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatc
 std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind);
 
 // Runs body(begin, end) over [0, n) in chunks on a TaskPool of resolve_threads(threads) threads
-// (bvh/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
+// (common/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body,
                      std::size_t chunk = 4096);
