@@ -17,6 +17,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "kinds_option.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
@@ -108,7 +109,7 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
   RaySorter sorter(ctx, layouts[0].bounds, std::max(b.primary.size(), rays));
   int failures = 0;
   for (const std::string& kind : kinds) {
-    const RayKind k = *ray_kind_named(kind);  // --kinds holds only names of kinds
+    const RayKind k = *ray_kind_named(kind);  // --kinds lets only kinds through
     const bool any_hit = is_any_hit_kind(k);
     const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> total(variants.size()), sort(variants.size());
@@ -162,10 +163,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "Interleaved rounds; medians are printed")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
-  app.add_option("--kinds", kinds, "Batch kinds: primary, ao, diffuse")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"primary", "ao", "diffuse"}))
-      ->capture_default_str();
+  hrpp::bench::add_kinds_option(app, kinds);
   app.add_option("--device", vk.device, "Vulkan device (index or name substring)");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "kinds_option.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
@@ -89,7 +90,7 @@ int run_scene(VulkanContext& ctx, const std::string& name, const Options& o) {
   const RayBatches b = make_ray_batches(scene, layouts[0], bc);
   int failures = 0;
   for (const std::string& kind : o.kinds) {
-    const RayKind k = *ray_kind_named(kind);  // --kinds holds only names of kinds
+    const RayKind k = *ray_kind_named(kind);  // --kinds lets only kinds through
     const bool any_hit = is_any_hit_kind(k);
     const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> ms(2);
@@ -137,10 +138,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "Build threads (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--kinds", o.kinds, "Batch kinds: primary, ao, diffuse")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"primary", "ao", "diffuse"}))
-      ->capture_default_str();
+  hrpp::bench::add_kinds_option(app, o.kinds);
   app.add_option("--device", vk.device, "Vulkan device (index or name substring)");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -57,11 +57,7 @@ TEST_P(SbvhGpu, AnswersEqualCpuReferenceAndObjectSplitBvh) {
   const Scene scene = test::load_test_scene(GetParam());
   const GpuBvh object = make_gpu_layout(build_bvh(scene), scene);
   const GpuBvh split = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
-  RayBatchConfig c;
-  c.width = c.height = 48;
-  c.secondary_count = 2304;
-  c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, object, c);
+  const RayBatches b = test::small_ray_batches(scene, object, 48, 2304);
   EXPECT_EQ(count_differences(object, split, b.primary, "primary"), 0);
   EXPECT_EQ(count_differences(object, split, b.ao.rays, "ao"), 0);
   EXPECT_EQ(count_differences(object, split, b.diffuse.rays, "diffuse"), 0);
@@ -119,11 +115,7 @@ INSTANTIATE_TEST_SUITE_P(Frames, LeakRaysSbvh, testing::ValuesIn(test::leak_fram
 TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
   const Scene scene = test::load_test_scene("bunny.scene.json");
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
-  RayBatchConfig c;
-  c.width = c.height = 32;
-  c.secondary_count = 1024;
-  c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, bvh, c);
+  const RayBatches b = test::small_ray_batches(scene, bvh, 32, 1024);
   std::vector<gpu::Ray> primary = b.primary;
   primary.insert(primary.end(), b.primary.begin(), b.primary.end());  // the second finds it warm
   GpuTracerConfig tc;

@@ -247,11 +247,7 @@ TEST_P(SbvhScenes, ClosestHitsEqualTheObjectSplitBvhs) {
   const Scene scene = test::load_test_scene(GetParam());
   const GpuBvh object = make_gpu_layout(build_bvh(scene), scene);
   const GpuBvh split = make_gpu_layout(build_bvh(scene, test::spatial_splits()), scene);
-  RayBatchConfig c;
-  c.width = c.height = 48;
-  c.secondary_count = 4096;
-  c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, object, c);
+  const RayBatches b = test::small_ray_batches(scene, object, 48, 4096);
   int differ = 0;
   for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.ao.rays, &b.diffuse.rays})
     for (const gpu::Ray& r : *rays) {

@@ -9,6 +9,7 @@
 
 #include "bvh/bvh.h"
 #include "scene/load_scene.h"
+#include "trace/ray_batches.h"
 
 namespace hrpp::test {
 
@@ -38,6 +39,17 @@ inline BvhConfig spatial_splits() {
   BvhConfig c;
   c.splits = BvhSplits::kSpatial;
   return c;
+}
+
+// The Aila–Laine batches at test size: side × side primary rays and `secondary` AO and diffuse
+// rays, on one thread (the same rays on every machine).
+inline RayBatches small_ray_batches(const Scene& scene, const GpuBvh& bvh, std::uint32_t side,
+                                    std::size_t secondary) {
+  RayBatchConfig c;
+  c.width = c.height = side;
+  c.secondary_count = secondary;
+  c.threads = 1;
+  return make_ray_batches(scene, bvh, c);
 }
 
 // Test-name-safe form of a scene name for INSTANTIATE_TEST_SUITE_P.

@@ -61,11 +61,8 @@ class WideNodesGpu : public testing::TestWithParam<std::string> {};
 
 TEST_P(WideNodesGpu, AnswersEqualTheCpuReference) {
   const Scene scene = test::load_test_scene(GetParam());
-  RayBatchConfig c;
-  c.width = c.height = 48;
-  c.secondary_count = 2304;
-  c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, make_gpu_layout(build_bvh(scene), scene), c);
+  const RayBatches b =
+      test::small_ray_batches(scene, make_gpu_layout(build_bvh(scene), scene), 48, 2304);
   for (const NodeFormat f : kWideFormats) {
     SCOPED_TRACE(node_format_name(f));
     const GpuBvh bvh = wide(scene, f);
@@ -85,11 +82,7 @@ INSTANTIATE_TEST_SUITE_P(StandIns, WideNodesGpu, testing::ValuesIn(test::referen
 TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
   const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
   const GpuBvh binary = make_gpu_layout(build_bvh(scene), scene);
-  RayBatchConfig c;
-  c.width = c.height = 32;
-  c.secondary_count = 1024;
-  c.threads = 1;
-  const RayBatches b = make_ray_batches(scene, binary, c);
+  const RayBatches b = test::small_ray_batches(scene, binary, 32, 1024);
   GpuTracerConfig counting;
   counting.count_steps = true;
   GpuTracer on_binary(context(), binary, counting);
