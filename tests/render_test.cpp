@@ -274,9 +274,15 @@ TEST(ImageOutput, WritesPngAndExrAndNoPartialFileOnError) {
       std::filesystem::temp_directory_path() / ("hrpp_render_test_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const std::vector<float> rgb = {0.0f, 0.5f, 1.0f, 2.0f, -1.0f, 0.25f};
+#ifdef HRPP_HAVE_OIIO
   write_image(dir / "a.png", 2, 1, rgb);
-  write_image(dir / "a.exr", 2, 1, rgb);
   EXPECT_GT(std::filesystem::file_size(dir / "a.png"), 0u);
+  const std::size_t written = 2;
+#else  // the portable build (HRPP_WITH_OIIO=OFF) writes .exr only
+  EXPECT_THROW(write_image(dir / "a.png", 2, 1, rgb), Error);
+  const std::size_t written = 1;
+#endif
+  write_image(dir / "a.exr", 2, 1, rgb);
   EXPECT_GT(std::filesystem::file_size(dir / "a.exr"), 0u);
   EXPECT_THROW(write_image(dir / "a.jpg", 2, 1, rgb), Error);
   EXPECT_THROW(write_image(dir / "missing" / "a.png", 2, 1, rgb), Error);
@@ -286,7 +292,7 @@ TEST(ImageOutput, WritesPngAndExrAndNoPartialFileOnError) {
     (void)f;
     ++files;
   }
-  EXPECT_EQ(files, 2u);
+  EXPECT_EQ(files, written);
   EXPECT_FLOAT_EQ(linear_to_srgb(1.0f), 1.0f);
   EXPECT_FLOAT_EQ(linear_to_srgb(-1.0f), 0.0f);
   EXPECT_NEAR(linear_to_srgb(0.5f), 0.7354f, 1e-3);

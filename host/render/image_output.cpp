@@ -6,9 +6,14 @@
 #include <string>
 #include <system_error>
 
+#include <fstream>
+
+#ifdef HRPP_HAVE_OIIO
 #include <OpenImageIO/imageio.h>
+#endif
 
 #include "common/error.h"
+#include "render/exr_encoder.h"
 
 namespace hrpp {
 
@@ -33,30 +38,50 @@ void check_image_format(const std::filesystem::path& file) {
   const std::string ext = lower_extension(file);
   if (ext != ".exr" && ext != ".png")
     throw Error(file.string() + ": unknown image format \"" + ext + "\" (use .exr or .png)");
+#ifndef HRPP_HAVE_OIIO
+  if (ext == ".png")
+    throw Error(file.string() + ": this build has no OpenImageIO (HRPP_WITH_OIIO=OFF): use .exr");
+#endif
 }
 
-void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
-                 const std::vector<float>& rgb) {
-  check_image_format(file);
-  const std::string ext = lower_extension(file);
-  if (rgb.size() != std::size_t{width} * height * 3)
-    throw Error(file.string() + ": image data does not match " + std::to_string(width) + "x" +
-                std::to_string(height));
-  // The temporary keeps the extension: OpenImageIO picks the format from it.
-  const std::filesystem::path tmp =
-      file.parent_path() / (file.stem().string() + ".partial" + file.extension().string());
-  const auto fail = [&](const std::string& why) {
+namespace {
+
+// Writes through a temporary that keeps the extension (OpenImageIO picks the format from it) and
+// renames it to the target: an error never leaves a partial file.
+class TempImage {
+ public:
+  explicit TempImage(const std::filesystem::path& file)
+      : file_(file),
+        tmp_(file.parent_path() / (file.stem().string() + ".partial" + file.extension().string())) {}
+  ~TempImage() {
     std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    return Error(file.string() + ": cannot write image: " + why);
-  };
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) throw fail(OIIO::geterror());
-  const bool exr = ext == ".exr";
+    if (!done_) std::filesystem::remove(tmp_, ec);
+  }
+  const std::filesystem::path& path() const { return tmp_; }
+  Error fail(const std::string& why) const {
+    return Error(file_.string() + ": cannot write image: " + why);
+  }
+  void commit() {
+    std::error_code ec;
+    std::filesystem::rename(tmp_, file_, ec);
+    if (ec) throw fail(ec.message());
+    done_ = true;
+  }
+
+ private:
+  std::filesystem::path file_, tmp_;
+  bool done_ = false;
+};
+
+#ifdef HRPP_HAVE_OIIO
+void write_oiio(const TempImage& tmp, bool exr, std::uint32_t width, std::uint32_t height,
+                const std::vector<float>& rgb) {
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.path().string());
+  if (!out) throw tmp.fail(OIIO::geterror());
   OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 3,
                        exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!exr) spec.attribute("oiio:ColorSpace", "sRGB");
-  if (!out->open(tmp.string(), spec)) throw fail(out->geterror());
+  if (!out->open(tmp.path().string(), spec)) throw tmp.fail(out->geterror());
   bool ok;
   if (exr) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
@@ -69,12 +94,36 @@ void write_image(const std::filesystem::path& file, std::uint32_t width, std::ui
   if (!ok) {
     const std::string why = out->geterror();
     out->close();
-    throw fail(why);
+    throw tmp.fail(why);
   }
-  if (!out->close()) throw fail(out->geterror());
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) throw fail(ec.message());
+  if (!out->close()) throw tmp.fail(out->geterror());
+}
+#else
+void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
+               const std::vector<float>& rgb) {
+  const std::string bytes = encode_exr(width, height, rgb);
+  std::ofstream out(tmp.path(), std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw tmp.fail("write failed");
+}
+#endif
+
+}  // namespace
+
+void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
+                 const std::vector<float>& rgb) {
+  check_image_format(file);
+  if (rgb.size() != std::size_t{width} * height * 3)
+    throw Error(file.string() + ": image data does not match " + std::to_string(width) + "x" +
+                std::to_string(height));
+  TempImage tmp(file);
+#ifdef HRPP_HAVE_OIIO
+  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb);
+#else
+  write_exr(tmp, width, height, rgb);  // check_image_format refused the rest
+#endif
+  tmp.commit();
 }
 
 }  // namespace hrpp

@@ -1,7 +1,8 @@
 // Rendered images to files through OpenImageIO, format from the extension: .exr keeps linear
 // float radiance; .png (and other 8-bit formats) are tone mapped: clamped to [0, 1] and encoded
 // with the sRGB transfer curve. Written next to the target and renamed, so an error never
-// leaves a partial file.
+// leaves a partial file. A build without OpenImageIO (HRPP_WITH_OIIO=OFF) writes .exr with
+// its own encoder (render/exr_encoder.h) and refuses .png.
 #pragma once
 
 #include <cstdint>

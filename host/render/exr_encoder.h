@@ -1,0 +1,16 @@
+// A minimal OpenEXR encoder: one part, scanlines, no compression, channels R, G, B as 32-bit
+// floats. It is what `hrpp render` writes to .exr in a build without OpenImageIO
+// (HRPP_WITH_OIIO=OFF: a portable binary for a machine without Debian's packages); with
+// OpenImageIO, .exr goes through it (ZIP compressed) and this encoder is only tested against it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hrpp {
+
+// rgb: width × height × 3 linear floats, rows top down (width, height ≥ 1). The file's bytes.
+std::string encode_exr(std::uint32_t width, std::uint32_t height, const std::vector<float>& rgb);
+
+}  // namespace hrpp

@@ -1,0 +1,75 @@
+// The built-in EXR encoder (render/exr_encoder.h), read back by OpenImageIO: the size, the
+// channels and every float bit for bit, extreme values included.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "render/exr_encoder.h"
+
+namespace {
+
+using hrpp::encode_exr;
+
+// Writes the encoder's bytes to a file and reads them back through OpenImageIO as RGB floats.
+std::vector<float> round_trip(std::uint32_t width, std::uint32_t height,
+                              const std::vector<float>& rgb) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("hrpp_exr_test_" + std::to_string(getpid()) + ".exr");
+  {
+    const std::string bytes = encode_exr(width, height, rgb);
+    std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.width, static_cast<int>(width));
+  EXPECT_EQ(spec.height, static_cast<int>(height));
+  EXPECT_EQ(spec.nchannels, 3);
+  EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+  EXPECT_EQ(spec.channel_name(0), "R");
+  EXPECT_EQ(spec.channel_name(1), "G");
+  EXPECT_EQ(spec.channel_name(2), "B");
+  std::vector<float> back(std::size_t{width} * height * 3, -7.0f);
+  EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, back.data())) << in->geterror();
+  in->close();
+  std::filesystem::remove(file);
+  return back;
+}
+
+void expect_same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i]), std::bit_cast<std::uint32_t>(b[i])) << "float " << i;
+}
+
+TEST(ExrEncoder, OnePixel) {
+  const std::vector<float> rgb = {0.25f, 0.5f, 0.75f};
+  expect_same_bits(round_trip(1, 1, rgb), rgb);
+}
+
+TEST(ExrEncoder, RowsAndChannelsInPlaceOnANonSquareImage) {
+  const std::uint32_t w = 7, h = 3;
+  std::vector<float> rgb(w * h * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<float>(i) + 0.125f;
+  expect_same_bits(round_trip(w, h, rgb), rgb);
+}
+
+TEST(ExrEncoder, ExtremeValuesKeepTheirBits) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> rgb = {-0.0f, -1.5f, 3.4e38f, 1e-45f, 1.17e-38f, inf,
+                                  -inf, std::numeric_limits<float>::quiet_NaN(), 65504.0f};
+  expect_same_bits(round_trip(3, 1, rgb), rgb);
+}
+
+}  // namespace
