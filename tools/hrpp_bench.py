@@ -38,14 +38,52 @@ EPS = 1e-2  # relMSE's guard, as tools/sweep_collect.py
 
 
 def read_exr(path):
+    """An EXR's RGB as float64: OpenImageIO (Debian's python3-openimageio), else, for an
+    uncompressed file (what hrpp writes when built without OpenImageIO), numpy alone."""
     import numpy as np
-    import OpenImageIO as oiio
+    try:
+        import OpenImageIO as oiio
+    except ImportError:
+        return read_uncompressed_exr(path)
     inp = oiio.ImageInput.open(path)
     if inp is None:
         raise RuntimeError(f"cannot read {path}")
     px = inp.read_image("float")
     inp.close()
     return np.asarray(px, dtype=np.float64)[..., :3]
+
+
+def read_uncompressed_exr(path):
+    """R, G, B of a single-part scanline EXR without compression and with float channels."""
+    import numpy as np
+    data = open(path, "rb").read()
+    if data[:4] != b"\x76\x2f\x31\x01":
+        raise RuntimeError(f"{path}: not an OpenEXR file")
+    pos, attrs = 8, {}
+    while data[pos] != 0:  # attributes: name, type, size, value; an empty name ends them
+        name_end = data.index(b"\0", pos)
+        type_end = data.index(b"\0", name_end + 1)
+        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
+        attrs[data[pos:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
+        pos = type_end + 5 + size
+    if attrs.get("compression") != b"\0":
+        raise RuntimeError(f"{path}: a compressed EXR needs python3-openimageio")
+    x0, y0, x1, y1 = (int(v) for v in np.frombuffer(attrs["dataWindow"], "<i4"))
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    names, chlist = [], attrs["channels"]
+    i = 0
+    while chlist[i] != 0:  # name, pixel type, pLinear + 3 reserved, x and y sampling
+        end = chlist.index(b"\0", i)
+        if int.from_bytes(chlist[end + 1:end + 5], "little") != 2:
+            raise RuntimeError(f"{path}: channel {chlist[i:end].decode()} is not 32-bit float")
+        names.append(chlist[i:end].decode())
+        i = end + 17
+    img = np.empty((height, width, len(names)))
+    for off in np.frombuffer(data, "<u8", height, pos + 1).tolist():  # a block per scanline
+        y = int.from_bytes(data[off:off + 4], "little", signed=True) - y0
+        line = np.frombuffer(data, "<f4", width * len(names), off + 8)
+        img[y] = line.reshape(len(names), width).T  # each channel's whole line in turn
+    return np.stack([img[..., names.index(c)] for c in "RGB"], axis=-1)
 
 
 def image_error(on, off):
