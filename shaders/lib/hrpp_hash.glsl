@@ -15,6 +15,7 @@
 #define HRPP_HASH_GLSL
 
 #include "hrpp_types.h"
+#include "ieee_math.glsl"
 
 uint hrpp_canonical_bits(float f) {
   const uint b = floatBitsToUint(f);
@@ -99,14 +100,14 @@ uint hrpp_direction_bins(vec3 dir, uint n) {
   vec3 u;
   if (!hrpp_scaled_direction(dir, u)) return 0u;
   precise float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
-  precise float c = (u.z * abs(u.z)) / len2;
+  precise float c = ieee_div(u.z * abs(u.z), len2);
   precise float theta_x = (c + 1.0) * uintBitsToFloat((126u + n) << 23);  // × 2^(n-1)
   const uint theta = hrpp_bin(theta_x, cells);
   precise float s = abs(u.x) + abs(u.y);
   float p = 0.0;
   if (s > 0.0) {
-    precise float a = u.x / s;
-    precise float b = u.y / s;
+    precise float a = ieee_div(u.x, s);
+    precise float b = ieee_div(u.y, s);
     precise float q1 = 1.0 - a;
     precise float q2 = 2.0 - b;
     precise float q3 = 3.0 + a;
@@ -137,7 +138,7 @@ uint64_t hrpp_hash_two_point(vec3 o, vec3 d, HashParams h) {
   if (hrpp_scaled_direction(d, u)) {
     const float m = uintBitsToFloat(max(max(hrpp_abs_bits(u.x), hrpp_abs_bits(u.y)),
                                         hrpp_abs_bits(u.z)));
-    precise float k = h.reach / m;
+    precise float k = ieee_div(h.reach, m);
     precise vec3 q = oc + u * k;
     far_cell = hrpp_grid_cell(q, h.far_lo, h.far_scale, n);
   }

@@ -6,6 +6,7 @@
 #define HRPP_OFFSET_RAY_GLSL
 
 #include "gpu_types.h"
+#include "ieee_math.glsl"
 
 const float kOffsetOrigin = 1.0 / 32.0;
 const float kOffsetFloatScale = 1.0 / 65536.0;
@@ -33,8 +34,8 @@ const float kShadowRayLength = 1.0 - 1.0 / 8192.0;
 Ray shadow_ray_to(vec3 p, vec3 n, vec3 q, vec3 nq) {
   const vec3 o = offset_ray_origin(p, n);
   precise vec3 d = offset_ray_origin(q, nq) - o;
-  precise float len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-  precise vec3 dir = vec3(d.x / len, d.y / len, d.z / len);
+  precise float len = ieee_sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  precise vec3 dir = vec3(ieee_div(d.x, len), ieee_div(d.y, len), ieee_div(d.z, len));
   precise float tmax = len * kShadowRayLength;
   return Ray(o, 0.0, dir, tmax);
 }

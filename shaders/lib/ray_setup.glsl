@@ -3,6 +3,8 @@
 #ifndef HRPP_RAY_SETUP_GLSL
 #define HRPP_RAY_SETUP_GLSL
 
+#include "ieee_math.glsl"
+
 struct RaySetup {
   vec3 origin;
   vec3 inv_dir;  // safe reciprocals
@@ -19,7 +21,7 @@ bool hrpp_is_finite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 float safe_reciprocal(float d) {
   const float tiny = uintBitsToFloat(HRPP_TWO_POW_M80_BITS);
   const uint huge = HRPP_TWO_POW_80_BITS;
-  precise float r = 1.0 / d;
+  precise float r = ieee_div(1.0, d);
   return abs(d) < tiny ? uintBitsToFloat(huge | (floatBitsToUint(d) & 0x80000000u)) : r;
 }
 
@@ -41,9 +43,9 @@ RaySetup setup_ray(Ray ray) {
     r.kx = r.ky;
     r.ky = k;
   }
-  precise float sx = d[r.kx] / d[r.kz];
-  precise float sy = d[r.ky] / d[r.kz];
-  precise float sz = 1.0 / d[r.kz];
+  precise float sx = ieee_div(d[r.kx], d[r.kz]);
+  precise float sy = ieee_div(d[r.ky], d[r.kz]);
+  precise float sz = ieee_div(1.0, d[r.kz]);
   r.sx = sx;
   r.sy = sy;
   r.sz = sz;

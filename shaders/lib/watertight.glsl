@@ -40,7 +40,7 @@ bool intersect_triangle(RaySetup r, vec3 v0, vec3 v1, vec3 v2, float tmax, out f
   precise float cz = r.sz * c[r.kz];
   // t from the normalised barycentrics, which stay in [0, 1] on a hit: the sum of edge
   // functions × z overflows for triangles ~1e17 across at distance 1e4.
-  precise float inv_det = 1.0 / det;
+  precise float inv_det = ieee_div(1.0, det);
   precise float b0 = u * inv_det;
   precise float b1 = v * inv_det;
   precise float b2 = w * inv_det;
