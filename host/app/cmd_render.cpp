@@ -143,6 +143,7 @@ void run_render(RenderOptions& o) {
                                      o.shared.nodes);
   if (o.backend == RenderBackend::kCpu) return run_cpu_render(o, scene, bvh);
   VulkanContext ctx(o.shared.vulkan);
+  o.render.tracer = o.render.tracer.resolved_for(ctx.info());  // the stats name the device's
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);
 
   const RenderResult result = renderer.render(progress_line(o.render.spp));

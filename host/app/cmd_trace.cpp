@@ -81,7 +81,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0,
-              static_cast<int>(o.shared.tracer.rays_per_invocation));
+              static_cast<int>(o.shared.tracer.resolved_for(ctx.info()).rays_per_invocation));
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorted ? " (the sort's device time is in the kernel time)" : "");
   std::printf("bvh nodes   %s\n", node_format_name(o.shared.nodes));

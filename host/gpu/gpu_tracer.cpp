@@ -122,6 +122,15 @@ struct QueryArrays {
   }
 };
 
+GpuTracerConfig GpuTracerConfig::resolved_for(const DeviceInfo& device) const {
+  GpuTracerConfig c = *this;
+  if (c.rays_per_invocation == 0)
+    c.rays_per_invocation = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                ? kCpuDeviceRaysPerInvocation
+                                : kGpuRaysPerInvocation;
+  return c;
+}
+
 struct GpuTracer::State {
   VulkanContext* ctx = nullptr;
   GpuTracerConfig config;
@@ -137,7 +146,7 @@ struct GpuTracer::State {
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
         const PredictorConfig& predictor_config)
       : ctx(&c),
-        config((check_tracer_fits(c, bvh, predictor_config), cfg)),
+        config((check_tracer_fits(c, bvh, predictor_config), cfg.resolved_for(c.info()))),
         nodes(c, bvh_buffer_needs(bvh)[0]),
         leaves(c, bvh_buffer_needs(bvh)[1]),
         triangles(c, bvh_buffer_needs(bvh)[2]),
@@ -145,7 +154,6 @@ struct GpuTracer::State {
         leaf_view(c, leaves),
         triangle_view(c, triangles),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
-    if (config.rays_per_invocation == 0) throw Error("rays per invocation must be at least 1");
     nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
@@ -391,7 +399,8 @@ std::uint32_t GpuTracer::rays_per_workgroup() const { return s_->rays_per_workgr
 
 // Rays per dispatch: what one storage buffer and one texel view hold and one dispatch's
 // workgroups reach.
-std::size_t GpuTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerConfig& config) {
+std::size_t GpuTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerConfig& requested) {
+  const GpuTracerConfig config = requested.resolved_for(d);
   const std::uint64_t by_range =
       std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
                               std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
