@@ -175,8 +175,8 @@ def print_row(r):
                     for c in CLASSES)
     print(f"{r['scene']:14s} frame {q['frame']:.3f}  wall {q['wall']:.3f}  | {cls}  | "
           f"relMSE {r['relmse']:.2e}, {100 * r['pixels_differ']:.1f}% pixels differ", flush=True)
-    floors = "  ".join(f"{c} {r[c]['floor']:.2f} ({r[c]['predict_ns_per_probe']:.0f} / "
-                       f"{r[c]['trace_ns_per_ray_off']:.0f} ns)" for c in CLASSES)
+    floors = "  ".join(f"{c} {r[c]['floor']:.2f} ({r[c]['predict_ns_per_probe']:.3g} / "
+                       f"{r[c]['trace_ns_per_ray_off']:.3g} ns)" for c in CLASSES)
     print(f"{'':14s} floor (hrpp_predict per probed ray / off trace per ray): {floors}", flush=True)
 
 
