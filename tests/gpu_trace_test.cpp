@@ -253,6 +253,29 @@ INSTANTIATE_TEST_SUITE_P(Scenes, GpuTrace,
                                          "meshes/mcguire_bunny.glb"),
                          test::scene_param_name);
 
+// Rays per invocation: 16 on a CPU device (lavapipe's loop limiter), 1 on a GPU, unless set.
+TEST(GpuTracer, RaysPerInvocationDefaultsByDeviceType) {
+  DeviceInfo cpu, gpu;
+  cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
+  gpu.type = VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU;
+  const GpuTracerConfig unset;
+  EXPECT_EQ(unset.rays_per_invocation, 0u);
+  EXPECT_EQ(unset.resolved_for(cpu).rays_per_invocation, 16u);
+  EXPECT_EQ(unset.resolved_for(gpu).rays_per_invocation, 1u);
+  GpuTracerConfig set;
+  set.rays_per_invocation = 4;
+  EXPECT_EQ(set.resolved_for(cpu).rays_per_invocation, 4u);
+  EXPECT_EQ(set.resolved_for(gpu).rays_per_invocation, 4u);
+  // The tracer on this device runs what resolved_for names, and its chunks follow.
+  const Scene scene = builtin_cornell();
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+  const GpuTracer tracer(context(), bvh, unset);
+  EXPECT_EQ(tracer.config().rays_per_invocation,
+            unset.resolved_for(context().info()).rays_per_invocation);
+  EXPECT_EQ(GpuTracer::max_dispatch_rays(context().info(), unset),
+            GpuTracer::max_dispatch_rays(context().info(), tracer.config()));
+}
+
 TEST(GpuTracer, ChunksAndEmptyBatches) {
   const Scene scene = builtin_cornell();
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);

@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
-
-#include <fstream>
 
 #ifdef HRPP_HAVE_OIIO
 #include <OpenImageIO/imageio.h>
@@ -103,6 +102,7 @@ void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
                const std::vector<float>& rgb) {
   const std::string bytes = encode_exr(width, height, rgb);
   std::ofstream out(tmp.path(), std::ios::binary);
+  if (!out) throw tmp.fail("cannot create " + tmp.path().string());
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   out.close();
   if (!out) throw tmp.fail("write failed");
