@@ -27,9 +27,10 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
-#include "common/task_pool.h"
+#include "common/bytes.h"
 #include "common/error.h"
 #include "common/median.h"
+#include "common/task_pool.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
 #include "reference/embree_tracer.h"
@@ -207,6 +208,13 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     const DeviceInfo& d = ctx->info();
     std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
                 d.driver.c_str(), d.subgroup_size);
+    // Where the tracers' buffers live (all are host-visible and mapped): the lead on a GPU's
+    // slower later ray classes (bench/README.md, "On a real GPU").
+    std::printf("memory      buffers in host-visible%s memory, heap %s (%s)\n",
+                d.buffers_device_local ? " device-local" : "", format_bytes(d.heap_bytes).c_str(),
+                d.heap_budget ? "budget" : d.heap_is_host ? "the host's memory" : "reported");
+    machine["vulkan_buffers_device_local"] = d.buffers_device_local;
+    machine["vulkan_heap_bytes"] = d.heap_bytes;
     machine["vulkan_device"] = d.name;
     machine["vulkan_driver"] = d.driver;
     machine["vulkan_device_type"] = d.type_name();

@@ -240,6 +240,8 @@ void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
     return;  // no host-visible memory: heap_bytes 0, every buffer refused by name
   }
   const std::uint32_t heap = mp.memoryTypes[type].heapIndex;
+  info->buffers_device_local =
+      (mp.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
   info->heap_bytes = info->heap_budget ? budget.heapBudget[heap] : mp.memoryHeaps[heap].size;
   info->reported_heap_bytes = mp.memoryHeaps[heap].size;
   // A CPU device's buffers are the host's memory. Mesa 22.3's lavapipe reports a fixed 2 GiB

@@ -48,6 +48,7 @@ struct DeviceInfo {
   bool heap_budget = false;               // heap_bytes is VK_EXT_memory_budget's budget
   bool heap_is_host = false;              // heap_bytes is the host's memory (a CPU device)
   bool heap_capped = false;               // HRPP_DEVICE_HEAP_MIB applied
+  bool buffers_device_local = false;      // the buffers' memory type is also device-local
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps
