@@ -208,8 +208,8 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     const DeviceInfo& d = ctx->info();
     std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
                 d.driver.c_str(), d.subgroup_size);
-    // Where the tracers' buffers live (all are host-visible and mapped): the lead on a GPU's
-    // slower later ray classes (bench/README.md, "On a real GPU").
+    // Where the tracers' buffers live (all are host-visible and mapped): to look into a GPU's
+    // slower later query kinds (bench/README.md, "On a real GPU").
     std::printf("memory      buffers in host-visible%s memory, heap %s (%s)\n",
                 d.buffers_device_local ? " device-local" : "", format_bytes(d.heap_bytes).c_str(),
                 d.heap_budget ? "budget" : d.heap_is_host ? "the host's memory" : "reported");
