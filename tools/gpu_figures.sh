@@ -91,9 +91,12 @@ if [ -x "$bin/bench_embree_harness" ] && [ -f "$rays/triangles.bin" ]; then
 fi
 
 if [ -f "$rays/ao.rays" ]; then
-  step "bunny ao: hrpp bench's GPU time against hrpp trace's, and rays per invocation"
-  limit 60 "$hrpp" bench bunny --kinds ao --repeat "$repeat" --no-embree --check-rays 1000 |
-    grep -E "^ao|gpu "
+  step "bunny: the order of the query kinds in one process, and rays per invocation"
+  for kinds in ao primary,ao ao,primary; do
+    echo "--kinds $kinds"
+    limit 60 "$hrpp" bench bunny --kinds "$kinds" --repeat "$repeat" --no-embree \
+      --check-rays 1000 | grep -E "^(memory|primary|ao) |  gpu "
+  done
   for n in 1 4 16 64; do
     echo "--rays-per-invocation $n"
     limit 60 "$hrpp" trace bunny --rays "$rays/ao.rays" --hits "$rays/hits" --any-hit \
