@@ -79,14 +79,19 @@ void parallel_ranges(std::size_t n, int threads,
   });
 }
 
-std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
-                                      bool any_hit, int threads) {
-  std::vector<gpu::Hit> hits(rays.size());
+void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, bool any_hit,
+                     std::span<gpu::Hit> hits, int threads) {
   parallel_ranges(rays.size(), threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       hits[i] = any_hit ? (trace_any(bvh, rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
                         : trace_closest(bvh, rays[i]);
   });
+}
+
+std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
+                                      bool any_hit, int threads) {
+  std::vector<gpu::Hit> hits(rays.size());
+  trace_batch_cpu(bvh, rays, any_hit, hits, threads);
   return hits;
 }
 

@@ -88,6 +88,10 @@ void parallel_ranges(std::size_t n, int threads,
 
 // The CPU reference (trace/cpu_traversal.h) over a batch on `threads` threads. Any-hit results
 // use the hits format: prim 0 occluded, -1 free, t = u = v = 0.
+// The same into `hits` (one per ray), which the caller allocated (benchmarks time the trace
+// alone).
+void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, bool any_hit,
+                     std::span<gpu::Hit> hits, int threads = 0);
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
                                       bool any_hit, int threads = 0);
 
