@@ -3,7 +3,7 @@
 #   1. hrpp bench on bunny, lamborghini and dragon: the Vulkan device against Embree on all the
 #      machine's threads, the same rays (issue 12's GPU/Embree ratios), answers checked against
 #      the CPU reference (--strict); on bunny's rays, also hrpp trace and the independent Embree
-#      harness (bench_embree_harness, when it is beside hrpp);
+#      harness (bench_embree_harness, beside hrpp or in the build tree's bench/);
 #   2. tools/hrpp_bench.py: HRPP on against off per ray class and frame on the stand-ins, with
 #      the default (adaptive) predictor;
 #   3. the GPU test binaries (label gpu): the device's answers against the CPU reference;
@@ -58,9 +58,11 @@ limit() {
 
 if [ "$quick" = 1 ]; then
   bench_args=(--rays 65536 --repeat 1 --check-rays 4096)
+  order_args=(--rays 65536 --repeat 1)
   hb_args=(--quick --scenes cornell,bunny)
 else
   bench_args=(--repeat "$repeat" --check-rays 100000)
+  order_args=(--repeat "$repeat")
   hb_args=(--repeat 2)
 fi
 
@@ -80,12 +82,14 @@ for scene in bunny lamborghini dragon; do
 done
 
 # bench/README.md, "Is hrpp bench's Embree figure right?": Embree alone on the same rays.
-if [ -x "$bin/bench_embree_harness" ] && [ -f "$rays/triangles.bin" ]; then
+harness="$bin/bench_embree_harness"  # beside hrpp, or in the build tree's bench/
+[ -x "$harness" ] || harness="$bin/../bench/bench_embree_harness"
+if [ -x "$harness" ] && [ -f "$rays/triangles.bin" ]; then
   for kind in primary ao diffuse; do
     step "bunny $kind: hrpp trace and the independent Embree harness on the same rays"
     any=(); [ "$kind" = ao ] && any=(--any-hit)
     limit 60 "$hrpp" trace bunny --rays "$rays/$kind.rays" --hits "$rays/hits" "${any[@]}" --repeat 5
-    limit 60 "$bin/bench_embree_harness" --triangles "$rays/triangles.bin" \
+    limit 60 "$harness" --triangles "$rays/triangles.bin" \
       --rays "$rays/$kind.rays" "${any[@]}" --repeat 5
   done
 fi
@@ -94,7 +98,7 @@ if [ -f "$rays/ao.rays" ]; then
   step "bunny: the order of the query kinds in one process, and rays per invocation"
   for kinds in ao primary,ao ao,primary; do
     echo "--kinds $kinds"
-    limit 60 "$hrpp" bench bunny --kinds "$kinds" --repeat "$repeat" --no-embree \
+    limit 60 "$hrpp" bench bunny --kinds "$kinds" "${order_args[@]}" --no-embree \
       --check-rays 1000 | grep -E "^(memory|primary|ao) |  gpu "
   done
   for n in 1 4 16 64; do
