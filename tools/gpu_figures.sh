@@ -3,7 +3,8 @@
 #   1. hrpp bench on bunny, lamborghini and dragon: the Vulkan device against Embree on all the
 #      machine's threads, the same rays (issue 12's GPU/Embree ratios), answers checked against
 #      the CPU reference (--strict); on bunny's rays, also hrpp trace and the independent Embree
-#      harness (bench_embree_harness, beside hrpp or in the build tree's bench/);
+#      harness (bench_embree_harness, beside hrpp or in the build tree's bench/), then the
+#      query kinds' order in one process and the rays per invocation;
 #   2. tools/hrpp_bench.py: HRPP on against off per ray class and frame on the stand-ins, with
 #      the default (adaptive) predictor;
 #   3. the GPU test binaries (label gpu): the device's answers against the CPU reference;
@@ -15,7 +16,7 @@
 #                             [--deadline S] [--quick]
 #   --bin DIR     where hrpp is (default build/release/host)
 #   --tests DIR   where the GPU test binaries are (default build/release/tests; none: skip)
-#   --out DIR     where the figures go (default gpu_figures/)
+#   --out DIR     where the figures go (default build/gpu_figures)
 #   --repeat N    hrpp bench's timed runs per tracer and batch (default 5)
 #   --deadline S  start no step after S seconds, and cut a running one there (default 3600)
 #   --quick       small sizes (a dry run of the script on lavapipe)
@@ -26,7 +27,7 @@ cd "$(dirname "$0")/.."
 
 bin=build/release/host
 tests=build/release/tests
-out=gpu_figures
+out=build/gpu_figures
 repeat=5
 deadline=3600
 quick=0
@@ -42,6 +43,8 @@ while [[ $# -gt 0 ]]; do
     *) echo "gpu_figures: unknown option $1 (--help)" >&2; exit 2 ;;
   esac
 done
+[[ "$repeat" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --repeat $repeat: not a count" >&2; exit 2; }
+[[ "$deadline" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --deadline $deadline: not seconds" >&2; exit 2; }
 hrpp="$bin/hrpp"
 [ -x "$hrpp" ] || { echo "gpu_figures: no hrpp at $hrpp (--bin)" >&2; exit 2; }
 mkdir -p "$out"
