@@ -1,8 +1,9 @@
 // Division and square root rounded to nearest, as IEEE 754 and the C++ twins round them.
 // Vulkan only requires a shader's float division to be within 2.5 ULP and its square root as
-// close as 1 / inversesqrt(x), and NVIDIA's driver (580, H200) is that loose: with plain `/` the
-// trace kernels' t differed from the CPU reference's in the last bits (docs/ARCHITECTURE.md,
-// "Bit for bit on other devices"). Here both are computed in double and rounded once to float.
+// close as 1 / inversesqrt(x), and NVIDIA's division (driver 580, H200) is that loose: with
+// plain `/` the trace kernels' t differed from the CPU reference's in the last bits
+// (docs/ARCHITECTURE.md, "Bit for bit on other devices"). Here both are computed in double and
+// rounded once to float.
 // That is the correctly rounded float result even when the double operation is a few double
 // ULPs off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint
 // between two floats, and a double ULP is 2^-52. Subnormal inputs or results stay exact only
