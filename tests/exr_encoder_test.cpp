@@ -5,11 +5,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -27,7 +27,8 @@ std::vector<float> round_trip(std::uint32_t width, std::uint32_t height,
                                      ("hrpp_exr_test_" + std::to_string(getpid()) + ".exr");
   {
     const std::string bytes = encode_exr(width, height, rgb);
-    std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(file, std::ios::binary)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   }
   std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
   EXPECT_TRUE(in) << OIIO::geterror();
@@ -50,7 +51,8 @@ std::vector<float> round_trip(std::uint32_t width, std::uint32_t height,
 void expect_same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i)
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i]), std::bit_cast<std::uint32_t>(b[i])) << "float " << i;
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i]), std::bit_cast<std::uint32_t>(b[i]))
+        << "float " << i;
 }
 
 TEST(ExrEncoder, OnePixel) {

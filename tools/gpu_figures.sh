@@ -118,9 +118,8 @@ echo "exit $?"
 if [ -d "$tests" ]; then
   step "GPU tests (each binary alone, 120 s at most)"
   : > "$out/tests.txt"
-  for t in gpu_trace_test extreme_rays_gpu_test render_test light_transport_test \
-           hrpp_predictor_test cpu_render_test indexed_trace_test hrpp_hash_gpu_test \
-           hrpp_render_test ray_sort_test node_layout_test sbvh_gpu_test wide_nodes_gpu_test; do
+  # The binaries of label gpu, as tests/CMakeLists.txt declares them.
+  for t in $(grep -oP 'hrpp_test\(\K\w+(?= gpu)' tests/CMakeLists.txt); do
     [ -x "$tests/$t" ] || { echo "$t: not built" | tee -a "$out/tests.txt"; continue; }
     limit 120 "$tests/$t" --gtest_brief=1 > "$out/$t.log" 2>&1
     rc=$?

@@ -18,7 +18,8 @@ true-positive rate on this device: even a ray whose prediction answers it costs 
 traversal did. `--flags "--hrpp-adaptive off"` measures it with every ray predicted; the
 default measures it on the adaptive predictor's samples.
 
-Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
+Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh); without OpenImageIO it
+reads the uncompressed EXR files of a portable build with numpy alone.
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
                            [--images DIR]

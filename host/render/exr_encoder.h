@@ -1,7 +1,8 @@
 // A minimal OpenEXR encoder: one part, scanlines, no compression, channels R, G, B as 32-bit
 // floats. It is what `hrpp render` writes to .exr in a build without OpenImageIO
-// (HRPP_WITH_OIIO=OFF: a portable binary for a machine without Debian's packages); with
-// OpenImageIO, .exr goes through it (ZIP compressed) and this encoder is only tested against it.
+// (HRPP_WITH_OIIO=OFF: a portable binary for a machine without Debian's packages). A build with
+// OpenImageIO writes .exr through OpenImageIO (ZIP compressed) and only tests this encoder
+// against it.
 #pragma once
 
 #include <cstdint>

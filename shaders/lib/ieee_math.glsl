@@ -4,9 +4,9 @@
 // plain `/` the trace kernels' t differed from the CPU reference's in the last bits
 // (docs/ARCHITECTURE.md, "Bit for bit on other devices"). Here both are computed in double and
 // rounded once to float.
-// That is the correctly rounded float result even when the double operation is a few double
-// ULPs off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint
-// between two floats, and a double ULP is 2^-52. Subnormal inputs or results stay exact only
+// That is the correctly rounded float result even when the double operation is a double ULP or
+// two off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint
+// between two floats, and a double ULP is at most 2^-52 of the value. Subnormal inputs or results stay exact only
 // where the device keeps float denormals (lavapipe does).
 #ifndef HRPP_IEEE_MATH_GLSL
 #define HRPP_IEEE_MATH_GLSL
