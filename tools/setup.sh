@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything hrpp needs to build, test and run on Debian 12, from Debian packages only.
 # Idempotent: does nothing when all packages are present. Uses sudo when not run as root.
+# llvm-14 brings llvm-symbolizer (/usr/lib/llvm-14/bin), which the asan preset points the
+# sanitizers at: without it their reports have no function names and no suppression matches.
 set -euo pipefail
 
 packages=(
@@ -9,8 +11,8 @@ packages=(
   glslang-tools glslang-dev spirv-tools
   libglm-dev libtinygltf-dev libstb-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libembree-dev
-  python3 python3-matplotlib python3-openimageio parallel
-  clang libclang-rt-14-dev
+  python3 python3-numpy python3-matplotlib python3-openimageio parallel
+  clang libclang-rt-14-dev llvm-14
 )
 
 missing=()
