@@ -28,9 +28,9 @@ mkdir -p "$cache"
 
 # The mirror this machine's apt uses (deb822 sources or the classic list).
 mirror() {
-  { awk '/^URIs:/ {print $2; exit}' /etc/apt/sources.list.d/*.sources 2>/dev/null
+  { awk '/^URIs:/ {print $2; exit}' /etc/apt/sources.list.d/*.sources 2>/dev/null || true
     awk '$1 == "deb" {for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' \
-      /etc/apt/sources.list 2>/dev/null; } | head -n 1
+      /etc/apt/sources.list 2>/dev/null || true; } | head -n 1
 }
 
 if [ ! -f "$base" ]; then
