@@ -55,7 +55,7 @@ int crossings(const Scene& s, const gpu::Ray& ray, int first, int last) {
 // the root. The slab test must be conservative with respect to the triangle test, not only the
 // exact ray: where this is 0, the traversal misses only rays brute force misses, so no closed
 // mesh leaks through the BVH. (Culling against the best hit so far is another matter: see
-// README "Robustness".)
+// docs/TESTING.md, "Known float32 limits".)
 int hidden_hits(const GpuBvh& bvh, const gpu::Ray& ray) {
   const RaySetup r = setup_ray(ray);
   if (!r.valid) return 0;
@@ -104,9 +104,9 @@ void ExtremeRays::check(bool huge) {
       hits += h.prim >= 0;
       // Brute force with the same float tests gives the same answer except on rays the oracle
       // calls either way (counted, printed): a box whose hit lies within the triangle test's t
-      // error of the best t so far can be culled (README "Robustness"). Both answers are within
-      // the oracle's tolerance: checked below for the traversal's answer. No box hides a hit
-      // from the ray's [tmin, tmax] itself (hidden_hits).
+      // error of the best t so far can be culled (docs/TESTING.md, "Known float32 limits").
+      // Both answers are within the oracle's tolerance: checked below for the traversal's
+      // answer. No box hides a hit from the ray's [tmin, tmax] itself (hidden_hits).
       const gpu::Hit b = brute_force_closest(x.scene, ray);
       hidden += hidden_hits(bvh, ray);
       if (b.prim != h.prim || (h.prim >= 0 && b.t != h.t)) ++brute_differs;
