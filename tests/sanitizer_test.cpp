@@ -60,14 +60,14 @@ TEST_F(SanitizerReport, NamesTheLeakingFunction) {
 
 // The driver's pattern: a one-time block kept in the globals of a library unloaded before exit.
 // Its own frames cannot be named, but the preset's full unwinding reaches the mapped frames
-// around it (libc's pthread_once, the caller), and a suppression naming the caller silences it.
+// around it (the caller), and a suppression naming the caller silences it.
 TEST_F(SanitizerReport, LeakFromAnUnloadedLibraryNamesTheMappedCaller) {
   const std::string args = std::string("unloaded-module ") + HRPP_ONCE_MODULE;
   const test::CliResult r = probe(args);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("Direct leak of 128 byte(s) in 1 object(s)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("<unknown module>"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("in __pthread_once_slow"), std::string::npos) << r.err;
+  // (libc's frames between them are named only where its debug symbols are installed.)
   EXPECT_NE(r.err.find("leak_probe_load_and_unload("), std::string::npos) << r.err;
 
   const fs::path supp = dir_ / "caller.supp";
