@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     for (auto& r : batch)
       r = {{pos(rng), pos(rng), pos(rng)}, 0.0f, {dir(rng), dir(rng), dir(rng)}, 1e30f};
     tracer.warm_up();
-    const hrpp::GpuTraceResult res = tracer.trace(batch, false);
+    const hrpp::GpuTraceResult res = tracer.trace(batch, hrpp::QueryKind::kClosest);
     std::printf("trace       %zu rays in %.1f ms kernel time: %.2f Mrays/s, %llu hits\n", rays,
                 res.kernel_ms, static_cast<double>(rays) / (res.kernel_ms * 1e3),
                 static_cast<unsigned long long>(res.counters.hits));

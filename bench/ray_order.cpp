@@ -49,11 +49,11 @@ struct Timed {
 };
 
 Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray> rays,
-                 const Variant& v, bool any_hit) {
+                 const Variant& v, QueryKind query) {
   Timed t;
   if (!v.gather) {
     GpuTraceResult r =
-        tracer.trace(rays, any_hit, v.order == RayOrder::kOff ? nullptr : &sorter);
+        tracer.trace(rays, query, v.order == RayOrder::kOff ? nullptr : &sorter);
     t.hits = std::move(r.hits);
     t.trace_ms = r.kernel_ms - r.sort_ms;
     t.sort_ms = r.sort_ms;
@@ -61,7 +61,7 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray>
     return t;
   }
   const RaySortResult s = sorter.sort(rays);
-  const GpuTraceResult r = tracer.trace(s.rays, any_hit);
+  const GpuTraceResult r = tracer.trace(s.rays, query);
   t.hits = hits_in_queue_order(r.hits, s.order);
   t.trace_ms = r.kernel_ms;
   t.sort_ms = s.kernel_ms;
@@ -73,12 +73,12 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray>
 // counting tracer (GpuTracerConfig::count_steps: a kernel variant that counts subgroup steps).
 std::vector<double> lane_uses(std::unique_ptr<GpuTracer> (&counting)[2], RaySorter& sorter,
                               std::span<const gpu::Ray> batch,
-                              const std::vector<Variant>& variants, bool any_hit,
+                              const std::vector<Variant>& variants, QueryKind query,
                               std::uint32_t subgroup_size) {
   std::vector<double> uses;
   for (const Variant& v : variants) {
     const int l = v.layout == NodeLayout::kDfs ? 0 : 1;
-    uses.push_back(lane_use(trace_once(*counting[l], sorter, batch, v, any_hit).counters,
+    uses.push_back(lane_use(trace_once(*counting[l], sorter, batch, v, query).counters,
                             subgroup_size));
   }
   return uses;
@@ -110,18 +110,18 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
   int failures = 0;
   for (const std::string& kind : kinds) {
     const RayKind k = *ray_kind_named(kind);  // --kinds lets only kinds through
-    const bool any_hit = is_any_hit_kind(k);
+    const QueryKind query = query_kind(k);
     const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> total(variants.size()), sort(variants.size());
     std::vector<gpu::Hit> baseline;
     // JIT warm-up of the sort kernels, the gather and the indexed trace kernels
     sorter.sort(batch);
     const std::size_t few = std::min<std::size_t>(batch.size(), 64);
-    for (auto& tracer : tracers) tracer->trace(batch.first(few), any_hit, &sorter);
+    for (auto& tracer : tracers) tracer->trace(batch.first(few), query, &sorter);
     for (int round = 0; round < repeat; ++round)
       for (std::size_t v = 0; v < variants.size(); ++v) {
         const int l = variants[v].layout == NodeLayout::kDfs ? 0 : 1;
-        const Timed t = trace_once(*tracers[l], sorter, batch, variants[v], any_hit);
+        const Timed t = trace_once(*tracers[l], sorter, batch, variants[v], query);
         total[v].push_back(t.trace_ms + t.sort_ms);
         sort[v].push_back(t.sort_ms);
         if (v == 0 && round == 0) baseline = t.hits;
@@ -133,7 +133,7 @@ int run_scene(VulkanContext& ctx, const std::string& name, std::size_t rays, int
         }
       }
     const std::vector<double> uses =
-        lane_uses(counting, sorter, batch, variants, any_hit, ctx.info().subgroup_size);
+        lane_uses(counting, sorter, batch, variants, query, ctx.info().subgroup_size);
     const double base = median(total[0]);
     for (std::size_t v = 0; v < variants.size(); ++v) {
       const double ms = median(total[v]);

@@ -64,10 +64,10 @@ std::vector<Bvh> build_both(const Scene& scene, const Options& o) {
   return bvhs;
 }
 
-bool same_answers(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b, bool any_hit) {
+bool same_answers(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b, QueryKind query) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (any_hit ? (a[i].prim >= 0) != (b[i].prim >= 0)
+    if (query == QueryKind::kAny ? (a[i].prim >= 0) != (b[i].prim >= 0)
                 : a[i].prim != b[i].prim || a[i].t != b[i].t || a[i].u != b[i].u ||
                       a[i].v != b[i].v)
       return false;
@@ -91,17 +91,17 @@ int run_scene(VulkanContext& ctx, const std::string& name, const Options& o) {
   int failures = 0;
   for (const std::string& kind : o.kinds) {
     const RayKind k = *ray_kind_named(kind);  // --kinds lets only kinds through
-    const bool any_hit = is_any_hit_kind(k);
+    const QueryKind query = query_kind(k);
     const std::span<const gpu::Ray> batch = rays_of_kind(b, k);
     std::vector<std::vector<double>> ms(2);
     std::vector<gpu::Hit> answers[2];
     for (int round = 0; round < o.repeat; ++round)
       for (int s = 0; s < 2; ++s) {
-        GpuTraceResult r = tracers[s]->trace(batch, any_hit);
+        GpuTraceResult r = tracers[s]->trace(batch, query);
         ms[s].push_back(r.kernel_ms);
         if (round == 0) answers[s] = std::move(r.hits);
       }
-    if (!same_answers(answers[0], answers[1], any_hit)) {
+    if (!same_answers(answers[0], answers[1], query)) {
       std::fprintf(stderr, "%s %s: SBVH answers differ from the object BVH's\n", name.c_str(),
                    kind.c_str());
       ++failures;

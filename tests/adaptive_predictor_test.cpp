@@ -55,26 +55,26 @@ TEST(AdaptivePredictor, SamplesThenPredictsAClassThatSavesTime) {
   AdaptivePredictor a(on());
   EXPECT_EQ(a.mode(RayClass::kCamera), Probe::kSample);
   ClassDecision d = a.end_frame(RayClass::kCamera, sample_frame(0.5));
-  EXPECT_STREQ(d.reason, "warming");  // the table was empty
+  EXPECT_EQ(d.reason, Reason::kWarming);  // the table was empty
   EXPECT_EQ(d.next, Probe::kSample);
   EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.01);
   d = a.end_frame(RayClass::kCamera, sample_frame(0.5));  // 5 us per sampled ray against 10
-  EXPECT_STREQ(d.reason, "gain");
+  EXPECT_EQ(d.reason, Reason::kGain);
   EXPECT_NEAR(d.gain_ms, 1000 * (0.01 - 0.005), 1e-9);
   EXPECT_EQ(d.next, Probe::kAll);
   for (int f = 0; f < 6; ++f) {
     d = a.end_frame(RayClass::kCamera, all_frame(6.0, 400));
-    EXPECT_STREQ(d.reason, "gain");
+    EXPECT_EQ(d.reason, Reason::kGain);
     EXPECT_NEAR(d.gain_ms, 10.0 - 6.0, 1e-9);
     EXPECT_EQ(a.mode(RayClass::kCamera), Probe::kAll);
   }
   EXPECT_EQ(d.confidence, AdaptivePredictor::kConfidenceMax);
   // The costs change: two losing frames bring the confidence under kConfidenceOn.
   d = a.end_frame(RayClass::kCamera, all_frame(12.0, 900));
-  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.reason, Reason::kLoss);
   EXPECT_EQ(d.next, Probe::kAll);
   d = a.end_frame(RayClass::kCamera, all_frame(12.0, 900));
-  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.reason, Reason::kLoss);
   EXPECT_EQ(d.next, Probe::kOff);
 }
 
@@ -82,7 +82,7 @@ TEST(AdaptivePredictor, StopsALosingClassAndSamplesItAgain) {
   AdaptivePredictor a(on());
   a.end_frame(RayClass::kShadow, sample_frame(1.5));  // warming
   ClassDecision d = a.end_frame(RayClass::kShadow, sample_frame(1.5));  // 15 us against 10
-  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.reason, Reason::kLoss);
   EXPECT_LT(d.gain_ms, 0.0);
   EXPECT_EQ(d.next, Probe::kOff);
   int frames_off = 0;
@@ -92,18 +92,18 @@ TEST(AdaptivePredictor, StopsALosingClassAndSamplesItAgain) {
     ASSERT_LE(frames_off, AdaptivePredictor::kRetryEvery);
   }
   EXPECT_EQ(frames_off, AdaptivePredictor::kRetryEvery);
-  EXPECT_STREQ(d.reason, "retry");
+  EXPECT_EQ(d.reason, Reason::kRetry);
   EXPECT_EQ(d.next, Probe::kSample);
   EXPECT_DOUBLE_EQ(d.off_ms_per_ray, 0.008);  // the last plain trace's
   // A losing sample: off again, twice as long.
   d = a.end_frame(RayClass::kShadow, sample_frame(1.2));
-  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.reason, Reason::kLoss);
   for (int f = 1; f < 2 * AdaptivePredictor::kRetryEvery; ++f)
     EXPECT_EQ(a.end_frame(RayClass::kShadow, off_frame()).next, Probe::kOff);
   EXPECT_EQ(a.end_frame(RayClass::kShadow, off_frame()).next, Probe::kSample);
   // The costs change: a sample that gains turns the class to every ray.
   d = a.end_frame(RayClass::kShadow, sample_frame(0.4));
-  EXPECT_STREQ(d.reason, "gain");
+  EXPECT_EQ(d.reason, Reason::kGain);
   EXPECT_EQ(d.next, Probe::kAll);
 }
 
@@ -114,7 +114,7 @@ TEST(AdaptivePredictor, AHopelessClassStopsAtOnce) {
   ClassFrameCost c = sample_frame(1.0);
   c.sample_stage_ms = 1.0;  // 10 us per sampled ray: as much as the plain trace
   const ClassDecision d = a.end_frame(RayClass::kBounce, c);
-  EXPECT_STREQ(d.reason, "hopeless");
+  EXPECT_EQ(d.reason, Reason::kHopeless);
   EXPECT_EQ(d.next, Probe::kOff);
   EXPECT_EQ(a.mode(RayClass::kBounce), Probe::kOff);
 }
@@ -141,7 +141,7 @@ TEST(AdaptivePredictor, ASampleCountsEachDispatchOnce) {
   // Uncorrected: 18 us per sampled ray (11 for predict + resolve) against 10: hopeless. Per
   // ray 6 us, plus 12 dispatches of 0.2 ms: a predicted frame costs 8.4 ms against 10.
   ClassDecision d = a.end_frame(RayClass::kCamera, sample_with_dispatches(0.2));
-  EXPECT_STREQ(d.reason, "gain");
+  EXPECT_EQ(d.reason, Reason::kGain);
   EXPECT_DOUBLE_EQ(d.dispatch_ms, 0.2);
   EXPECT_NEAR(d.gain_ms, 10.0 - (6.0 + 12 * 0.2), 1e-9);
   EXPECT_EQ(d.next, Probe::kAll);
@@ -149,7 +149,7 @@ TEST(AdaptivePredictor, ASampleCountsEachDispatchOnce) {
   AdaptivePredictor b(on());
   b.end_frame(RayClass::kCamera, sample_with_dispatches(0.5));
   d = b.end_frame(RayClass::kCamera, sample_with_dispatches(0.5));
-  EXPECT_STREQ(d.reason, "loss");
+  EXPECT_EQ(d.reason, Reason::kLoss);
   EXPECT_NEAR(d.gain_ms, 10.0 - (6.0 + 12 * 0.5), 1e-9);
   EXPECT_EQ(d.next, Probe::kOff);
 }
@@ -159,9 +159,9 @@ TEST(AdaptivePredictor, AFrameWithoutRaysIsNotJudged) {
   ClassFrameCost idle;
   idle.mode = Probe::kSample;
   const ClassDecision d = a.end_frame(RayClass::kBounce, idle);
-  EXPECT_STREQ(d.reason, "idle");
+  EXPECT_EQ(d.reason, Reason::kIdle);
   EXPECT_EQ(d.next, Probe::kSample);
-  EXPECT_STREQ(a.end_frame(RayClass::kBounce, sample_frame(0.5)).reason, "warming");
+  EXPECT_EQ(a.end_frame(RayClass::kBounce, sample_frame(0.5)).reason, Reason::kWarming);
 }
 
 TEST(AdaptivePredictor, ClassesAreIndependent) {
@@ -179,21 +179,21 @@ TEST(AdaptivePredictor, DisabledClassesAndFixedMode) {
   c.classes[RayClass::kShadow] = false;
   AdaptivePredictor a(c);
   EXPECT_EQ(a.mode(RayClass::kShadow), Probe::kOff);
-  EXPECT_STREQ(a.end_frame(RayClass::kShadow, off_frame()).reason, "disabled");
+  EXPECT_EQ(a.end_frame(RayClass::kShadow, off_frame()).reason, Reason::kDisabled);
   EXPECT_EQ(a.mode(RayClass::kShadow), Probe::kOff);
 
   AdaptivePredictor fixed(on(false));
   EXPECT_EQ(fixed.mode(RayClass::kBounce), Probe::kAll);
   for (int f = 0; f < 8; ++f) {
     const ClassDecision d = fixed.end_frame(RayClass::kBounce, all_frame(100.0, 1000));
-    EXPECT_STREQ(d.reason, "fixed");
+    EXPECT_EQ(d.reason, Reason::kFixed);
     EXPECT_EQ(d.next, Probe::kAll);
   }
   PredictorConfig batched = on();
   batched.batch = 64;  // the deterministic order: no decisions from timings
   AdaptivePredictor in_batches(batched);
   EXPECT_EQ(in_batches.mode(RayClass::kCamera), Probe::kAll);
-  EXPECT_STREQ(in_batches.end_frame(RayClass::kCamera, all_frame(100.0, 1000)).reason, "fixed");
+  EXPECT_EQ(in_batches.end_frame(RayClass::kCamera, all_frame(100.0, 1000)).reason, Reason::kFixed);
   PredictorConfig off;
   AdaptivePredictor none(off);
   for (RayClass k : kRayClasses) EXPECT_EQ(none.mode(k), Probe::kOff);

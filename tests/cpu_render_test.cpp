@@ -25,6 +25,7 @@
 #include "cpu_render/cpu_renderer.h"
 #include "cpu_render/scene_lookups.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
 #include "test_scenes.h"
@@ -34,10 +35,7 @@ namespace {
 
 using V = glm::vec3;
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 struct BothImages {
   RenderResult device, cpu;

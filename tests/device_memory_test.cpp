@@ -22,6 +22,7 @@
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp/predictor_config.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
@@ -32,10 +33,7 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
   VulkanContext& ctx = context();

@@ -28,12 +28,13 @@ struct Tally {
   std::size_t rays = 0, ties = 0, disagreements = 0;
 };
 
-// Compares closest hits (any_hit false) or occlusion (true) of Embree and the CPU reference.
+// Compares closest hits or occlusion (`kind`) of Embree and the CPU reference.
 Tally compare(const GpuBvh& bvh, const EmbreeTracer& embree, std::span<const gpu::Ray> rays,
-              bool any_hit, const char* what, float diagonal) {
+              QueryKind kind, const char* what, float diagonal) {
   Tally tally;
-  const std::vector<gpu::Hit> ref = trace_batch_cpu(bvh, rays, any_hit);
-  const std::vector<gpu::Hit> got = embree.trace(rays, any_hit);
+  const bool any_hit = kind == QueryKind::kAny;
+  const std::vector<gpu::Hit> ref = trace_batch_cpu(bvh, rays, kind);
+  const std::vector<gpu::Hit> got = embree.trace(rays, kind);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     ++tally.rays;
     const gpu::Hit& r = ref[i];
@@ -81,15 +82,15 @@ TEST_P(EmbreeVsReference, SameHitsOnEveryBatchKind) {
   struct Case {
     const char* what;
     std::span<const gpu::Ray> rays;
-    bool any_hit;
+    QueryKind kind;
   };
-  const Case cases[] = {{"primary closest", b.primary, false},
-                        {"ao any", b.ao.rays, true},
-                        {"ao closest", b.ao.rays, false},
-                        {"diffuse closest", b.diffuse.rays, false},
-                        {"diffuse any", b.diffuse.rays, true}};
+  const Case cases[] = {{"primary closest", b.primary, QueryKind::kClosest},
+                        {"ao any", b.ao.rays, QueryKind::kAny},
+                        {"ao closest", b.ao.rays, QueryKind::kClosest},
+                        {"diffuse closest", b.diffuse.rays, QueryKind::kClosest},
+                        {"diffuse any", b.diffuse.rays, QueryKind::kAny}};
   for (const Case& k : cases) {
-    const Tally t = compare(bvh, embree, k.rays, k.any_hit, k.what, b.scene_diagonal);
+    const Tally t = compare(bvh, embree, k.rays, k.kind, k.what, b.scene_diagonal);
     EXPECT_LT(static_cast<double>(t.disagreements), 0.001 * static_cast<double>(t.rays))
         << k.what << ": " << t.disagreements << " of " << t.rays << " rays disagree";
   }
@@ -100,8 +101,8 @@ TEST_P(EmbreeVsReference, SingleRayQueriesMatchTheBatch) {
   const Scene scene = test::load_test_scene(GetParam());
   const EmbreeTracer embree(scene);
   const std::vector<gpu::Ray> rays = make_primary_rays(scene.cameras[0], 32, 32, false, 1);
-  const std::vector<gpu::Hit> closest = embree.trace(rays, false, 2);
-  const std::vector<gpu::Hit> any = embree.trace(rays, true, 2);
+  const std::vector<gpu::Hit> closest = embree.trace(rays, QueryKind::kClosest, 2);
+  const std::vector<gpu::Hit> any = embree.trace(rays, QueryKind::kAny, 2);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit h = embree.closest(rays[i]);
     ASSERT_EQ(h.prim, closest[i].prim);

@@ -21,6 +21,7 @@
 #include "extreme_cases.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp/predictor_config.h"
 #include "trace/cpu_traversal.h"
 
@@ -31,10 +32,7 @@ using test::RayGroup;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
 
@@ -42,7 +40,7 @@ class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
 std::pair<GpuTraceResult, GpuTraceResult> trace_both(const GpuBvh& bvh,
                                                      const std::vector<gpu::Ray>& rays) {
   GpuTracer tracer(context(), bvh);
-  std::pair<GpuTraceResult, GpuTraceResult> r{tracer.trace(rays, false), tracer.trace(rays, true)};
+  std::pair<GpuTraceResult, GpuTraceResult> r{tracer.trace(rays, QueryKind::kClosest), tracer.trace(rays, QueryKind::kAny)};
   EXPECT_EQ(r.first.hits.size(), rays.size());
   EXPECT_EQ(r.second.hits.size(), rays.size());
   return r;
@@ -143,7 +141,7 @@ TEST(HugeTrianglesGpu, SameFiniteTAsTheCpuReference) {
     for (const float z : {-9980.0f, 0.0f, 1e4f})
       rays.push_back({{0.3f, 0.2f, z}, 0.0f, {0.01f, -0.02f, -1.0f}, kInfinity});
     GpuTracer tracer(context(), bvh);
-    const GpuTraceResult r = tracer.trace(rays, false);
+    const GpuTraceResult r = tracer.trace(rays, QueryKind::kClosest);
     for (std::size_t k = 0; k < rays.size(); ++k) {
       const gpu::Hit ref = trace_closest(bvh, rays[k]);
       ASSERT_EQ(ref.prim, 0) << h;
@@ -168,8 +166,8 @@ TEST(ExtremeRaysGpuHrpp, InvalidRaysMissWithThePredictorOn) {
   p.mode = PredictorMode::kExact;
   GpuTracer tracer(context(), bvh, {}, p);
   for (int pass = 0; pass < 2; ++pass) {  // the second pass probes a filled table
-    const GpuTraceResult c = tracer.trace(rays, false);
-    const GpuTraceResult a = tracer.trace(rays, true);
+    const GpuTraceResult c = tracer.trace(rays, QueryKind::kClosest);
+    const GpuTraceResult a = tracer.trace(rays, QueryKind::kAny);
     for (std::size_t k = 0; k < rays.size(); ++k) {
       const bool bad = k >= x.groups[0].rays.size();
       EXPECT_EQ(c.hits[k].prim, bad ? -1 : trace_closest(bvh, rays[k]).prim) << k;

@@ -22,6 +22,7 @@
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
 
@@ -31,11 +32,7 @@ namespace {
 constexpr int kSide = 64;                 // primary rays: kSide × kSide pixels
 constexpr int kRaysPerKind = kSide * kSide;  // 4096 per kind, 4 kinds + edge cases > 16k rays
 
-// One validated context for the whole suite: pipelines JIT once, messages are counted.
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 bool is_lavapipe() { return context().info().driver.find("llvmpipe") != std::string::npos; }
 
@@ -215,7 +212,7 @@ TEST_P(GpuTrace, EqualsCpuReference) {
       cpu_any[i] = trace_any(d.bvh, b.rays[i]);
     }
 
-    const GpuTraceResult closest = tracer.trace(b.rays, false);
+    const GpuTraceResult closest = tracer.trace(b.rays, QueryKind::kClosest);
     ASSERT_EQ(closest.hits.size(), b.rays.size());
     const Comparison c = compare_closest(b.rays, closest.hits, cpu_closest);
     EXPECT_EQ(c.mismatches, 0u) << c.first;
@@ -226,7 +223,7 @@ TEST_P(GpuTrace, EqualsCpuReference) {
     EXPECT_GE(closest.counters.leaves_visited, closest.counters.hits);
     EXPECT_GT(closest.kernel_ms, 0.0);
 
-    const GpuTraceResult any = tracer.trace(b.rays, true);
+    const GpuTraceResult any = tracer.trace(b.rays, QueryKind::kAny);
     std::size_t any_mismatch = 0, occluded = 0;
     for (std::size_t i = 0; i < b.rays.size(); ++i) {
       const gpu::Hit& h = any.hits[i];
@@ -280,9 +277,9 @@ TEST(GpuTracer, ChunksAndEmptyBatches) {
   const Scene scene = builtin_cornell();
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
   GpuTracer tracer(context(), bvh, GpuTracerConfig{1});
-  EXPECT_TRUE(tracer.trace({}, false).hits.empty());
+  EXPECT_TRUE(tracer.trace({}, QueryKind::kClosest).hits.empty());
   const std::vector<gpu::Ray> rays = primary_rays(scene.cameras.at(0));
-  const GpuTraceResult r = tracer.trace(rays, false);  // 1 ray per invocation: 64 workgroups
+  const GpuTraceResult r = tracer.trace(rays, QueryKind::kClosest);  // 1 ray per invocation: 64 workgroups
   ASSERT_EQ(r.counters.rays, rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(r.hits[i].prim, trace_closest(bvh, rays[i]).prim);
   EXPECT_EQ(context().validation_messages(), 0u);
@@ -305,8 +302,8 @@ TEST(GpuTracer, CountsTheInteriorLoopsSubgroupSteps) {
   double use[2] = {0.0, 0.0};
   for (int k = 0; k < 2; ++k) {
     const std::vector<gpu::Ray>& rays = k == 0 ? primary : bounce;
-    const GpuTraceResult a = plain.trace(rays, false);
-    const GpuTraceResult b = counting.trace(rays, false);
+    const GpuTraceResult a = plain.trace(rays, QueryKind::kClosest);
+    const GpuTraceResult b = counting.trace(rays, QueryKind::kClosest);
     ASSERT_EQ(a.hits.size(), b.hits.size());
     EXPECT_EQ(std::memcmp(a.hits.data(), b.hits.data(), a.hits.size() * sizeof(gpu::Hit)), 0);
     EXPECT_EQ(a.counters.interior_visited, b.counters.interior_visited);
@@ -331,7 +328,7 @@ TEST(GpuTracer, ExhaustedLoopBudgetIsAnError) {
   while (rays.size() < 64u * 2048u) rays.insert(rays.end(), rays.begin(), rays.begin() + kRaysPerKind);
   GpuTracer tracer(context(), bvh, GpuTracerConfig{1u << 20});  // one workgroup for all rays
   try {
-    tracer.trace(rays, false);
+    tracer.trace(rays, QueryKind::kClosest);
     FAIL() << "a loop-limited dispatch returned";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("loop limiter"), std::string::npos) << e.what();

@@ -13,15 +13,13 @@
 
 #include "gpu/gpu_ray_hash.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp/ray_hash.h"
 
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 float f(std::uint32_t bits) { return std::bit_cast<float>(bits); }
 

@@ -19,6 +19,7 @@
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp/reference_predictor.h"
 #include "hrpp_counter_checks.h"
 #include "test_scenes.h"
@@ -27,10 +28,7 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 struct Fixture {
   Scene scene;
@@ -68,14 +66,14 @@ PredictorConfig config(PredictorMode mode, TableConfig table) {
   return p;
 }
 
-GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& rays, bool any,
+GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& rays, QueryKind kind,
                          GpuTracer** keep = nullptr) {
   GpuTracerConfig tc;
   tc.rays_per_invocation = 8;
   static std::vector<std::unique_ptr<GpuTracer>> tracers;
   tracers.push_back(std::make_unique<GpuTracer>(context(), bunny().bvh, tc, p));
   if (keep) *keep = tracers.back().get();
-  return tracers.back()->trace(rays, any);
+  return tracers.back()->trace(rays, kind);
 }
 
 void expect_counters_add_up(const gpu::PredictorCounters& pc, std::size_t valid_rays,
@@ -102,14 +100,14 @@ void expect_same_hits(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit
 struct Case {
   const char* name;
   const std::vector<gpu::Ray>* rays;
-  bool any;
+  QueryKind kind;
   std::uint32_t bits;
 };
 
 std::vector<Case> cases() {
-  return {{"primary", &bunny().primary, false, 6},
-          {"diffuse", &bunny().diffuse, false, 3},
-          {"ao", &bunny().ao, true, 3}};
+  return {{"primary", &bunny().primary, QueryKind::kClosest, 6},
+          {"diffuse", &bunny().diffuse, QueryKind::kClosest, 3},
+          {"ao", &bunny().ao, QueryKind::kAny, 3}};
 }
 
 // Exact and any-hit prediction never change an answer, however small the table.
@@ -120,7 +118,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
   const TableConfig tables[] = {table_preset("small"), table_preset("tiny"),
                                 {4, 2, 2, TablePolicy::kNone}};
   for (const Case& c : cases()) {
-    const GpuTraceResult reference = off.trace(*c.rays, c.any);
+    const GpuTraceResult reference = off.trace(*c.rays, c.kind);
     for (const TableConfig& t : tables) {
       const std::string what = std::string(c.name) + " table " + std::to_string(t.sets) + "x" +
                                std::to_string(t.ways) + "x" + std::to_string(t.nodes) + " " +
@@ -128,12 +126,12 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       GpuTracer* tracer = nullptr;
       PredictorConfig p = config(PredictorMode::kExact, t);
       p.hash.bits = c.bits;
-      trace_gpu(p, *c.rays, c.any, &tracer);  // a trace's inserts serve the next traces
-      const GpuTraceResult on = tracer->trace(*c.rays, c.any);
+      trace_gpu(p, *c.rays, c.kind, &tracer);  // a trace's inserts serve the next traces
+      const GpuTraceResult on = tracer->trace(*c.rays, c.kind);
       expect_same_hits(on.hits, reference.hits, what);
       expect_counters_add_up(on.predictor, c.rays->size(), what);
       const auto& pc = on.predictor.c;
-      const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.any));
+      const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.kind));
       EXPECT_GT(occ.entries, 0u) << what;
       EXPECT_LE(occ.entries, occ.capacity) << what;
       EXPECT_LE(occ.nodes, occ.entries * t.nodes) << what;
@@ -165,7 +163,7 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
       for (const TableConfig& table :
            {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kNone}})
       for (const Case& c : cases()) {
-        if (c.any && mode == PredictorMode::kExact) continue;  // hit-any has one mode
+        if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact) continue;  // hit-any has one mode
         if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
         PredictorConfig p = config(mode, table);
         p.go_up = go_up;
@@ -179,9 +177,9 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
                                  "x" + std::to_string(table.nodes) + " " +
                                  table_policy_name(table.policy);
         GpuTracer* tracer = nullptr;
-        const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.any, &tracer);
+        const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
         ReferencePredictor cpu_predictor(bunny().bvh, p);
-        const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.any));
+        const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
         expect_same_hits(gpu.hits, cpu.hits, what);
         for (int k = 0; k < HRPP_PC_COUNT; ++k)
           EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
@@ -189,9 +187,9 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
         EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
         EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
-        const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.any));
-        EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.any))) << what;
-        EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.any))) << what;
+        const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.kind));
+        EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
+        EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
         expect_counters_add_up(gpu.predictor, c.rays->size(), what);
         if (table.sets == roomy.sets) {
           EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
@@ -227,8 +225,8 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
         PredictorConfig p = config(mode, t);
         p.hash.bits = 4;  // coarse: many predictor hits even among a few rays
         GpuTracer on(context(), bunny().bvh, tc, p);
-        on.trace(rays, false);  // fills the table
-        const GpuTraceResult r = on.trace(rays, false);
+        on.trace(rays, QueryKind::kClosest);  // fills the table
+        const GpuTraceResult r = on.trace(rays, QueryKind::kClosest);
         ASSERT_EQ(r.hits.size(), n) << what;
         EXPECT_TRUE(r.predicted) << what;
         EXPECT_EQ(r.counters.rays, n) << what;
@@ -238,7 +236,7 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
         std::uint64_t hits = 0;
         for (const gpu::Hit& h : r.hits) hits += h.prim >= 0;
         EXPECT_EQ(r.counters.hits, hits) << what;
-        if (mode == PredictorMode::kExact) expect_same_hits(r.hits, off.trace(rays, false).hits, what);
+        if (mode == PredictorMode::kExact) expect_same_hits(r.hits, off.trace(rays, QueryKind::kClosest).hits, what);
         if (n == 1500 && t.entries() > 8) {
           EXPECT_GT(tp, 0u) << what;
         }
@@ -260,10 +258,10 @@ TEST(HrppPredictor, SampleAnswersAreHrppOffs) {
       PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
       p.hash.bits = 3;  // coarse: predictor hits, wrong ones among them
       GpuTracer on(context(), bunny().bvh, tc, p);
-      on.trace(rays, k.any);  // every ray predicted: fills the table
-      on.set_probing(k.any ? RayClass::kShadow : RayClass::kCamera, Probe::kSample);
-      const GpuTraceResult r = on.trace(rays, k.any);
-      const GpuTraceResult plain = off.trace(rays, k.any);
+      on.trace(rays, k.kind);  // every ray predicted: fills the table
+      on.set_probing(ray_file_class(k.kind), Probe::kSample);
+      const GpuTraceResult r = on.trace(rays, k.kind);
+      const GpuTraceResult plain = off.trace(rays, k.kind);
       EXPECT_FALSE(r.predicted) << what;
       EXPECT_EQ(r.sampled, gpu::hrpp_pass_ray_count(static_cast<std::uint32_t>(n),
                                                     HRPP_PASS_SAMPLE, p.sample))
@@ -284,12 +282,12 @@ TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {
   off_config.rays_per_invocation = 8;
   GpuTracer off(context(), bunny().bvh, off_config);
   for (const Case& c : cases()) {
-    if (c.any) continue;
+    if (c.kind == QueryKind::kAny) continue;
     PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
     p.count_baseline = true;
     p.hash.bits = c.bits - 2;  // loose: more wrong answers to count
-    const GpuTraceResult on = trace_gpu(p, *c.rays, false);
-    const GpuTraceResult reference = off.trace(*c.rays, false);
+    const GpuTraceResult on = trace_gpu(p, *c.rays, QueryKind::kClosest);
+    const GpuTraceResult reference = off.trace(*c.rays, QueryKind::kClosest);
     std::uint64_t differ = 0;
     for (std::size_t i = 0; i < c.rays->size(); ++i)
       differ += on.hits[i].prim != reference.hits[i].prim || on.hits[i].t != reference.hits[i].t;

@@ -12,6 +12,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp_counter_checks.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
@@ -19,10 +20,7 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 const Scene& cornell() {
   static const Scene* s = new Scene(load_scene("builtin:cornell"));

@@ -22,16 +22,14 @@
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace_interface.h"
 
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 // Bytes of a hit record no kernel writes: marks hits that were not traced.
 constexpr std::uint32_t kUntouched = 0xABABABABu;
@@ -154,7 +152,7 @@ TEST_F(IndexedTrace, PermutationGivesThePlainKernelsHits) {
                                  (list == &identity ? "identity" : list == &reversed ? "reversed"
                                                                                       : "random");
         const Traced indexed = trace_resident(tracer, c, rays, n, list);
-        ASSERT_TRUE(same_answers(indexed.hits, plain.hits, 0, n, is_any_hit(c))) << what;
+        ASSERT_TRUE(same_answers(indexed.hits, plain.hits, 0, n, query_kind(c) == QueryKind::kAny)) << what;
         expect_same_counters(indexed.counters, plain.counters, list == &identity, what);
       }
     }
@@ -184,7 +182,7 @@ TEST_F(IndexedTrace, SubsetListWritesOnlyTheListedRays) {
         ASSERT_TRUE(untouched(indexed.hits[i])) << "unlisted ray " << i << " was written";
         continue;
       }
-      ASSERT_TRUE(same_answers(indexed.hits, plain.hits, i, 1, is_any_hit(c)));
+      ASSERT_TRUE(same_answers(indexed.hits, plain.hits, i, 1, query_kind(c) == QueryKind::kAny));
       hits += plain.hits[i].prim >= 0 ? 1 : 0;
     }
     EXPECT_EQ(indexed.counters.rays, some.size());

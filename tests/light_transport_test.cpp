@@ -26,6 +26,7 @@
 #include "gpu/storage_buffer.h"
 #include "gpu/vulkan_context.h"
 #include "cpu_render/cpu_renderer.h"
+#include "gpu_test_context.h"
 #include "render/wavefront_renderer.h"
 #include "render_interface.h"
 #include "scene/load_scene.h"
@@ -37,10 +38,7 @@ namespace {
 using V = glm::vec3;
 constexpr double kPi = 3.14159265358979323846;
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 // Where a closed-form test renders: the kernels on the device, or the CPU reference renderer
 // (host/cpu_render/), which has to meet the same closed forms on its own.

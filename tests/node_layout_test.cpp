@@ -14,16 +14,14 @@
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
 
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 float area(const glm::vec4& xy, float zlo, float zhi) {
   Aabb b;
@@ -106,8 +104,8 @@ TEST_P(NodeLayoutTest, GpuEqualsCpuOnLargeFirst) {
       make_gpu_layout(build_bvh(scene, BvhConfig{}), scene, NodeLayout::kDfsLargeFirst);
   const std::vector<gpu::Ray> rays = random_rays(large.bounds, 4000);
   GpuTracer tracer(context(), large);
-  const GpuTraceResult closest = tracer.trace(rays, false);
-  const GpuTraceResult any = tracer.trace(rays, true);
+  const GpuTraceResult closest = tracer.trace(rays, QueryKind::kClosest);
+  const GpuTraceResult any = tracer.trace(rays, QueryKind::kAny);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit h = trace_closest(large, rays[i]);
     ASSERT_EQ(std::memcmp(&h, &closest.hits[i], sizeof h), 0) << "ray " << i;
@@ -121,7 +119,11 @@ INSTANTIATE_TEST_SUITE_P(Scenes, NodeLayoutTest, testing::ValuesIn(test::referen
                          test::scene_param_name);
 
 TEST(NodeLayout, NamesRoundTrip) {
-  for (const auto& [name, layout] : node_layout_names()) EXPECT_EQ(node_layout_name(layout), name);
+  for (const auto& [layout, name] : kNodeLayoutNames) {
+    EXPECT_STREQ(node_layout_name(layout), name);
+    EXPECT_EQ(cli_map(kNodeLayoutNames).at(name), layout);
+  }
+  EXPECT_EQ(cli_map(kNodeLayoutNames).size(), kNodeLayoutNames.size());  // names differ
 }
 
 }  // namespace

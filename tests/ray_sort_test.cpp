@@ -25,6 +25,7 @@
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "ray_sort_interface.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
@@ -33,10 +34,7 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 Aabb unit_box() {
   Aabb b;
@@ -156,16 +154,16 @@ TEST(RaySortGpu, HitsStayWithTheirRays) {
   const std::vector<gpu::Ray> rays = random_rays(50000, bvh.bounds, 11);
   const std::vector<std::uint32_t> cpu_order = stable_ray_order(rays, ray_sort_grid(bvh.bounds));
   const RaySortResult sorted = sorter.sort(rays);
-  for (bool any_hit : {false, true}) {
-    const GpuTraceResult plain = tracer.trace(rays, any_hit);
-    const GpuTraceResult reordered = tracer.trace(sorted.rays, any_hit);
+  for (QueryKind kind : kQueryKinds) {
+    const GpuTraceResult plain = tracer.trace(rays, kind);
+    const GpuTraceResult reordered = tracer.trace(sorted.rays, kind);
     const std::vector<gpu::Hit> back = hits_in_queue_order(reordered.hits, sorted.order);
     ASSERT_EQ(back.size(), plain.hits.size());
     EXPECT_EQ(std::memcmp(back.data(), plain.hits.data(), back.size() * sizeof(gpu::Hit)), 0);
     EXPECT_EQ(reordered.counters.hits, plain.counters.hits);
     EXPECT_GT(plain.counters.hits, 0u);
 
-    const GpuTraceResult indexed = tracer.trace(rays, any_hit, &sorter);
+    const GpuTraceResult indexed = tracer.trace(rays, kind, &sorter);
     ASSERT_EQ(indexed.hits.size(), plain.hits.size());
     EXPECT_EQ(std::memcmp(indexed.hits.data(), plain.hits.data(),
                           plain.hits.size() * sizeof(gpu::Hit)), 0);
@@ -176,7 +174,7 @@ TEST(RaySortGpu, HitsStayWithTheirRays) {
     EXPECT_EQ(plain.sort_ms, 0.0);
     EXPECT_EQ(sorter.order(static_cast<std::uint32_t>(rays.size())), cpu_order);
   }
-  EXPECT_TRUE(tracer.trace(std::vector<gpu::Ray>{}, false, &sorter).hits.empty());
+  EXPECT_TRUE(tracer.trace(std::vector<gpu::Ray>{}, QueryKind::kClosest, &sorter).hits.empty());
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

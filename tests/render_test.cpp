@@ -18,6 +18,7 @@
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "render/image_output.h"
 #include "render/render_stats.h"
 #include "render/wavefront_renderer.h"
@@ -26,11 +27,7 @@
 namespace hrpp {
 namespace {
 
-// One validated context for the suite: pipelines JIT once, messages are counted.
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 RenderResult render(const Scene& scene, RenderConfig config) {
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
@@ -128,9 +125,14 @@ TEST(Render, CountersAreConsistent) {
   const RenderResult r = render(scene, config);
   const RenderStats& s = r.stats;
   EXPECT_EQ(s.camera_rays(), 32u * 32u * 3u);
-  EXPECT_EQ(s.closest().counters.rays, s.camera_rays() + s.bounce_rays());
+  // Every continuation ray and every shadow ray leaves a surface that a camera or bounce ray
+  // hit: at most one of each per hit.
+  const std::uint64_t surface_hits = s.classes[RayClass::kCamera].counters.hits +
+                                     s.classes[RayClass::kBounce].counters.hits;
   EXPECT_GT(s.bounce_rays(), 0u);
+  EXPECT_LE(s.bounce_rays(), surface_hits);
   EXPECT_GT(s.shadow().counters.rays, 0u);
+  EXPECT_LE(s.shadow().counters.rays, surface_hits);
   const RayClassStats closest_stats = s.closest();
   for (const RayClassStats* c : {&closest_stats, &s.shadow()}) {
     EXPECT_GE(c->counters.triangles_tested, c->counters.hits);
@@ -159,8 +161,20 @@ TEST(Render, CountersAreConsistent) {
   }
   EXPECT_EQ(closest, s.closest().counters.rays);
   EXPECT_EQ(j["frames"].size(), 3u);
-  // The light is the brightest thing in the image and nothing is negative or NaN.
+  // Nothing is negative or NaN, and the light is the brightest thing in the image: the
+  // brightest pixel lies in the top third (the ceiling), sees at least the light's emission
+  // (17, 12, 4: every sample of a pixel inside the light hits it) and has its colour order.
   for (float v : r.rgb) ASSERT_TRUE(v >= 0.0f && std::isfinite(v));
+  std::size_t brightest = 0;
+  for (std::size_t p = 0; p < r.rgb.size() / 3; ++p)
+    if (r.rgb[3 * p] > r.rgb[3 * brightest]) brightest = p;
+  const float* px = &r.rgb[3 * brightest];
+  EXPECT_LT(brightest / config.width, config.height / 3) << "brightest pixel " << brightest;
+  EXPECT_GE(px[0], 17.0f);
+  EXPECT_GE(px[1], 12.0f);
+  EXPECT_GE(px[2], 4.0f);
+  EXPECT_GT(px[0], px[1]);
+  EXPECT_GT(px[1], px[2]);
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

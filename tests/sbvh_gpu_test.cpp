@@ -17,6 +17,7 @@
 #include "extreme_cases.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "hrpp/reference_predictor.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
@@ -25,18 +26,15 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 // GPU closest and any hits over the SBVH against the CPU reference over it and the GPU over
 // the object BVH; returns the number of rays that differ anywhere (the first few reported).
 int count_differences(const GpuBvh& object, const GpuBvh& split,
                       const std::vector<gpu::Ray>& rays, const std::string& what) {
   GpuTracer on_object(context(), object), on_split(context(), split);
-  const GpuTraceResult oc = on_object.trace(rays, false), oa = on_object.trace(rays, true);
-  const GpuTraceResult sc = on_split.trace(rays, false), sa = on_split.trace(rays, true);
+  const GpuTraceResult oc = on_object.trace(rays, QueryKind::kClosest), oa = on_object.trace(rays, QueryKind::kAny);
+  const GpuTraceResult sc = on_split.trace(rays, QueryKind::kClosest), sa = on_split.trace(rays, QueryKind::kAny);
   int differ = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit ref = trace_closest(split, rays[i]);
@@ -80,7 +78,7 @@ TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
     const std::vector<gpu::Ray> rays = test::extreme_rays(x, split.bounds.center());
     EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0) << huge;
     GpuTracer tracer(context(), split);
-    EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, false).hits), 0) << huge;
+    EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0) << huge;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
@@ -101,7 +99,7 @@ TEST_P(LeakRaysSbvh, EqualObjectSplitAnswersAndNothingEscapes) {
   const std::vector<gpu::Ray> rays = test::group_rays(x.groups);
   EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0);
   GpuTracer tracer(context(), split);
-  EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, false).hits), 0)
+  EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, QueryKind::kClosest).hits), 0)
       << GetParam().name;  // escapes: the leak suite's groups hit their own mesh
   EXPECT_EQ(context().validation_messages(), 0u);
 }
@@ -123,7 +121,8 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
   GpuTracer off(context(), bvh, tc);
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const std::uint32_t go_up : {0u, 2u})
-      for (const bool any : {false, true}) {
+      for (const QueryKind kind : kQueryKinds) {
+        const bool any = kind == QueryKind::kAny;
         if (any && mode == PredictorMode::kExact) continue;  // hit-any has one mode
         const std::vector<gpu::Ray>& rays = any ? b.ao.rays : primary;
         PredictorConfig p;
@@ -138,9 +137,9 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
         const std::string what = std::string(predictor_mode_name(mode)) + " go-up " +
                                  std::to_string(go_up) + (any ? " any" : " closest");
         GpuTracer tracer(context(), bvh, tc, p);
-        const GpuTraceResult gpu = tracer.trace(rays, any);
+        const GpuTraceResult gpu = tracer.trace(rays, kind);
         ReferencePredictor cpu_predictor(bvh, p);
-        const PredictorTraceResult cpu = cpu_predictor.trace(rays, ray_file_class(any));
+        const PredictorTraceResult cpu = cpu_predictor.trace(rays, ray_file_class(kind));
         int differ = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) differ += !test::same_hit(gpu.hits[i], cpu.hits[i]);
         EXPECT_EQ(differ, 0) << what;
@@ -148,7 +147,7 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
           EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
         EXPECT_GT(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
         if (mode == PredictorMode::kExact || any) {
-          const GpuTraceResult reference = off.trace(rays, any);
+          const GpuTraceResult reference = off.trace(rays, kind);
           int wrong = 0;
           for (std::size_t i = 0; i < rays.size(); ++i)
             wrong += any ? (gpu.hits[i].prim >= 0) != (reference.hits[i].prim >= 0)

@@ -19,6 +19,7 @@
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/vulkan_context.h"
+#include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_batches.h"
@@ -26,10 +27,7 @@
 namespace hrpp {
 namespace {
 
-VulkanContext& context() {
-  static auto* ctx = new VulkanContext(VulkanOptions{"", true});
-  return *ctx;
-}
+using test::context;
 
 GpuBvh wide(const Scene& scene, NodeFormat format = NodeFormat::kWide4) {
   return make_gpu_layout(build_bvh(scene), scene, NodeLayout::kDfs, format);
@@ -43,8 +41,8 @@ constexpr NodeFormat kWideFormats[] = {NodeFormat::kWide4, NodeFormat::kWide4Flo
 int count_differences(const GpuBvh& bvh, const std::vector<gpu::Ray>& rays,
                       const std::string& what, RaySorter* sorter = nullptr) {
   GpuTracer tracer(context(), bvh);
-  const GpuTraceResult closest = tracer.trace(rays, false, sorter);
-  const GpuTraceResult any = tracer.trace(rays, true, sorter);
+  const GpuTraceResult closest = tracer.trace(rays, QueryKind::kClosest, sorter);
+  const GpuTraceResult any = tracer.trace(rays, QueryKind::kAny, sorter);
   int differ = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit ref = trace_closest(bvh, rays[i]);
@@ -90,7 +88,7 @@ TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
     SCOPED_TRACE(node_format_name(f));
     GpuTracer on_wide(context(), wide(scene, f), counting);
     for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
-      const GpuTraceResult w = on_wide.trace(*rays, false), n = on_binary.trace(*rays, false);
+      const GpuTraceResult w = on_wide.trace(*rays, QueryKind::kClosest), n = on_binary.trace(*rays, QueryKind::kClosest);
       for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(test::same_hit(w.hits[i], n.hits[i]));
       EXPECT_GT(w.counters.interior_steps, 0u);
       EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
@@ -113,7 +111,7 @@ TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
       const std::vector<gpu::Ray> rays = test::extreme_rays(x, bvh.bounds.center());
       EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
       GpuTracer tracer(context(), bvh);
-      EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, false).hits), 0) << huge;
+      EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0) << huge;
     }
   }
   EXPECT_EQ(context().validation_messages(), 0u);
@@ -134,7 +132,7 @@ TEST_P(LeakRaysWide, EqualTheCpuReferenceAndNothingEscapes) {
     const GpuBvh bvh = wide(x.scene, f);
     EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0);
     GpuTracer tracer(context(), bvh);
-    EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, false).hits), 0)
+    EXPECT_EQ(test::count_rule_breaks(x.groups, tracer.trace(rays, QueryKind::kClosest).hits), 0)
         << GetParam().name;  // escapes: the leak suite's groups hit their own mesh
   }
   EXPECT_EQ(context().validation_messages(), 0u);

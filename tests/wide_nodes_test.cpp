@@ -185,7 +185,11 @@ TEST(WideNodes, ASceneTooWideForTheGridNamesTheOption) {
 }
 
 TEST(WideNodes, NamesRoundTrip) {
-  for (const auto& [name, format] : node_format_names()) EXPECT_EQ(node_format_name(format), name);
+  for (const auto& [format, name] : kNodeFormatNames) {
+    EXPECT_STREQ(node_format_name(format), name);
+    EXPECT_EQ(cli_map(kNodeFormatNames).at(name), format);
+  }
+  EXPECT_EQ(cli_map(kNodeFormatNames).size(), kNodeFormatNames.size());  // names differ
 }
 
 }  // namespace

@@ -89,14 +89,14 @@ struct Validation {
 
 Validation validate(std::span<const gpu::Ray> rays, std::span<const gpu::Hit> ref,
                     std::span<const gpu::Hit> test, std::span<const std::size_t> subset,
-                    bool any_hit, float scene_diagonal) {
+                    QueryKind kind, float scene_diagonal) {
   Validation v;
   for (const std::size_t i : subset) {
     const gpu::Hit& r = ref[i];
     const gpu::Hit& t = test[i];
     ++v.checked;
     bool ok;
-    if (any_hit) {
+    if (kind == QueryKind::kAny) {
       ok = (r.prim >= 0) == (t.prim >= 0);
       if (ok) ++v.exact;
     } else if (r.prim < 0 || t.prim < 0) {
@@ -140,15 +140,15 @@ struct TracerResult {
 };
 
 // Warm-up on a slice, then `repeat` timed runs over the whole batch; `hits`: the last run's.
-TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, bool any_hit, int repeat,
+TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, QueryKind kind, int repeat,
                          std::vector<gpu::Hit>& hits) {
   TracerResult r;
   r.kind = tracer.kind();
   r.name = tracer.name();
   r.timing = tracer.timing();
-  tracer.trace(rays.first(std::min<std::size_t>(rays.size(), 65536)), any_hit);
+  tracer.trace(rays.first(std::min<std::size_t>(rays.size(), 65536)), kind);
   for (int i = 0; i < repeat; ++i) {
-    TracerRun run = tracer.trace(rays, any_hit);
+    TracerRun run = tracer.trace(rays, kind);
     r.ms.push_back(run.ms);
     hits = std::move(run.hits);
     r.counters = run.counters;
@@ -278,11 +278,11 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
     b.hrpp->warm_up();
     std::printf("hrpp        %s; ray classes: %s\n", describe(b.predictor).c_str(),
-                o.hrpp.rays.c_str());
+                ray_class_list(b.predictor.classes).c_str());
     b.tracers.push_back(std::make_unique<GpuBackend>(*b.hrpp, true, b.predictor.batch != 0));
   }
   report["hrpp"] = predictor_config_json(b.predictor);
-  report["hrpp"]["rays"] = o.hrpp.rays;
+  report["hrpp"]["rays"] = ray_class_list(b.predictor.classes);
   return b;
 }
 
@@ -342,7 +342,7 @@ void save_batches(const std::string& dir, const Scene& scene, const RayBatches& 
 
 // Every tracer over one batch, each validated against the CPU reference (tracers[0]).
 std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
-                                       std::span<const gpu::Ray> rays, bool any_hit,
+                                       std::span<const gpu::Ray> rays, QueryKind kind,
                                        float scene_diagonal) {
   std::vector<std::size_t> subset;  // evenly spread validation subset
   const std::size_t want = o.validate == 0 ? rays.size() : std::min(o.validate, rays.size());
@@ -352,16 +352,16 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
   std::vector<TracerResult> results;
   std::vector<gpu::Hit> ref_hits, hits;
   for (const std::unique_ptr<Tracer>& t : b.tracers) {
-    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(any_hit)))
+    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(kind)))
       continue;
     const bool reference = t->kind() == TracerKind::kCpuReference;
-    TracerResult r = time_tracer(*t, rays, any_hit, o.repeat, reference ? ref_hits : hits);
+    TracerResult r = time_tracer(*t, rays, kind, o.repeat, reference ? ref_hits : hits);
     if (reference) {
       r.validation.checked = r.validation.exact = subset.size();
     } else {
-      r.validation = validate(rays, ref_hits, hits, subset, any_hit, scene_diagonal);
+      r.validation = validate(rays, ref_hits, hits, subset, kind, scene_diagonal);
     }
-    r.speculative = t->kind() == TracerKind::kGpuHrpp && !any_hit &&
+    r.speculative = t->kind() == TracerKind::kGpuHrpp && kind == QueryKind::kClosest &&
                     b.predictor.mode == PredictorMode::kSpeculative;
     results.push_back(std::move(r));
   }
@@ -370,9 +370,9 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
 
 // HRPP: one more run from empty tables that counts the savings (outside the timings).
 std::optional<PredictorSummary> count_hrpp(Backends& b, std::span<const gpu::Ray> rays,
-                                           bool any_hit) {
+                                           QueryKind kind) {
   if (!b.hrpp) return std::nullopt;
-  return count_savings(*b.hrpp, b.predictor, rays, any_hit);
+  return count_savings(*b.hrpp, b.predictor, rays, kind);
 }
 
 const TracerResult* find(const std::vector<TracerResult>& results, TracerKind kind) {
@@ -382,13 +382,13 @@ const TracerResult* find(const std::vector<TracerResult>& results, TracerKind ki
 }
 
 // The table rows of one batch (mismatch examples on stderr); returns the mismatches counted.
-std::size_t print_rows(const char* kname, std::size_t rays, bool any_hit,
+std::size_t print_rows(const char* kname, std::size_t rays, QueryKind kind,
                        const std::vector<TracerResult>& results, nlohmann::json& kj) {
   std::size_t mismatches = 0;
   bool first = true;
   for (const TracerResult& r : results) {
     std::printf("%-8s %9s %-7s %-8s %9.2f %10.1f %9zu %9zu %6zu %10zu%s\n", first ? kname : "",
-                first ? std::to_string(rays).c_str() : "", first ? (any_hit ? "any" : "closest") : "",
+                first ? std::to_string(rays).c_str() : "", first ? query_kind_name(kind) : "",
                 r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
                 r.validation.ties, r.validation.mismatches,
                 !r.validation.mismatches ? ""
@@ -407,7 +407,7 @@ std::size_t print_rows(const char* kname, std::size_t rays, bool any_hit,
 
 // Per ray work, HRPP figures and ratios under the rows of one batch.
 void print_ratios(const std::vector<TracerResult>& results,
-                  const std::optional<PredictorSummary>& hrpp_summary, bool any_hit,
+                  const std::optional<PredictorSummary>& hrpp_summary, QueryKind kind,
                   nlohmann::json& kj) {
   const TracerResult* emb = find(results, TracerKind::kEmbree);
   const TracerResult* gpu = find(results, TracerKind::kGpu);
@@ -420,7 +420,7 @@ void print_ratios(const std::vector<TracerResult>& results,
                 static_cast<double>(gpu->counters->triangles_tested) / n);
   }
   if (hrpp_summary) {
-    std::printf("%s", format_summary("  hrpp", *hrpp_summary, any_hit).c_str());
+    std::printf("%s", format_summary("  hrpp", *hrpp_summary, kind).c_str());
     kj["hrpp"] = predictor_summary_json(*hrpp_summary);
     if (gpu && gpu->mrays > 0.0 && gpu_hrpp) {
       std::printf("  hrpp      gpu-hrpp/gpu %.3f (kernel time, same run)\n",
@@ -437,7 +437,7 @@ void print_ratios(const std::vector<TracerResult>& results,
 // One batch through every tracer: rows, figures, JSON; returns the mismatches counted.
 std::size_t bench_kind(const BenchOptions& o, Backends& b, const RayBatches& batches, RayKind kind,
                        nlohmann::json& report) {
-  const bool any_hit = is_any_hit_kind(kind);
+  const QueryKind query = query_kind(kind);
   const std::span<const gpu::Ray> rays = rays_of_kind(batches, kind);
   const char* kname = ray_kind_name(kind);
   if (rays.empty()) {
@@ -446,14 +446,14 @@ std::size_t bench_kind(const BenchOptions& o, Backends& b, const RayBatches& bat
     return 0;
   }
   const std::vector<TracerResult> results =
-      time_tracers(o, b, rays, any_hit, batches.scene_diagonal);
-  const std::optional<PredictorSummary> hrpp_summary = count_hrpp(b, rays, any_hit);
+      time_tracers(o, b, rays, query, batches.scene_diagonal);
+  const std::optional<PredictorSummary> hrpp_summary = count_hrpp(b, rays, query);
   nlohmann::json kj = {{"kind", kname},
                        {"rays", rays.size()},
-                       {"query", any_hit ? "any" : "closest"},
+                       {"query", query_kind_name(query)},
                        {"tracers", nlohmann::json::array()}};
-  const std::size_t mismatches = print_rows(kname, rays.size(), any_hit, results, kj);
-  print_ratios(results, hrpp_summary, any_hit, kj);
+  const std::size_t mismatches = print_rows(kname, rays.size(), query, results, kj);
+  print_ratios(results, hrpp_summary, query, kj);
   report["kinds"].push_back(std::move(kj));
   return mismatches;
 }

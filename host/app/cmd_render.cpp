@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/cli_names.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
 #include "app/shared_options.h"
@@ -31,6 +32,8 @@ namespace {
 
 // Where the path tracer runs: the Vulkan device's kernels, or the CPU reference renderer.
 enum class RenderBackend { kGpu, kCpu };
+inline constexpr NameTable<RenderBackend, 2> kRenderBackendNames = {
+    {{RenderBackend::kGpu, "gpu"}, {RenderBackend::kCpu, "cpu"}}};
 
 struct RenderOptions {
   RenderBackend backend = RenderBackend::kGpu;
@@ -73,9 +76,9 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
     const RayClassStats& s = stats.classes[c];
     const TableOccupancy occupancy = renderer.predictor_occupancy(c);
     const PredictorSummary summary = summarize(s.predictor, s.counters, occupancy, baseline);
-    text += format_summary(std::string("hrpp ") + ray_class_name(c), summary, is_any_hit(c));
+    text += format_summary(std::string("hrpp ") + ray_class_name(c), summary, query_kind(c));
     j[ray_class_name(c)] = predictor_summary_json(summary);
-    if (is_any_hit(c)) {
+    if (query_kind(c) == QueryKind::kAny) {
       j["hit_any"] = j[ray_class_name(c)];
       continue;
     }
@@ -115,7 +118,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   cpu.driver = std::to_string(CpuRenderer::threads()) + " threads";
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, cpu, result);
-    j["backend"] = "cpu";
+    j["backend"] = name_in(kRenderBackendNames, RenderBackend::kCpu);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
@@ -156,7 +159,7 @@ void run_render(RenderOptions& o) {
                                                       hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
-    j["backend"] = "gpu";
+    j["backend"] = name_in(kRenderBackendNames, RenderBackend::kGpu);
     j["hrpp_predictor"] = hrpp_json;
     j["memory"] = memory_json(ctx.memory().report());
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
@@ -184,10 +187,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--backend", o->backend,
                   "gpu: the wavefront kernels on the Vulkan device; cpu: the CPU reference "
                   "renderer (the same shading code, one path at a time; no HRPP)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, RenderBackend>{{"gpu", RenderBackend::kGpu},
-                                               {"cpu", RenderBackend::kCpu}}))
-      ->default_str("gpu");
+      ->transform(one_of(kRenderBackendNames))
+      ->default_str(name_in(kRenderBackendNames, o->backend));
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
@@ -206,7 +207,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--reorder", o->render.reorder,
                   "Sort each bounce's continuation rays before tracing them: off, or morton "
                   "(direction octant, then the origin's Morton code); the image is the same")
-      ->transform(CLI::CheckedTransformer(ray_order_names()))
+      ->transform(one_of(kRayOrderNames))
       ->default_str(ray_order_name(o->render.reorder));
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_render(*o); });

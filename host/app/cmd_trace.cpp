@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/cli_names.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
 #include "app/shared_options.h"
@@ -35,7 +36,7 @@ struct TraceOptions {
   SharedOptions shared;
   std::string rays;
   std::string hits;
-  bool any_hit = false;
+  QueryKind query = QueryKind::kClosest;  // --any-hit: kAny
   int repeat = 1;
   NodeLayout bvh_layout = NodeLayout::kDfs;
   RayOrder reorder = RayOrder::kOff;
@@ -76,8 +77,8 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
   std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
               ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
   std::printf("rays        %zu %s queries, %llu hit%s\n", rays,
-              o.any_hit ? "any-hit" : "closest-hit", static_cast<unsigned long long>(c.hits),
-              o.any_hit ? " (occluded)" : "");
+              o.query == QueryKind::kAny ? "any-hit" : "closest-hit",
+              static_cast<unsigned long long>(c.hits), o.query == QueryKind::kAny ? " (occluded)" : "");
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0,
@@ -97,7 +98,7 @@ void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
   const PredictorConfig predictor = o.hrpp.config();
-  if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.any_hit)))
+  if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.query)))
     throw Error("--reorder: HRPP's predicted trace takes the rays in file order; use "
                 "--reorder off with HRPP on");
   const std::vector<gpu::Ray> rays = read_rays(o.rays);
@@ -110,7 +111,7 @@ void run_trace(const TraceOptions& o) {
   if (o.repeat > 1) {
     tracer.warm_up();
     if (sorter) tracer.trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)),
-                             o.any_hit, sorter.get());  // the sort's and indexed kernels' JIT
+                             o.query, sorter.get());  // the sort's and indexed kernels' JIT
   }
 
   // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come
@@ -119,13 +120,13 @@ void run_trace(const TraceOptions& o) {
   TracerRun result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
-    result = backend.trace(rays, o.any_hit);
+    result = backend.trace(rays, o.query);
     ms.push_back(result.ms);
   }
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (const auto s = count_savings(tracer, predictor, rays, o.any_hit)) {
-    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.any_hit);
+  if (const auto s = count_savings(tracer, predictor, rays, o.query)) {
+    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
     hrpp_json["summary"] = predictor_summary_json(*s);
   }
   check_validation_messages(ctx);
@@ -139,11 +140,11 @@ void run_trace(const TraceOptions& o) {
   const TraversalCounters& c = *result.counters;
   print_figures(o, ctx, rays.size(), median, c, sorter != nullptr);
   std::printf("hrpp        %s", hrpp_text.c_str());
-  if (!predictor.predicts(ray_file_class(o.any_hit))) std::printf("\n");
+  if (!predictor.predicts(ray_file_class(o.query))) std::printf("\n");
   if (!o.stats.empty()) {
     nlohmann::json j = {{"scene", o.shared.scene},
                         {"rays", rays.size()},
-                        {"query", o.any_hit ? "any" : "closest"},
+                        {"query", query_kind_name(o.query)},
                         {"kernel_ms_median", median},
                         {"reorder", ray_order_name(o.reorder)},
                         {"bvh_layout", node_layout_name(o.bvh_layout)},
@@ -175,7 +176,9 @@ void add_trace_command(CLI::App& app) {
                   "Hits written: {int32 prim (-1 miss), float t, u, v} each; any-hit: prim 0 "
                   "occluded, -1 free")
       ->required();
-  cmd->add_flag("--any-hit", o->any_hit, "Any-hit (occlusion) queries instead of closest hit");
+  cmd->add_flag_callback(
+      "--any-hit", [o] { o->query = QueryKind::kAny; },
+      "Any-hit (occlusion) queries instead of closest hit");
   cmd->add_flag("--count-steps", o->shared.tracer.count_steps,
                 "Also count the interior-node loop's subgroup iterations and print the lanes' "
                 "use of it (a kernel variant: the timing includes the count)");
@@ -185,12 +188,12 @@ void add_trace_command(CLI::App& app) {
   cmd->add_option("--bvh-layout", o->bvh_layout,
                   "Node numbering: dfs (left subtree first) or dfs-large-first (the child with "
                   "the larger surface area first); answers are the same")
-      ->transform(CLI::CheckedTransformer(node_layout_names()))
+      ->transform(one_of(kNodeLayoutNames))
       ->default_str(node_layout_name(o->bvh_layout));
   cmd->add_option("--reorder", o->reorder,
                   "Sort the rays on the device before tracing (sort time counted): off, or morton "
                   "(direction octant, then the origin's Morton code); hits stay in file order")
-      ->transform(CLI::CheckedTransformer(ray_order_names()))
+      ->transform(one_of(kRayOrderNames))
       ->default_str(ray_order_name(o->reorder));
   cmd->add_option("--stats", o->stats, "Write the figures and the HRPP configuration as JSON");
   add_hrpp_options(cmd, o->hrpp);

@@ -4,11 +4,10 @@
 #include <map>
 #include <string>
 
+#include "app/cli_names.h"
 #include "common/error.h"
 
 namespace hrpp::app {
-
-namespace {
 
 PerClass<bool> parse_ray_classes(const std::string& list) {
   PerClass<bool> on{};
@@ -30,7 +29,12 @@ PerClass<bool> parse_ray_classes(const std::string& list) {
   return on;
 }
 
-}  // namespace
+std::string ray_class_list(const PerClass<bool>& classes) {
+  std::string s;
+  for (RayClass c : kRayClasses)
+    if (classes[c]) s += (s.empty() ? "" : ",") + std::string(ray_class_name(c));
+  return s;
+}
 
 PredictorConfig HrppOptions::config() const {
   PredictorConfig c;
@@ -42,12 +46,12 @@ PredictorConfig HrppOptions::config() const {
   if (sets) c.table.sets = sets;
   if (ways) c.table.ways = ways;
   if (nodes) c.table.nodes = nodes;
-  if (!policy.empty()) c.table.policy = parse_table_policy(policy);
+  if (policy) c.table.policy = *policy;
   c.batch = batch;
   c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
   c.count_baseline = count_baseline;
-  c.classes = parse_ray_classes(rays);
+  c.classes = classes;
   c.adaptive = adaptive;  // with batches it does not adapt (PredictorConfig::adapts)
   (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
   return c;
@@ -55,36 +59,33 @@ PredictorConfig HrppOptions::config() const {
 
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
   const std::string g = "HRPP (hash-based ray path prediction)";
-  const std::map<std::string, bool> on_off{{"off", false}, {"on", true}};
+  static constexpr NameTable<bool, 2> kOnOff = {{{false, "off"}, {true, "on"}}};
   cmd->add_option("--hrpp", o.enabled, "Probe a predictor table before traversal: off | on")
-      ->transform(CLI::CheckedTransformer(on_off))
+      ->transform(one_of(kOnOff))
       ->default_str("off")
       ->group(g);
-  cmd->add_option("--hrpp-rays", o.rays,
-                  "Ray classes that predict: a comma-separated subset of camera, bounce, shadow")
-      ->capture_default_str()
+  cmd->add_option_function<std::string>(
+         "--hrpp-rays", [&o](const std::string& list) { o.classes = parse_ray_classes(list); },
+         "Ray classes that predict: a comma-separated subset of " + names_in(kRayClassNames))
+      ->default_str(ray_class_list(o.classes))
       ->group(g);
   cmd->add_option("--hrpp-adaptive", o.adaptive,
                   "render: per frame and ray class, sample first and predict every ray only "
                   "where a sample saves time, sampling again now and then: on | off (every named "
                   "class predicts every ray, every frame; also with --hrpp-batch)")
-      ->transform(CLI::CheckedTransformer(on_off))
+      ->transform(one_of(kOnOff))
       ->default_str("on")
       ->group(g);
   cmd->add_option("--hrpp-mode", o.mode,
                   "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
                   "(its t bounds a full traversal: same answers as --hrpp off)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, PredictorMode>{
-          {"speculative", PredictorMode::kSpeculative}, {"exact", PredictorMode::kExact}}))
-      ->default_str("speculative")
+      ->transform(one_of(kPredictorModeNames))
+      ->default_str(predictor_mode_name(o.mode))
       ->group(g);
   cmd->add_option("--hash", o.hash, "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
                                     "two-point")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, HashKind>{
-          {"hrpp", HashKind::kIeee},
-          {"grid-spherical", HashKind::kGridSpherical},
-          {"two-point", HashKind::kTwoPoint}}))
-      ->default_str("hrpp")
+      ->transform(one_of(kHashKindNames))
+      ->default_str(hash_kind_name(o.hash))
       ->group(g);
   cmd->add_option("--hash-bits", o.hash_bits, "Hash precision N (1..8)")
       ->capture_default_str()
@@ -97,12 +98,16 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
                   "Table size per ray class: tuned (16384x2x1 lru, 512 KiB), small (1024x8x8 "
                   "lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
                   "study), tiny (4x2x2 lru)")
-      ->capture_default_str()
+      ->transform(one_of(kTablePresetNames))
+      ->default_str(name_in(kTablePresetNames, o.preset))
       ->group(g);
   cmd->add_option("--table-sets", o.sets, "Sets (a power of two; overrides the preset)")->group(g);
   cmd->add_option("--table-ways", o.ways, "Ways per set (overrides the preset)")->group(g);
   cmd->add_option("--table-nodes", o.nodes, "Nodes per entry (overrides the preset)")->group(g);
-  cmd->add_option("--table-policy", o.policy, "When full: none (drop) or lru (overrides the preset)")
+  cmd->add_option_function<TablePolicy>(
+         "--table-policy", [&o](const TablePolicy& p) { o.policy = p; },
+         "When full: none (drop) or lru (overrides the preset)")
+      ->transform(one_of(kTablePolicyNames))
       ->group(g);
   cmd->add_option("--hrpp-batch", o.batch,
                   "Deterministic order: rays in batches of K probe the table the previous "

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -15,30 +16,34 @@
 
 namespace hrpp::app {
 
-// Flags are parsed once, by CLI11 transformers, into the enums and flags they stand for; only
-// the ray-class list and the table preset and policy (which default to the preset's) are
-// resolved in config().
+// Flags are parsed once, by CLI11 transformers and callbacks, into the enums and flags they stand
+// for (names from the enums' name tables); config() combines the preset with its overrides.
 struct HrppOptions {
   bool enabled = false;             // --hrpp off | on
-  std::string rays = "camera,bounce,shadow";  // ray classes that predict (or all | any | both)
+  PerClass<bool> classes{{true, true, true}};  // --hrpp-rays: the classes that predict
   bool adaptive = true;             // --hrpp-adaptive on | off
   PredictorMode mode = PredictorMode::kSpeculative;
   HashKind hash = HashKind::kIeee;
   std::uint32_t hash_bits = 6;
   std::uint32_t go_up = 0;
-  std::string preset = "tuned";
+  TablePreset preset = TablePreset::kTuned;
   std::uint32_t sets = 0, ways = 0, nodes = 0;  // 0: the preset's
-  std::string policy;                           // "": the preset's
+  std::optional<TablePolicy> policy;            // none: the preset's
   std::uint32_t batch = 0;
   std::uint32_t pilot = PredictorConfig{}.pilot;
   bool serial = false;
   bool count_baseline = false;
 
   // The predictor configuration (enabled = --hrpp on). Throws hrpp::Error naming the flag.
-  // --hrpp-rays: a comma-separated subset of camera, bounce, shadow; the older names all
-  // (camera, bounce: the hit-all rays), any (shadow) and both (every class) still work.
   PredictorConfig config() const;
 };
+
+// --hrpp-rays: a comma-separated subset of camera, bounce, shadow; the older names all (camera,
+// bounce: the hit-all rays), any (shadow) and both (every class) still work. Throws hrpp::Error
+// naming the flag.
+PerClass<bool> parse_ray_classes(const std::string& list);
+// "camera,bounce,shadow": the classes that are on, in class order.
+std::string ray_class_list(const PerClass<bool>& classes);
 
 // Adds the options to `cmd` in an "HRPP" group.
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o);

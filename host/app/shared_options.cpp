@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "app/cli_names.h"
 #include "common/error.h"
 
 namespace hrpp::app {
@@ -21,16 +22,14 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
   cmd->add_option("--bvh-splits", o.bvh.splits,
                   "object: binned SAH object splits; spatial: also spatial splits (SBVH), at most "
                   "30% more references than triangles")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, BvhSplits>{{"object", BvhSplits::kObject},
-                                           {"spatial", BvhSplits::kSpatial}}))
-      ->default_str("object");
+      ->transform(one_of(kBvhSplitsNames))
+      ->default_str(name_in(kBvhSplitsNames, o.bvh.splits));
   if (group == SharedGroup::kScene) return;
   cmd->add_option("--bvh-nodes", o.nodes,
                   "binary: Aila-Laine 64-byte nodes (the reference; HRPP needs them); wide4: "
                   "4-wide 64-byte nodes, child boxes quantised to 8 bits; wide4-float: 4-wide "
                   "112-byte nodes, child boxes as floats (the wide ones: HRPP off only)")
-      ->transform(CLI::CheckedTransformer(node_format_names()))
+      ->transform(one_of(kNodeFormatNames))
       ->default_str(node_format_name(o.nodes));
   cmd->add_option("--device", o.vulkan.device,
                   "Vulkan device: index or name substring (default: a GPU, else lavapipe)");

@@ -17,20 +17,20 @@ double ms_since(Clock::time_point start) {
 
 // The CPU tracers' wall clock covers the trace alone: the hit array is allocated and touched
 // before it starts, as the GPU's device timestamps leave out its host work.
-TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   TracerRun r;
   r.hits.resize(rays.size());
   const auto start = Clock::now();
-  trace_batch_cpu(bvh_, rays, any_hit, r.hits, threads_);
+  trace_batch_cpu(bvh_, rays, kind, r.hits, threads_);
   r.ms = ms_since(start);
   return r;
 }
 
-TracerRun EmbreeBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+TracerRun EmbreeBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   TracerRun r;
   r.hits.resize(rays.size());
   const auto start = Clock::now();
-  embree_.trace(rays, any_hit, r.hits, threads_);
+  embree_.trace(rays, kind, r.hits, threads_);
   r.ms = ms_since(start);
   return r;
 }
@@ -40,19 +40,19 @@ const char* GpuBackend::timing() const {
                            : "device timestamps around the trace dispatches";
 }
 
-TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, bool any_hit) {
+TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   if (hrpp_) tracer_.clear_predictor();
-  GpuTraceResult g = tracer_.trace(rays, any_hit, sorter_);
+  GpuTraceResult g = tracer_.trace(rays, kind, sorter_);
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
 }
 
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
-                                              std::span<const gpu::Ray> rays, bool any_hit) {
-  const RayClass c = ray_file_class(any_hit);
+                                              std::span<const gpu::Ray> rays, QueryKind kind) {
+  const RayClass c = ray_file_class(kind);
   if (!predictor.predicts(c)) return std::nullopt;
   tracer.clear_predictor();
   tracer.set_count_baseline(true);
-  const GpuTraceResult counted = tracer.trace(rays, any_hit);
+  const GpuTraceResult counted = tracer.trace(rays, kind);
   tracer.set_count_baseline(false);
   return summarize(counted.predictor, counted.counters, tracer.predictor_occupancy(c), true);
 }

@@ -36,7 +36,7 @@ class Tracer {
   virtual TracerKind kind() const = 0;
   virtual const char* name() const = 0;    // "cpu-ref", "embree", "gpu", "gpu-hrpp"
   virtual const char* timing() const = 0;  // what TracerRun::ms measures
-  virtual TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) = 0;
+  virtual TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) = 0;
 };
 
 class CpuReferenceTracer final : public Tracer {
@@ -45,7 +45,7 @@ class CpuReferenceTracer final : public Tracer {
   TracerKind kind() const override { return TracerKind::kCpuReference; }
   const char* name() const override { return "cpu-ref"; }
   const char* timing() const override { return "wall"; }
-  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
   const GpuBvh& bvh_;
@@ -58,7 +58,7 @@ class EmbreeBackend final : public Tracer {
   TracerKind kind() const override { return TracerKind::kEmbree; }
   const char* name() const override { return "embree"; }
   const char* timing() const override { return "wall"; }
-  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
   const EmbreeTracer& embree_;
@@ -75,7 +75,7 @@ class GpuBackend final : public Tracer {
   TracerKind kind() const override { return hrpp_ ? TracerKind::kGpuHrpp : TracerKind::kGpu; }
   const char* name() const override { return hrpp_ ? "gpu-hrpp" : "gpu"; }
   const char* timing() const override;
-  TracerRun trace(std::span<const gpu::Ray> rays, bool any_hit) override;
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
   GpuTracer& tracer_;
@@ -87,6 +87,6 @@ class GpuBackend final : public Tracer {
 // HRPP: one more run from empty tables that also counts what full traversals would visit
 // (outside the timings); nothing when `predictor` does not predict the query's ray class.
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
-                                              std::span<const gpu::Ray> rays, bool any_hit);
+                                              std::span<const gpu::Ray> rays, QueryKind kind);
 
 }  // namespace hrpp::app

@@ -6,12 +6,15 @@
 #include <vector>
 
 #include "bvh/aabb.h"
+#include "common/name_table.h"
 
 namespace hrpp {
 
 // How the builder may split a node: object splits only (binned SAH) or also spatial splits that
 // clip triangles at a plane and put the parts on both sides (SBVH, bvh/sbvh_builder.h).
-enum class BvhSplits { kObject, kSpatial };
+enum class BvhSplits { kObject, kSpatial };  // --bvh-splits
+inline constexpr NameTable<BvhSplits, 2> kBvhSplitsNames = {
+    {{BvhSplits::kObject, "object"}, {BvhSplits::kSpatial, "spatial"}}};
 
 struct BvhConfig {
   int bin_count = 16;         // SAH bins per axis

@@ -89,20 +89,6 @@ class Flattener {
 
 }  // namespace
 
-const char* node_layout_name(NodeLayout l) {
-  switch (l) {
-    case NodeLayout::kDfs: return "dfs";
-    case NodeLayout::kDfsLargeFirst: return "dfs-large-first";
-  }
-  return "?";
-}
-
-const std::map<std::string, NodeLayout>& node_layout_names() {
-  static const std::map<std::string, NodeLayout> kNames = {
-      {"dfs", NodeLayout::kDfs}, {"dfs-large-first", NodeLayout::kDfsLargeFirst}};
-  return kNames;
-}
-
 std::span<const std::byte> GpuBvh::traced_nodes() const {
   switch (format()) {
     case NodeFormat::kWide4: return std::as_bytes(std::span(wide_nodes));
@@ -110,23 +96,6 @@ std::span<const std::byte> GpuBvh::traced_nodes() const {
     case NodeFormat::kBinary: break;
   }
   return std::as_bytes(std::span(nodes));
-}
-
-const char* node_format_name(NodeFormat f) {
-  switch (f) {
-    case NodeFormat::kBinary: return "binary";
-    case NodeFormat::kWide4: return "wide4";
-    case NodeFormat::kWide4Float: return "wide4-float";
-  }
-  return "?";
-}
-
-const std::map<std::string, NodeFormat>& node_format_names() {
-  static const std::map<std::string, NodeFormat> kNames = {
-      {"binary", NodeFormat::kBinary},
-      {"wide4", NodeFormat::kWide4},
-      {"wide4-float", NodeFormat::kWide4Float}};
-  return kNames;
 }
 
 GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout, NodeFormat format) {

@@ -10,6 +10,7 @@
 
 #include "bvh/aabb.h"
 #include "bvh/bvh.h"
+#include "common/name_table.h"
 #include "gpu_types.h"
 #include "scene/scene.h"
 
@@ -43,8 +44,11 @@ enum class NodeFormat {
   kWide4,       // 4-wide WideNodes, child boxes quantised (bvh/wide_nodes.h); HRPP off only
   kWide4Float,  // 4-wide WideFloatNodes, child boxes as floats; HRPP off only
 };
-const char* node_format_name(NodeFormat f);
-const std::map<std::string, NodeFormat>& node_format_names();
+inline constexpr NameTable<NodeFormat, 3> kNodeFormatNames = {{{NodeFormat::kBinary, "binary"},
+                                                                {NodeFormat::kWide4, "wide4"},
+                                                                {NodeFormat::kWide4Float,
+                                                                 "wide4-float"}}};
+constexpr const char* node_format_name(NodeFormat f) { return name_in(kNodeFormatNames, f); }
 
 struct GpuBvh {
   std::vector<gpu::BvhNode> nodes;            // nodes[0] is the root, always interior
@@ -76,9 +80,9 @@ enum class NodeLayout {
   kDfsLargeFirst,  // depth-first, the child with the larger surface area (more likely hit)
                    // first: it follows its parent in memory
 };
-const char* node_layout_name(NodeLayout l);
-// Name → value, for the command line (CLI11's CheckedTransformer).
-const std::map<std::string, NodeLayout>& node_layout_names();
+inline constexpr NameTable<NodeLayout, 2> kNodeLayoutNames = {
+    {{NodeLayout::kDfs, "dfs"}, {NodeLayout::kDfsLargeFirst, "dfs-large-first"}}};
+constexpr const char* node_layout_name(NodeLayout l) { return name_in(kNodeLayoutNames, l); }
 
 // Interior nodes numbered depth-first (which subtree first: `layout`), leaves in the order met,
 // triangle records in leaf order: the same tree always gets the same layout. A tree that is one

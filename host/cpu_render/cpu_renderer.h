@@ -12,7 +12,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "render/render_scene.h"
-#include "render/wavefront_renderer.h"
+#include "render/render_config.h"
 #include "scene/scene.h"
 
 namespace hrpp {

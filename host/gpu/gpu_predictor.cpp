@@ -62,7 +62,8 @@ ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up
   const SpecializationConstant spec[] = {{HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
                                          {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u}};
   return ComputePipeline(ctx, "hrpp_predict",
-                         embedded_spirv(is_any_hit(c) ? "hrpp_predict_any" : "hrpp_predict"),
+                         embedded_spirv(query_kind(c) == QueryKind::kAny ? "hrpp_predict_any"
+                                                                      : "hrpp_predict"),
                          kStageBindingTypes, sizeof(gpu::StagePushConstants), spec);
 }
 
@@ -139,11 +140,10 @@ struct Queue {
   ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
   std::size_t capacity = 0;
 
-  Queue(VulkanContext& ctx, bool any_hit)
+  Queue(VulkanContext& ctx, QueryKind kind)
       : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue"),
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters"),
-        trace(ctx, any_hit ? "trace_any" : "trace_closest",
-              embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
+        trace(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
               sizeof(gpu::TracePushConstants)),
         pass_args(ctx, "hrpp_pass_args", embedded_spirv("hrpp_pass_args"), 1,
                   sizeof(gpu::StagePushConstants)) {
@@ -159,10 +159,11 @@ struct GpuPredictor::State {
   PredictorConfig config;
   StorageBuffer node_of_prim;
   PerClass<std::unique_ptr<Table>> tables;
-  std::unique_ptr<Queue> queues[2];  // [any_hit]
+  std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
 
   Table& table(RayClass c) const { return *tables[c]; }
-  Queue& queue(RayClass c) const { return *queues[is_any_hit(c)]; }
+  Queue& queue(QueryKind k) const { return *queues[index_of(k)]; }
+  Queue& queue(RayClass c) const { return queue(query_kind(c)); }
 
   void bind_bvh(ComputePipeline& p, const TexelView& nodes, const TexelView& leaves,
                 const TexelView& triangles) {
@@ -304,16 +305,16 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     if (leaves_of[p] != kNoLeaf) node_of[p] = prediction_node(bvh, leaves_of[p], config.go_up);
   s_->node_of_prim = StorageBuffer(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle");
   s_->node_of_prim.upload(std::span<const std::int32_t>(node_of));
-  for (bool any_hit : {false, true}) {
-    s_->queues[any_hit] = std::make_unique<Queue>(ctx, any_hit);
-    s_->bind_bvh(s_->queues[any_hit]->trace, nodes, leaves, triangles);
+  for (QueryKind kind : kQueryKinds) {
+    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind);
+    s_->bind_bvh(s_->queue(kind).trace, nodes, leaves, triangles);
   }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     s_->tables[c] = std::make_unique<Table>(ctx, params, c);
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       s_->bind_bvh(*k, nodes, leaves, triangles);
-      k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queues[is_any_hit(c)]->state);
+      k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queue(c).state);
       k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim);
     }
   }
@@ -325,9 +326,9 @@ GpuPredictor& GpuPredictor::operator=(GpuPredictor&&) noexcept = default;
 
 const PredictorConfig& GpuPredictor::config() const { return s_->config; }
 
-void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const TexelView& hits,
+void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelView& hits,
                              std::size_t capacity) {
-  Queue& q = *s_->queues[any_hit];
+  Queue& q = s_->queue(kind);
   capacity = std::max<std::size_t>(capacity, 1);
   if (q.capacity < capacity) {
     q.ray_view = TexelView();
@@ -347,7 +348,7 @@ void GpuPredictor::bind_rays(bool any_hit, const TexelView& rays, const TexelVie
     q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hit_view);
   }
   for (RayClass c : kRayClasses) {
-    if (is_any_hit(c) != any_hit || !s_->tables[c]) continue;
+    if (query_kind(c) != kind || !s_->tables[c]) continue;
     Table& t = s_->table(c);
     const std::size_t request_bytes = capacity * sizeof(gpu::InsertRequest);
     if (t.requests.size() < request_bytes) {

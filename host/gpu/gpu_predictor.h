@@ -78,7 +78,7 @@ class GpuPredictor {
 
   // Points the stage of one query kind at the class arrays it reads rays from and writes hits
   // to, and sizes its queue for `capacity` rays (call again when they are reallocated).
-  void bind_rays(bool any_hit, const TexelView& rays, const TexelView& hits,
+  void bind_rays(QueryKind kind, const TexelView& rays, const TexelView& hits,
                  std::size_t capacity);
 
   // Before recording a class's traces: zeroes its predictor counters (host write).

@@ -83,9 +83,10 @@ std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const Predict
   if (predictor.enabled)
     for (BufferNeed& n : GpuPredictor::buffer_needs(bvh, predictor, resident_rays))
       needs.push_back(std::move(n));
-  for (const char* kind : {"hit-all", "hit-any"}) {
-    needs.push_back({std::string(kind) + " ray array", resident_rays * sizeof(gpu::Ray)});
-    needs.push_back({std::string(kind) + " hit array", resident_rays * sizeof(gpu::Hit)});
+  for (QueryKind kind : kQueryKinds) {
+    const std::string label = query_kind_label(kind);
+    needs.push_back({label + " ray array", resident_rays * sizeof(gpu::Ray)});
+    needs.push_back({label + " hit array", resident_rays * sizeof(gpu::Hit)});
   }
   return needs;
 }
@@ -104,19 +105,18 @@ struct QueryArrays {
 
   // `count_steps`: the kernels count the interior loop's subgroup iterations
   // (GpuTracerConfig::count_steps); `nodes`: the node array holds them (--bvh-nodes).
-  QueryArrays(VulkanContext& c, bool any_hit, bool count_steps, NodeFormat nodes)
-      : QueryArrays(c, any_hit,
+  QueryArrays(VulkanContext& c, QueryKind kind, bool count_steps, NodeFormat nodes)
+      : QueryArrays(c, kind,
                     std::array{SpecializationConstant{HRPP_SPEC_COUNT_STEPS, count_steps ? 1u : 0u},
                                SpecializationConstant{HRPP_SPEC_NODE_FORMAT, spec_value(nodes)}}) {}
 
-  QueryArrays(VulkanContext& c, bool any_hit, std::span<const SpecializationConstant> spec)
+  QueryArrays(VulkanContext& c, QueryKind kind, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
-                 any_hit ? "hit-any trace counters" : "hit-all trace counters"),
-        kernel(c, any_hit ? "trace_any" : "trace_closest",
-               embedded_spirv(any_hit ? "trace_any" : "trace_closest"), kTraceBindingTypes,
+                 std::string(query_kind_label(kind)) + " trace counters"),
+        kernel(c, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
                sizeof(gpu::TracePushConstants), spec),
         indexed(c, kernel.name(),
-                embedded_spirv(any_hit ? "trace_any_indexed" : "trace_closest_indexed"),
+                embedded_spirv(trace_indexed_kernel(kind)),
                 kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants), spec) {
     for (ComputePipeline* k : {&kernel, &indexed}) k->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
   }
@@ -136,7 +136,7 @@ struct GpuTracer::State {
   GpuTracerConfig config;
   StorageBuffer nodes, leaves, triangles;
   TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
-  std::unique_ptr<QueryArrays> queries[2];        // [any_hit]
+  std::unique_ptr<QueryArrays> queries[2];        // [index_of(QueryKind)]
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on
   PerClass<Probe> probing{};                // HRPP on: how each class traces through it now
@@ -157,9 +157,10 @@ struct GpuTracer::State {
     nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
     leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
     triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
-    for (bool any_hit : {false, true}) {
-      queries[any_hit] = std::make_unique<QueryArrays>(c, any_hit, cfg.count_steps, bvh.format());
-      for (ComputePipeline* k : {&queries[any_hit]->kernel, &queries[any_hit]->indexed}) {
+    for (QueryKind kind : kQueryKinds) {
+      auto& q = queries[index_of(kind)];
+      q = std::make_unique<QueryArrays>(c, kind, cfg.count_steps, bvh.format());
+      for (ComputePipeline* k : {&q->kernel, &q->indexed}) {
         k->bind(HRPP_TRACE_BINDING_NODES, node_view);
         k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
         k->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
@@ -178,8 +179,8 @@ struct GpuTracer::State {
     probe.tmax = 1e30f;
   }
 
-  QueryArrays& query(RayClass c) { return *queries[is_any_hit(c)]; }
-  const QueryArrays& query(RayClass c) const { return *queries[is_any_hit(c)]; }
+  QueryArrays& query(RayClass c) { return *queries[index_of(query_kind(c))]; }
+  const QueryArrays& query(RayClass c) const { return *queries[index_of(query_kind(c))]; }
   bool predicts(RayClass c) const { return predictor && probing[c] == Probe::kAll; }
   bool samples(RayClass c) const {
     return predictor && probing[c] == Probe::kSample && !batched();
@@ -205,7 +206,7 @@ struct GpuTracer::State {
     a.hit_view = TexelView();
     a.rays = StorageBuffer();  // free first: one at a time in the heap
     a.hits = StorageBuffer();
-    const std::string which = is_any_hit(c) ? "hit-any" : "hit-all";
+    const std::string which = query_kind_label(query_kind(c));
     a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), which + " ray array");
     a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
     a.ray_view = TexelView(*ctx, a.rays);
@@ -214,7 +215,7 @@ struct GpuTracer::State {
       k->bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
       k->bind(HRPP_TRACE_BINDING_HITS, a.hit_view);
     }
-    if (predictor) predictor->bind_rays(is_any_hit(c), a.ray_view, a.hit_view, n);
+    if (predictor) predictor->bind_rays(query_kind(c), a.ray_view, a.hit_view, n);
   }
 
   gpu::TracePushConstants push_constants() const {
@@ -362,9 +363,9 @@ GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RayS
     out.traced += r.traced;
     out.predicted = r.predicted;
     out.sampled += r.sampled;
-    for (int i = 0; i < HRPP_PC_COUNT; ++i) out.predictor.c[i] += r.predictor.c[i];
+    out.predictor += r.predictor;
   }
-  if (is_any_hit(c)) to_occlusion_records(out.hits);
+  if (query_kind(c) == QueryKind::kAny) to_occlusion_records(out.hits);
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_predictor.h"
+#include "gpu/gpu_tracer_config.h"
 #include "gpu/memory_plan.h"
 #include "gpu_types.h"
 #include "hrpp/adaptive_predictor.h"
@@ -27,27 +28,6 @@ class StorageBuffer;
 class KernelTimer;
 class RaySorter;
 class TexelView;
-
-struct GpuTracerConfig {
-  // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
-  // instead); 0: the device's default, what resolved_for() fills in. Lavapipe's loop limiter
-  // (docs/ARCHITECTURE.md, "Lavapipe") ends every loop of a subgroup after 65,535 iterations in
-  // total, a few hundred rays' worth: on a CPU device the default is 16, which keeps a wide
-  // margin and amortises an invocation's start. A GPU has no such limit and hides latency with
-  // more invocations in flight: there the default is 1 (NVIDIA H200, bunny, 2^20 rays: 1.5x
-  // faster AO and diffuse traces than 16; bench/README.md, "On a real GPU"). A dispatch whose
-  // rays do not all finish throws hrpp::Error naming the limit.
-  std::uint32_t rays_per_invocation = 0;
-  static constexpr std::uint32_t kCpuDeviceRaysPerInvocation = 16;
-  static constexpr std::uint32_t kGpuRaysPerInvocation = 1;
-  // The trace kernels also count the subgroup iterations of their interior-node loop
-  // (TraversalCounters::interior_steps), from which lane_use() follows; off, the count is
-  // compiled out (a specialization constant). The HRPP stage's trace never counts them.
-  bool count_steps = false;
-
-  // This configuration with the device's default rays per invocation where it asks for one.
-  GpuTracerConfig resolved_for(const DeviceInfo& device) const;
-};
 
 struct GpuTraceResult {
   std::vector<gpu::Hit> hits;   // one per ray; any-hit: prim 0 occluded, -1 free (t, u, v = 0)
@@ -90,9 +70,9 @@ class GpuTracer {
   // kernel_ms includes the sort. Not when the class predicts (HRPP's stage keeps ray order).
   GpuTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter = nullptr);
   // Rays of a ray file: closest hit as camera rays, any hit as shadow rays.
-  GpuTraceResult trace(std::span<const gpu::Ray> rays, bool any_hit,
+  GpuTraceResult trace(std::span<const gpu::Ray> rays, QueryKind kind,
                        RaySorter* sorter = nullptr) {
-    return trace(rays, ray_file_class(any_hit), sorter);
+    return trace(rays, ray_file_class(kind), sorter);
   }
 
   // Device-resident rays (the wavefront renderer, host/render/): hit-all classes (camera,

@@ -2,7 +2,8 @@
 // ones add the ray index list, a texel buffer) and of the HRPP stage's
 // (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel buffers
 // (bindings 0..3); the stage also reads and writes its per-ray arrays as texel buffers
-// (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer.
+// (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer. And the trace kernels'
+// names per query kind.
 #pragma once
 
 #include <array>
@@ -11,6 +12,7 @@
 #include <vulkan/vulkan.h>
 
 #include "hrpp_interface.h"
+#include "trace/query_kind.h"
 #include "trace_interface.h"
 
 namespace hrpp {
@@ -50,5 +52,14 @@ inline constexpr auto kStageBindingTypes = [] {
   return t;
 }();
 static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
+
+// The trace kernel of a query kind (shaders/trace_closest.comp, shaders/trace_any.comp) and its
+// indexed variant (trace_*_indexed.comp).
+constexpr const char* trace_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? "trace_any" : "trace_closest";
+}
+constexpr const char* trace_indexed_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? "trace_any_indexed" : "trace_closest_indexed";
+}
 
 }  // namespace hrpp

@@ -4,15 +4,6 @@
 
 namespace hrpp {
 
-const char* probe_name(Probe p) {
-  switch (p) {
-    case Probe::kSample: return "sample";
-    case Probe::kAll: return "all";
-    case Probe::kOff: break;
-  }
-  return "off";
-}
-
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
     : adaptive_(config.adapts()), passes_(config.pilot >= 2 ? 2 : 1) {
   for (RayClass c : kRayClasses) {
@@ -50,17 +41,17 @@ void AdaptivePredictor::judge_sample(State& s, const ClassFrameCost& cost,
   const bool warming = !s.warmed;
   s.warmed = true;
   if (!hopeless && warming) {
-    d.reason = "warming";  // the table was empty: sample again
+    d.reason = Reason::kWarming;  // the table was empty: sample again
     return;
   }
   if (!hopeless && d.gain_ms > 0.0) {
-    d.reason = "gain";
+    d.reason = Reason::kGain;
     s.mode = Probe::kAll;
     s.confidence = kConfidenceOn;
     s.losses = 0;
     return;
   }
-  d.reason = hopeless ? "hopeless" : "loss";
+  d.reason = hopeless ? Reason::kHopeless : Reason::kLoss;
   s.mode = Probe::kOff;
   s.retry_after = std::min(kRetryEvery << std::min(s.losses, 8), kRetryMax);
   ++s.losses;
@@ -71,18 +62,18 @@ void AdaptivePredictor::judge_all(State& s, const ClassFrameCost& cost, ClassDec
   s.warmed = true;
   const double off = s.off_ms_per_ray;
   if (off <= 0.0) {
-    d.reason = "unmeasured";  // a sample frame measures the plain trace
+    d.reason = Reason::kUnmeasured;  // a sample frame measures the plain trace
     s.mode = Probe::kSample;
     return;
   }
   const double rays = static_cast<double>(cost.rays);
   d.gain_ms = off * rays - cost.cost_ms();
   if (cost.predict_ms + cost.resolve_ms >= off * rays) {
-    d.reason = "hopeless";
+    d.reason = Reason::kHopeless;
     s.confidence = std::min(s.confidence, kConfidenceOn) - 1;
   } else {
     const bool gain = d.gain_ms > 0.0;
-    d.reason = gain ? "gain" : "loss";
+    d.reason = gain ? Reason::kGain : Reason::kLoss;
     s.confidence = std::clamp(s.confidence + (gain ? 1 : -1), 0, kConfidenceMax);
   }
   if (s.confidence >= kConfidenceOn) return;
@@ -98,11 +89,11 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   // without prediction.
   if (cost.mode != Probe::kAll && cost.traced > 0) s.off_ms_per_ray = per_ray(cost.trace_ms, cost.traced);
   if (!s.enabled) {
-    d.reason = "disabled";
+    d.reason = Reason::kDisabled;
   } else if (!adaptive_) {
-    d.reason = "fixed";
+    d.reason = Reason::kFixed;
   } else if (cost.rays == 0) {
-    d.reason = "idle";  // nothing to judge
+    d.reason = Reason::kIdle;  // nothing to judge
   } else if (cost.mode == Probe::kSample) {
     judge_sample(s, cost, d);
     s.frames_off = 0;
@@ -110,10 +101,10 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
     judge_all(s, cost, d);
     s.frames_off = 0;
   } else {
-    d.reason = "off";
+    d.reason = Reason::kOff;
     if (s.mode == Probe::kOff && ++s.frames_off >= s.retry_after) {
       s.mode = Probe::kSample;
-      d.reason = "retry";
+      d.reason = Reason::kRetry;
     }
   }
   d.off_ms_per_ray = s.off_ms_per_ray;

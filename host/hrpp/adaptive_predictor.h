@@ -26,6 +26,7 @@
 
 #include <cstdint>
 
+#include "common/name_table.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
 
@@ -33,7 +34,34 @@ namespace hrpp {
 
 // How a class runs the HRPP stage in a frame.
 enum class Probe : std::uint8_t { kOff, kSample, kAll };
-const char* probe_name(Probe p);  // "off", "sample", "all"
+inline constexpr NameTable<Probe, 3> kProbeNames = {
+    {{Probe::kOff, "off"}, {Probe::kSample, "sample"}, {Probe::kAll, "all"}}};
+constexpr const char* probe_name(Probe p) { return name_in(kProbeNames, p); }
+
+// Why a class runs as it does in the next frame.
+enum class Reason : std::uint8_t {
+  kDisabled,    // the class does not predict (--hrpp-rays)
+  kFixed,       // not adaptive: every ray predicts, every frame
+  kIdle,        // no ray of the class this frame: nothing to judge
+  kWarming,     // the sample found an empty table: sample again
+  kUnmeasured,  // the plain trace's cost is not known yet: a sample frame measures it
+  kHopeless,    // even a perfect predictor could not pay at this cost
+  kGain,        // prediction saved time
+  kLoss,        // prediction cost time
+  kOff,         // off, waiting before the next retry
+  kRetry,       // off long enough: sample again
+};
+inline constexpr NameTable<Reason, 10> kReasonNames = {{{Reason::kDisabled, "disabled"},
+                                                        {Reason::kFixed, "fixed"},
+                                                        {Reason::kIdle, "idle"},
+                                                        {Reason::kWarming, "warming"},
+                                                        {Reason::kUnmeasured, "unmeasured"},
+                                                        {Reason::kHopeless, "hopeless"},
+                                                        {Reason::kGain, "gain"},
+                                                        {Reason::kLoss, "loss"},
+                                                        {Reason::kOff, "off"},
+                                                        {Reason::kRetry, "retry"}}};
+constexpr const char* reason_name(Reason r) { return name_in(kReasonNames, r); }
 
 // What one frame of a ray class did and cost on the device.
 struct ClassFrameCost {
@@ -59,8 +87,7 @@ struct ClassDecision {
   double dispatch_ms = 0;     // sample frames: the fixed cost of one dispatch
   int confidence = 0;         // 0..3 after this frame
   Probe next = Probe::kOff;
-  const char* reason = "";    // disabled, fixed, idle, warming, unmeasured, hopeless, gain,
-                              // loss, off, retry
+  Reason reason = Reason::kIdle;
 };
 
 class AdaptivePredictor {

@@ -6,38 +6,23 @@
 
 namespace hrpp {
 
-TableConfig table_preset(std::string_view name) {
+TableConfig table_preset(TablePreset preset) {
   // unbounded: 2^17 sets × 16 ways × 16 nodes = 2M entries, 152 MiB (the node slots exactly fill
   // lavapipe's 128 MiB storage-buffer range); 16 ways keep sets from overflowing (with 8 ways
   // a few inserts of 1M-ray batches were dropped). small: 2^10 × 8 × 8 = 8k entries, 352 KiB.
   // tuned (the default): 2^14 × 2 × 1 = 32k entries of one node, 512 KiB: the cheapest probe
   // measured (2 tag fetches, one leaf to verify) for the most true positives per byte.
-  if (name == "unbounded") return {1u << 17, 16, 16, TablePolicy::kNone};
-  if (name == "small") return {1u << 10, 8, 8, TablePolicy::kLru};
-  if (name == "tuned") return {1u << 14, 2, 1, TablePolicy::kLru};
-  if (name == "tiny") return {4, 2, 2, TablePolicy::kLru};
-  throw Error("--table-preset: unknown preset '" + std::string(name) +
-              "' (tuned, small, unbounded, tiny)");
+  switch (preset) {
+    case TablePreset::kUnbounded: return {1u << 17, 16, 16, TablePolicy::kNone};
+    case TablePreset::kSmall: return {1u << 10, 8, 8, TablePolicy::kLru};
+    case TablePreset::kTiny: return {4, 2, 2, TablePolicy::kLru};
+    case TablePreset::kTuned: break;
+  }
+  return {1u << 14, 2, 1, TablePolicy::kLru};
 }
 
-PredictorMode parse_predictor_mode(std::string_view name) {
-  if (name == "speculative") return PredictorMode::kSpeculative;
-  if (name == "exact") return PredictorMode::kExact;
-  throw Error("--hrpp-mode: unknown mode '" + std::string(name) + "' (speculative or exact)");
-}
-
-const char* predictor_mode_name(PredictorMode mode) {
-  return mode == PredictorMode::kExact ? "exact" : "speculative";
-}
-
-TablePolicy parse_table_policy(std::string_view name) {
-  if (name == "none") return TablePolicy::kNone;
-  if (name == "lru") return TablePolicy::kLru;
-  throw Error("--table-policy: unknown policy '" + std::string(name) + "' (none or lru)");
-}
-
-const char* table_policy_name(TablePolicy policy) {
-  return policy == TablePolicy::kLru ? "lru" : "none";
+TableConfig table_preset(std::string_view name) {
+  return table_preset(parse_in(kTablePresetNames, name, "--table-preset: unknown preset"));
 }
 
 gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box) {

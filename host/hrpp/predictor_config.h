@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "bvh/aabb.h"
+#include "common/name_table.h"
 #include "hrpp/ray_class.h"
 #include "hrpp/ray_hash.h"
 #include "hrpp_types.h"
@@ -28,6 +29,15 @@ enum class TablePolicy : std::uint32_t {
   kLru = HRPP_POLICY_LRU,
 };
 
+inline constexpr NameTable<PredictorMode, 2> kPredictorModeNames = {
+    {{PredictorMode::kSpeculative, "speculative"}, {PredictorMode::kExact, "exact"}}};
+inline constexpr NameTable<TablePolicy, HRPP_POLICY_COUNT> kTablePolicyNames = {
+    {{TablePolicy::kNone, "none"}, {TablePolicy::kLru, "lru"}}};
+constexpr const char* predictor_mode_name(PredictorMode m) {
+  return name_in(kPredictorModeNames, m);
+}
+constexpr const char* table_policy_name(TablePolicy p) { return name_in(kTablePolicyNames, p); }
+
 // Capacity = sets × ways entries of `nodes` node slots each.
 struct TableConfig {
   std::uint32_t sets = 1u << 12;
@@ -44,6 +54,14 @@ struct TableConfig {
 // paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
 // counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
 // than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction.
+enum class TablePreset : std::uint8_t { kTuned, kSmall, kUnbounded, kTiny };
+inline constexpr NameTable<TablePreset, 4> kTablePresetNames = {
+    {{TablePreset::kTuned, "tuned"},
+     {TablePreset::kSmall, "small"},
+     {TablePreset::kUnbounded, "unbounded"},
+     {TablePreset::kTiny, "tiny"}}};
+TableConfig table_preset(TablePreset preset);
+// The same by name; throws hrpp::Error naming --table-preset for an unknown one.
 TableConfig table_preset(std::string_view name);
 
 struct PredictorConfig {
@@ -85,10 +103,6 @@ struct PredictorConfig {
   bool adapts() const { return adaptive && batch == 0; }
 };
 
-PredictorMode parse_predictor_mode(std::string_view name);
-const char* predictor_mode_name(PredictorMode mode);
-TablePolicy parse_table_policy(std::string_view name);
-const char* table_policy_name(TablePolicy policy);
 
 // The kernels' parameters of the hit-all or hit-any predictor. Throws hrpp::Error for a table
 // whose sets is not a power of two or whose sizes are 0, or a bad hash precision.

@@ -50,7 +50,7 @@ std::string describe(const PredictorConfig& config) {
   return buf;
 }
 
-std::string format_summary(const std::string& label, const PredictorSummary& s, bool any_hit) {
+std::string format_summary(const std::string& label, const PredictorSummary& s, QueryKind kind) {
   const auto& c = s.counters.c;
   const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
   char buf[1400];
@@ -76,7 +76,7 @@ std::string format_summary(const std::string& label, const PredictorSummary& s, 
                        u(c[HRPP_PC_BASELINE_INTERIOR]),
                        static_cast<long long>(s.skipped_interior), 100.0 * s.savings,
                        100.0 * s.net_savings,
-                       any_hit ? ""
+                       kind == QueryKind::kAny ? ""
                                : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST]))
                                      .c_str());
   }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "hrpp/predictor_config.h"
+#include "trace/query_kind.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -75,6 +76,6 @@ PredictorSummary summarize(const gpu::PredictorCounters& counters, const Travers
 std::string describe(const PredictorConfig& config);
 
 // Lines for the terminal, each starting with `label` padded to 12 columns.
-std::string format_summary(const std::string& label, const PredictorSummary& s, bool any_hit);
+std::string format_summary(const std::string& label, const PredictorSummary& s, QueryKind kind);
 
 }  // namespace hrpp

@@ -6,19 +6,10 @@
 
 namespace hrpp {
 
-const char* ray_class_name(RayClass c) {
-  switch (c) {
-    case RayClass::kCamera: return "camera";
-    case RayClass::kBounce: return "bounce";
-    case RayClass::kShadow: return "shadow";
-  }
-  return "?";
-}
-
 RayClass parse_ray_class(std::string_view name) {
-  for (RayClass c : kRayClasses)
-    if (name == ray_class_name(c)) return c;
-  throw Error("'" + std::string(name) + "' is not a ray class (camera, bounce, shadow)");
+  for (const Named<RayClass>& n : kRayClassNames)
+    if (name == n.name) return n.value;
+  throw Error("'" + std::string(name) + "' is not a ray class (" + names_in(kRayClassNames) + ")");
 }
 
 }  // namespace hrpp

@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <string_view>
 
+#include "common/name_table.h"
 #include "hrpp_types.h"
+#include "trace/query_kind.h"
 
 namespace hrpp {
 
@@ -23,16 +25,21 @@ inline constexpr std::size_t kRayClassCount = HRPP_RAY_CLASS_COUNT;
 inline constexpr std::array<RayClass, kRayClassCount> kRayClasses = {
     RayClass::kCamera, RayClass::kBounce, RayClass::kShadow};
 
+inline constexpr NameTable<RayClass, kRayClassCount> kRayClassNames = {
+    {{RayClass::kCamera, "camera"}, {RayClass::kBounce, "bounce"}, {RayClass::kShadow, "shadow"}}};
+
 constexpr std::size_t index_of(RayClass c) { return static_cast<std::size_t>(c); }
-// Hit-any (occlusion) queries: the first hit found answers them.
-constexpr bool is_any_hit(RayClass c) { return c == RayClass::kShadow; }
+// Shadow rays are hit-any (occlusion) queries: the first hit found answers them.
+constexpr QueryKind query_kind(RayClass c) {
+  return c == RayClass::kShadow ? QueryKind::kAny : QueryKind::kClosest;
+}
 // Rays of a ray file (hrpp trace, hrpp bench): closest-hit rays are traced as camera rays,
 // any-hit rays as shadow rays.
-constexpr RayClass ray_file_class(bool any_hit) {
-  return any_hit ? RayClass::kShadow : RayClass::kCamera;
+constexpr RayClass ray_file_class(QueryKind k) {
+  return k == QueryKind::kAny ? RayClass::kShadow : RayClass::kCamera;
 }
 
-const char* ray_class_name(RayClass c);  // "camera", "bounce", "shadow"
+constexpr const char* ray_class_name(RayClass c) { return name_in(kRayClassNames, c); }
 // Throws hrpp::Error for an unknown name.
 RayClass parse_ray_class(std::string_view name);
 

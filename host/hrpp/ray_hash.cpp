@@ -120,25 +120,6 @@ glm::vec3 grid_scale(const glm::vec3& extent, std::uint32_t n) {
 
 }  // namespace
 
-HashKind parse_hash_kind(std::string_view name) {
-  if (name == "hrpp") return HashKind::kIeee;
-  if (name == "grid-spherical") return HashKind::kGridSpherical;
-  if (name == "two-point") return HashKind::kTwoPoint;
-  throw Error("--hash: unknown hash '" + std::string(name) +
-              "' (hrpp, grid-spherical or two-point)");
-}
-
-const char* hash_kind_name(HashKind kind) {
-  switch (kind) {
-    case HashKind::kIeee:
-      return "hrpp";
-    case HashKind::kGridSpherical:
-      return "grid-spherical";
-    case HashKind::kTwoPoint:
-      return "two-point";
-  }
-  return "?";
-}
 
 gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box) {
   if (config.bits < 1 || config.bits > HRPP_HASH_BITS_MAX)

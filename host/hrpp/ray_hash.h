@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "bvh/aabb.h"
+#include "common/name_table.h"
 #include "hrpp_types.h"
 
 namespace hrpp {
@@ -28,8 +29,15 @@ struct HashConfig {
 };
 
 // "hrpp", "grid-spherical", "two-point" (the --hash values); throws hrpp::Error otherwise.
-HashKind parse_hash_kind(std::string_view name);
-const char* hash_kind_name(HashKind kind);
+inline constexpr NameTable<HashKind, 3> kHashKindNames = {
+    {{HashKind::kIeee, "hrpp"},  // the paper's IEEE-754 bits
+     {HashKind::kGridSpherical, "grid-spherical"},
+     {HashKind::kTwoPoint, "two-point"}}};
+constexpr const char* hash_kind_name(HashKind kind) { return name_in(kHashKindNames, kind); }
+// Throws hrpp::Error naming --hash for an unknown name.
+inline HashKind parse_hash_kind(std::string_view name) {
+  return parse_in(kHashKindNames, name, "--hash: unknown hash");
+}
 
 // The parameters the kernels get: grid origin and scales over `scene_box`. Throws hrpp::Error
 // when bits is outside 1..8.

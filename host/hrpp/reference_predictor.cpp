@@ -19,7 +19,7 @@ ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig&
 // the trace kernel, shaders/hrpp_resolve.comp), counting what the kernels count.
 struct ReferencePredictor::Trace {
   const ReferencePredictor& p;
-  const bool any_hit;
+  const QueryKind kind;
   const bool exact;
   PredictorTraceResult& out;
   std::vector<Insert> inserts;  // of the current batch, applied after it in ray order
@@ -29,7 +29,8 @@ struct ReferencePredictor::Trace {
   // A traversal from the root with the ray's [tmin, tmax]; adds its work to `into`.
   gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into) const {
     TraversalCounters f;
-    const gpu::Hit h = any_hit ? trace_any_hit(*p.bvh_, r, &f) : trace_closest(*p.bvh_, r, &f);
+    const gpu::Hit h =
+        kind == QueryKind::kAny ? trace_any_hit(*p.bvh_, r, &f) : trace_closest(*p.bvh_, r, &f);
     f.rays = 0;
     f.hits = 0;
     into += f;
@@ -45,7 +46,7 @@ struct ReferencePredictor::Trace {
       if (node == HRPP_EMPTY_NODE) break;
       gpu::Ray r = ray;
       if (predicted.prim >= 0) r.tmax = predicted.t;
-      if (trace_subtree(*p.bvh_, r, node, any_hit, predicted, &v)) break;
+      if (trace_subtree(*p.bvh_, r, node, kind, predicted, &v)) break;
     }
     counter(HRPP_PC_VERIFY_INTERIOR) += v.interior_visited;
     counter(HRPP_PC_VERIFY_LEAVES) += v.leaves_visited;
@@ -73,7 +74,7 @@ struct ReferencePredictor::Trace {
     TraversalCounters b;
     const gpu::Hit truth = full_trace(ray, b);
     counter(HRPP_PC_BASELINE_INTERIOR) += b.interior_visited;
-    if (predicted.prim >= 0 && !any_hit && !exact &&
+    if (predicted.prim >= 0 && kind == QueryKind::kClosest && !exact &&
         (truth.prim != predicted.prim || truth.t != predicted.t))
       ++counter(HRPP_PC_WRONG_CLOSEST);
   }
@@ -82,7 +83,7 @@ struct ReferencePredictor::Trace {
   // by the predicted t, the closer of the two, ties to the lower id). `traced`: the ray was
   // queued (then a hit inserts).
   gpu::Hit answer(const gpu::Ray& ray, const gpu::Hit& predicted, bool& traced) {
-    traced = predicted.prim < 0 || (exact && !any_hit);
+    traced = predicted.prim < 0 || (exact && kind == QueryKind::kClosest);
     if (!traced) return predicted;
     gpu::Ray r = ray;
     if (predicted.prim >= 0) r.tmax = predicted.t;
@@ -124,7 +125,7 @@ struct ReferencePredictor::Trace {
 PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
   PredictorTraceResult out;
   out.hits.resize(rays.size());
-  Trace t{*this, is_any_hit(cls), config_.mode == PredictorMode::kExact, out, {}};
+  Trace t{*this, query_kind(cls), config_.mode == PredictorMode::kExact, out, {}};
   Table& table = tables_[cls];
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
   for (std::size_t first = 0; first < rays.size(); first += batch) {
@@ -134,7 +135,9 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
           t.trace_ray(rays[i], table, clocks_[cls] + static_cast<std::uint32_t>(i));
       ++out.counters.rays;
       if (best.prim >= 0) ++out.counters.hits;
-      out.hits[i] = t.any_hit ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss) : best;
+      out.hits[i] = t.kind == QueryKind::kAny
+                        ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
+                        : best;
     }
     t.apply_inserts(table);
   }

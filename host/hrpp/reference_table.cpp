@@ -13,7 +13,7 @@ constexpr int kEmptyNode = HRPP_EMPTY_NODE;
 
 ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
     : params_(params),
-      lru_(params.policy == HRPP_POLICY_LRU),
+      policy_(static_cast<TablePolicy>(params.policy)),
       ways_(std::size_t{params.sets} * params.ways) {
   for (Way& w : ways_) w.slots.assign(params.nodes, kEmptyNode);
 }
@@ -29,7 +29,7 @@ const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t 
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag != key) continue;
-    if (lru_) way.stamp = std::max(way.stamp, clock);
+    if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
     return &way.slots;
   }
   return nullptr;
@@ -50,8 +50,13 @@ ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
   Way* victim = &ways_[base];
   for (std::uint32_t w = 1; w < params_.ways; ++w)
     if (ways_[base + w].stamp < victim->stamp) victim = &ways_[base + w];
-  dropped = !lru_;
-  if (dropped) return *victim;
+  switch (policy_) {
+    case TablePolicy::kNone:
+      dropped = true;
+      return *victim;
+    case TablePolicy::kLru:
+      break;
+  }
   ++evictions;
   victim->tag = key;
   std::fill(victim->slots.begin(), victim->slots.end(), kEmptyNode);
@@ -64,7 +69,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
   bool dropped = false;
   Way& way = claim_way(key, dropped, evictions);
   if (dropped) return Outcome::kDropped;
-  if (lru_) way.stamp = std::max(way.stamp, clock);
+  if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
   Outcome outcome = Outcome::kDropped;
   for (int& slot : way.slots) {
     if (slot == node) {
@@ -77,7 +82,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
       break;
     }
   }
-  if (outcome == Outcome::kDropped && lru_) {
+  if (outcome == Outcome::kDropped && policy_ == TablePolicy::kLru) {
     way.slots[clock % params_.nodes] = node;
     ++evictions;
     outcome = Outcome::kInserted;

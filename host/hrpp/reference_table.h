@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gpu_types.h"
+#include "hrpp/predictor_config.h"
 #include "hrpp_types.h"
 
 namespace hrpp {
@@ -42,7 +43,7 @@ class ReferenceTable {
   Way& claim_way(std::uint64_t key, bool& dropped, std::uint64_t& evictions);
 
   gpu::PredictorParams params_{};
-  bool lru_ = false;
+  TablePolicy policy_;
   std::vector<Way> ways_;
 };
 

@@ -154,20 +154,20 @@ double EmbreeTracer::build_ms() const { return 0.0; }
 
 #endif  // HRPP_HAVE_EMBREE
 
-std::vector<gpu::Hit> EmbreeTracer::trace(std::span<const gpu::Ray> rays, bool any_hit,
+std::vector<gpu::Hit> EmbreeTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind,
                                           int threads) const {
   std::vector<gpu::Hit> hits(rays.size());
-  trace(rays, any_hit, hits, threads);
+  trace(rays, kind, hits, threads);
   return hits;
 }
 
-void EmbreeTracer::trace(std::span<const gpu::Ray> rays, bool any_hit, std::span<gpu::Hit> hits,
-                         int threads) const {
+void EmbreeTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind,
+                         std::span<gpu::Hit> hits, int threads) const {
   parallel_ranges(rays.size(), threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-      hits[i] = any_hit ? (occluded(rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f}
-                                             : gpu::Hit{-1, 0.0f, 0.0f, 0.0f})
-                        : closest(rays[i]);
+      hits[i] = kind == QueryKind::kAny ? (occluded(rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f}
+                                                             : gpu::Hit{-1, 0.0f, 0.0f, 0.0f})
+                                        : closest(rays[i]);
   });
 }
 

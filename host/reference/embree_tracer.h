@@ -21,6 +21,7 @@
 
 #include "gpu_types.h"
 #include "scene/scene.h"
+#include "trace/query_kind.h"
 
 namespace hrpp {
 
@@ -47,10 +48,11 @@ class EmbreeTracer {
 
   // Every ray on `threads` threads over ray ranges (parallel_ranges; 0: all). Any-hit
   // results: prim 0 occluded, -1 free, t = u = v = 0.
-  std::vector<gpu::Hit> trace(std::span<const gpu::Ray> rays, bool any_hit, int threads = 0) const;
+  std::vector<gpu::Hit> trace(std::span<const gpu::Ray> rays, QueryKind kind,
+                              int threads = 0) const;
   // The same into `hits` (one per ray), which the caller allocated: benchmarks time the
   // trace alone, not the allocation and first touch of the hit array.
-  void trace(std::span<const gpu::Ray> rays, bool any_hit, std::span<gpu::Hit> hits,
+  void trace(std::span<const gpu::Ray> rays, QueryKind kind, std::span<gpu::Hit> hits,
              int threads = 0) const;
 
   double build_ms() const;  // rtcCommitScene time

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "render/render_scene.h"
-#include "render/wavefront_renderer.h"
+#include "render/render_config.h"
 #include "render_interface.h"
 #include "scene/scene.h"
 

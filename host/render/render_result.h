@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "render/render_scene.h"
-#include "render/wavefront_renderer.h"
+#include "render/render_config.h"
 
 namespace hrpp {
 

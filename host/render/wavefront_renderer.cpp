@@ -158,30 +158,6 @@ ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
 
 }  // namespace
 
-RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
-  counters += o.counters;
-  for (int i = 0; i < HRPP_PC_COUNT; ++i) predictor.c[i] += o.predictor.c[i];
-  traces += o.traces;
-  predicted_traces += o.predicted_traces;
-  traced += o.traced;
-  sampled += o.sampled;
-  for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
-  return *this;
-}
-
-RayClassStats FrameStats::closest() const {
-  RayClassStats s = classes[RayClass::kCamera];
-  s += classes[RayClass::kBounce];
-  return s;
-}
-
-FrameStats& FrameStats::operator+=(const FrameStats& o) {
-  for (const auto& [k, ms] : o.kernels_ms) kernels_ms[k] += ms;
-  for (RayClass c : kRayClasses) classes[c] += o.classes[c];
-  wall_s += o.wall_s;
-  return *this;
-}
-
 struct WavefrontRenderer::State {
   VulkanContext& ctx;
   RenderConfig cfg;
@@ -320,7 +296,7 @@ struct WavefrontRenderer::State {
   void add_trace(const GpuTraceResult& r, RayClass cls, FrameStats& stats) {
     RayClassStats& c = stats.classes[cls];
     c.counters += r.counters;
-    for (int i = 0; i < HRPP_PC_COUNT; ++i) c.predictor.c[i] += r.predictor.c[i];
+    c.predictor += r.predictor;
     ++c.traces;
     c.predicted_traces += r.predicted ? 1 : 0;
     c.traced += r.traced;

@@ -13,99 +13,18 @@
 
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
-#include <string>
-#include <vector>
 
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
-#include "hrpp/adaptive_predictor.h"
-#include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
+#include "render/render_config.h"
 #include "render/render_scene.h"
 #include "scene/scene.h"
-#include "trace/ray_order.h"
-#include "trace/traversal_counters.h"
 
 namespace hrpp {
 
 class VulkanContext;
-
-struct RenderConfig {
-  static constexpr std::uint32_t kMaxSide = 16384;   // image width and height
-  static constexpr std::uint32_t kMaxDepth = 1024;   // max_depth
-
-  std::uint32_t width = 256;
-  std::uint32_t height = 256;
-  std::uint32_t spp = 8;
-  // Surface interactions per path; each also samples one light, so light reaches the camera
-  // over up to max_depth + 1 segments (1: direct light only).
-  std::uint32_t max_depth = 8;
-  std::uint32_t rr_depth = 3;   // Russian roulette from this many interactions on
-  std::uint32_t seed = 0;
-  std::uint32_t camera = 0;     // index into Scene::cameras
-  std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)
-  // Run every kernel once on a few paths before the timed frame: the first dispatch of a
-  // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe"). The image and
-  // the counters leave it out.
-  bool warm_up = true;
-  // The order in which each bounce's trace takes its rays (--reorder): kMorton sorts the
-  // continuation rays on the GPU (host/gpu/ray_sorter.h) and the trace reads them through the
-  // sort's order (no ray, hit or path state moves); the image is the same bit for bit, only the
-  // trace's coherence changes. Not applied to a bounce that HRPP predicts.
-  RayOrder reorder = RayOrder::kOff;
-  GpuTracerConfig tracer;
-  PredictorConfig predictor;  // HRPP: off unless predictor.enabled
-};
-
-// Counters and device time of one ray class (camera, bounce, shadow).
-struct RayClassStats {
-  TraversalCounters counters;          // verification included when the class probes
-  gpu::PredictorCounters predictor{};  // HRPP on: summed over the class's traces
-  std::uint64_t traces = 0;            // traces (one per bounce and wavefront)
-  std::uint64_t predicted_traces = 0;  // of those, through the HRPP stage
-  std::uint64_t traced = 0;            // rays the trace kernel traced (HRPP: the queues)
-  std::uint64_t sampled = 0;           // HRPP sample frames: rays that ran the HRPP stage
-  std::map<std::string, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve
-
-  RayClassStats& operator+=(const RayClassStats& o);
-};
-
-// One frame = one sample pass over every pixel: device time per kernel (timestamps around every
-// dispatch, summed) and counters per ray class.
-struct FrameStats {
-  std::map<std::string, double> kernels_ms;
-  PerClass<RayClassStats> classes;
-  PerClass<ClassDecision> decisions;  // HRPP on: the adaptive predictor after this frame
-  double wall_s = 0.0;  // host wall time
-
-  // Camera + bounce rays (hit-all), as one class.
-  RayClassStats closest() const;
-  const RayClassStats& shadow() const { return classes[RayClass::kShadow]; }
-  std::uint64_t camera_rays() const { return classes[RayClass::kCamera].counters.rays; }
-  std::uint64_t bounce_rays() const { return classes[RayClass::kBounce].counters.rays; }
-  FrameStats& operator+=(const FrameStats& o);
-};
-
-// The render: the sums over its frames, and each frame.
-struct RenderStats : FrameStats {
-  std::vector<std::string> features;  // specialization constants compiled in
-  // What next-event estimation and texturing work with (render_scene.h).
-  std::size_t triangles = 0;
-  std::size_t emissive_triangles = 0;
-  std::size_t delta_lights = 0;
-  std::size_t textures = 0;
-  std::size_t texel_bytes = 0;
-  int texture_halvings = 0;
-  std::vector<FrameStats> frames;     // one per sample pass
-};
-
-struct RenderResult {
-  std::uint32_t width = 0, height = 0;
-  std::vector<float> rgb;  // linear radiance, mean over the samples, rows top down
-  RenderStats stats;
-};
 
 class WavefrontRenderer {
  public:

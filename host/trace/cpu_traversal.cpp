@@ -86,11 +86,12 @@ gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
   return traverse(bvh, ray, true, counters);
 }
 
-bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, bool any_hit, gpu::Hit& best,
-                   TraversalCounters* counters) {
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind,
+                   gpu::Hit& best, TraversalCounters* counters) {
   TraversalCounters c;
   const RaySetup r = setup_ray(ray);
-  const bool answered = r.valid && traverse_from(bvh, r, root, ray.tmax, best, any_hit, c);
+  const bool answered =
+      r.valid && traverse_from(bvh, r, root, ray.tmax, best, kind == QueryKind::kAny, c);
   if (counters) *counters += c;
   return answered;
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "bvh/gpu_layout.h"
+#include "trace/query_kind.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
@@ -20,10 +21,11 @@ gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
 
 // The subtree under `root` (a child reference: interior node index, or ~leaf index) with the
 // ray's [tmin, tmax], improving `best` as the traversal does (closest: smaller t, ties to the
-// lower id). any_hit: stops at the first hit, best.prim = its triangle id; returns true then.
+// lower id). QueryKind::kAny: stops at the first hit, best.prim = its triangle id; returns true
+// then.
 // Counts interior nodes, leaves and triangles only (HRPP's verification of predicted nodes).
-bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, bool any_hit, gpu::Hit& best,
-                   TraversalCounters* counters = nullptr);
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind,
+                   gpu::Hit& best, TraversalCounters* counters = nullptr);
 
 inline constexpr gpu::Hit kMiss{-1, 0.0f, 0.0f, 0.0f};
 

@@ -79,19 +79,20 @@ void parallel_ranges(std::size_t n, int threads,
   });
 }
 
-void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, bool any_hit,
+void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, QueryKind kind,
                      std::span<gpu::Hit> hits, int threads) {
   parallel_ranges(rays.size(), threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-      hits[i] = any_hit ? (trace_any(bvh, rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
-                        : trace_closest(bvh, rays[i]);
+      hits[i] = kind == QueryKind::kAny
+                    ? (trace_any(bvh, rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
+                    : trace_closest(bvh, rays[i]);
   });
 }
 
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
-                                      bool any_hit, int threads) {
+                                      QueryKind kind, int threads) {
   std::vector<gpu::Hit> hits(rays.size());
-  trace_batch_cpu(bvh, rays, any_hit, hits, threads);
+  trace_batch_cpu(bvh, rays, kind, hits, threads);
   return hits;
 }
 
@@ -156,7 +157,7 @@ RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatc
   RayBatches b;
   b.primary = make_primary_rays(scene.cameras.at(0), config.width, config.height, config.jitter,
                                 config.seed);
-  b.primary_hits = trace_batch_cpu(bvh, b.primary, false, config.threads);
+  b.primary_hits = trace_batch_cpu(bvh, b.primary, QueryKind::kClosest, config.threads);
   b.primary_hit_count = static_cast<std::size_t>(std::count_if(
       b.primary_hits.begin(), b.primary_hits.end(), [](const gpu::Hit& h) { return h.prim >= 0; }));
   b.scene_diagonal = bvh.bounds.empty() ? 0.0f : glm::length(bvh.bounds.extent());

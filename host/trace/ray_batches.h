@@ -28,13 +28,16 @@
 #include "bvh/gpu_layout.h"
 #include "gpu_types.h"
 #include "scene/scene.h"
+#include "trace/query_kind.h"
 
 namespace hrpp {
 
 enum class RayKind { kPrimary, kAo, kDiffuse };
 const char* ray_kind_name(RayKind kind);  // "primary", "ao", "diffuse"
-// Closest-hit kinds (primary, diffuse) versus any-hit kinds (AO).
-inline bool is_any_hit_kind(RayKind kind) { return kind == RayKind::kAo; }
+// The query of a batch kind: closest hit (primary, diffuse) or any hit (AO).
+inline QueryKind query_kind(RayKind kind) {
+  return kind == RayKind::kAo ? QueryKind::kAny : QueryKind::kClosest;
+}
 // The kind ray_kind_name() calls `name`, if any.
 std::optional<RayKind> ray_kind_named(std::string_view name);
 
@@ -90,9 +93,9 @@ void parallel_ranges(std::size_t n, int threads,
 // use the hits format: prim 0 occluded, -1 free, t = u = v = 0.
 // The same into `hits` (one per ray), which the caller allocated (benchmarks time the trace
 // alone).
-void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, bool any_hit,
+void trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays, QueryKind kind,
                      std::span<gpu::Hit> hits, int threads = 0);
 std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ray> rays,
-                                      bool any_hit, int threads = 0);
+                                      QueryKind kind, int threads = 0);
 
 }  // namespace hrpp

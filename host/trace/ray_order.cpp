@@ -18,20 +18,6 @@ std::uint32_t ray_sort_cell(float o, float lo, float scale) {
 
 }  // namespace
 
-const char* ray_order_name(RayOrder o) {
-  switch (o) {
-    case RayOrder::kOff: return "off";
-    case RayOrder::kMorton: return "morton";
-  }
-  return "?";
-}
-
-const std::map<std::string, RayOrder>& ray_order_names() {
-  static const std::map<std::string, RayOrder> kNames = {{"off", RayOrder::kOff},
-                                                          {"morton", RayOrder::kMorton}};
-  return kNames;
-}
-
 RaySortGrid ray_sort_grid(const Aabb& bounds) {
   RaySortGrid g;
   if (bounds.empty()) return g;

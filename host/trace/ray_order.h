@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "bvh/aabb.h"
+#include "common/name_table.h"
 #include "gpu_types.h"
 
 namespace hrpp {
@@ -22,9 +23,9 @@ enum class RayOrder {
   kOff,     // as produced
   kMorton,  // by ray_sort_key: octant, then the Morton code of the origin's cell
 };
-const char* ray_order_name(RayOrder o);
-// Name → value, for the command line (CLI11's CheckedTransformer).
-const std::map<std::string, RayOrder>& ray_order_names();
+inline constexpr NameTable<RayOrder, 2> kRayOrderNames = {
+    {{RayOrder::kOff, "off"}, {RayOrder::kMorton, "morton"}}};
+constexpr const char* ray_order_name(RayOrder o) { return name_in(kRayOrderNames, o); }
 
 // The grid the key quantizes origins in: cells per unit length on each axis from `lo`.
 struct RaySortGrid {

@@ -94,7 +94,7 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
     }
   }
   if (entry < 0) {
-    if (hrpp.policy != HRPP_POLICY_LRU) return kHrppDropped;
+    if (hrpp.policy == HRPP_POLICY_NONE) return kHrppDropped;
     uint victim = base;
     for (uint w = 1u; w < hrpp.ways; ++w)
       if (hrpp_stamps[base + w] < hrpp_stamps[victim]) victim = base + w;
