@@ -102,10 +102,10 @@ TEST(HrppRender, SampleFramesRenderTheImageOfHrppOff) {
     EXPECT_LT(f.classes[k].sampled, f.classes[k].counters.rays) << what;
     EXPECT_LE(f.classes[k].predictor.c[HRPP_PC_PROBES], f.classes[k].sampled) << what;
     EXPECT_EQ(f.classes[k].traced, f.classes[k].counters.rays) << what;  // every ray, plainly
-    EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + "hrpp_predict"), 0u)
+    EXPECT_GT(f.classes[k].kernels_ms.count(TimerLabel{Kernel::hrpp_predict, Phase::kSample}), 0u)
         << what;
     // The empty dispatch that measures a dispatch's fixed cost ran and was timed.
-    EXPECT_GT(f.classes[k].kernels_ms.count(std::string(kSampleLabel) + kEmptyDispatchLabel), 0u)
+    EXPECT_GT(f.classes[k].kernels_ms.count(TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty}), 0u)
         << what;
     EXPECT_GT(f.decisions[k].dispatch_ms, 0.0) << what;
     // (Visit counts vary run to run by a few: a lane's extra steps depend on its subgroup's

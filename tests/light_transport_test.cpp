@@ -485,7 +485,7 @@ std::vector<gpu::OffsetRayResult> offset_rays_on_device(
   StorageBuffer out(ctx, cases.size() * sizeof(gpu::OffsetRayResult), "offset ray results");
   in.upload(std::span<const gpu::OffsetRayCase>(cases));
   out.fill(0xFFFFFFFFu);
-  ComputePipeline p(ctx, "render_offset_rays", embedded_spirv("render_offset_rays"),
+  ComputePipeline p(ctx, Kernel::render_offset_rays, embedded_spirv(Kernel::render_offset_rays),
                     HRPP_OFFSET_RAYS_BINDING_COUNT, sizeof(std::uint32_t));
   p.bind(HRPP_OFFSET_RAYS_BINDING_CASES, in);
   p.bind(HRPP_OFFSET_RAYS_BINDING_RESULTS, out);

@@ -12,7 +12,8 @@ namespace hrpp {
 
 struct ComputePipeline::State {
   VkDevice device = VK_NULL_HANDLE;
-  std::string name;
+  Kernel kernel{};
+  std::string name;  // the kernel's, for error messages
   std::uint32_t push_bytes = 0;
   VkShaderModule module = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
@@ -39,11 +40,11 @@ struct ComputePipeline::State {
   }
 };
 
-ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
+ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
                                  std::span<const std::uint32_t> spirv, std::uint32_t binding_count,
                                  std::uint32_t push_constant_bytes,
                                  std::span<const SpecializationConstant> specialization)
-    : ComputePipeline(ctx, std::move(name), spirv,
+    : ComputePipeline(ctx, kernel, spirv,
                       std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
                       push_constant_bytes, specialization) {}
 
@@ -130,7 +131,7 @@ void ComputePipeline::State::create_descriptor_set() {
   check_vk(vkAllocateDescriptorSets(device, &dai, &set), "vkAllocateDescriptorSets" + what());
 }
 
-ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
+ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
                                  std::span<const std::uint32_t> spirv,
                                  std::span<const VkDescriptorType> binding_types,
                                  std::uint32_t push_constant_bytes,
@@ -138,7 +139,8 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, std::string name,
     : s_(std::make_unique<State>()) {
   State& s = *s_;
   s.device = ctx.device();
-  s.name = std::move(name);
+  s.kernel = kernel;
+  s.name = kernel_name(kernel);
   s.push_bytes = push_constant_bytes;
   s.types.assign(binding_types.begin(), binding_types.end());
   s.create_module(spirv);
@@ -178,7 +180,7 @@ void ComputePipeline::bind(std::uint32_t binding, const TexelView& view) {
   vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
 }
 
-const std::string& ComputePipeline::name() const { return s_->name; }
+Kernel ComputePipeline::kernel() const { return s_->kernel; }
 VkPipeline ComputePipeline::pipeline() const { return s_->pipeline; }
 VkPipelineLayout ComputePipeline::layout() const { return s_->layout; }
 VkDescriptorSet ComputePipeline::descriptor_set() const { return s_->set; }
@@ -189,7 +191,7 @@ struct KernelTimer::State {
   VkQueryPool pool = VK_NULL_HANDLE;
   std::uint32_t capacity = 0;  // dispatches
   double period_ns = 0.0;
-  std::vector<std::string> kernels;  // of the dispatches since reset()
+  std::vector<TimerLabel> kernels;  // of the dispatches since reset()
 
   ~State() {
     if (pool) vkDestroyQueryPool(device, pool, nullptr);
@@ -220,11 +222,11 @@ void KernelTimer::reset(VkCommandBuffer cmd) {
   if (s_->pool) vkCmdResetQueryPool(cmd, s_->pool, 0, 2 * s_->capacity);
 }
 
-void KernelTimer::begin(VkCommandBuffer cmd, const std::string& kernel) {
+void KernelTimer::begin(VkCommandBuffer cmd, const TimerLabel& label) {
   if (s_->kernels.size() >= s_->capacity)
     throw Error("KernelTimer: more than " + std::to_string(s_->capacity) +
                 " timed dispatches in one submit");
-  s_->kernels.push_back(kernel);
+  s_->kernels.push_back(label);
   if (s_->pool)
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, s_->pool,
                         static_cast<std::uint32_t>(2 * (s_->kernels.size() - 1)));
@@ -236,8 +238,8 @@ void KernelTimer::end(VkCommandBuffer cmd) {
                         static_cast<std::uint32_t>(2 * s_->kernels.size() - 1));
 }
 
-std::map<std::string, double> KernelTimer::read_ms() const {
-  std::map<std::string, double> ms;
+std::map<TimerLabel, double> KernelTimer::read_ms() const {
+  std::map<TimerLabel, double> ms;
   const std::uint32_t n = static_cast<std::uint32_t>(s_->kernels.size());
   if (n == 0) return ms;
   std::vector<std::uint64_t> ticks(2 * n, 0);
@@ -282,9 +284,9 @@ void compute_to_compute_barrier(VkCommandBuffer cmd) {
 }  // namespace
 
 void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
-                     std::uint32_t groups, KernelTimer* timer, std::string_view label) {
+                     std::uint32_t groups, KernelTimer* timer, std::optional<TimerLabel> label) {
   bind_and_push(cmd, pipeline, push);
-  if (timer) timer->begin(cmd, label.empty() ? pipeline.name() : std::string(label));
+  if (timer) timer->begin(cmd, label.value_or(TimerLabel{pipeline.kernel()}));
   vkCmdDispatch(cmd, groups, 1, 1);
   if (timer) timer->end(cmd);
   compute_to_compute_barrier(cmd);
@@ -292,9 +294,9 @@ void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const
 
 void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
                               const void* push, const StorageBuffer& args, VkDeviceSize offset,
-                              KernelTimer* timer, std::string_view label) {
+                              KernelTimer* timer, std::optional<TimerLabel> label) {
   bind_and_push(cmd, pipeline, push);
-  if (timer) timer->begin(cmd, label.empty() ? pipeline.name() : std::string(label));
+  if (timer) timer->begin(cmd, label.value_or(TimerLabel{pipeline.kernel()}));
   vkCmdDispatchIndirect(cmd, args.handle(), offset);
   if (timer) timer->end(cmd);
   compute_to_compute_barrier(cmd);

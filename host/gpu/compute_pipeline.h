@@ -6,11 +6,15 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 
 #include <vulkan/vulkan.h>
+
+#include "hrpp/timer_label.h"
+#include "kernel_names.h"
 
 namespace hrpp {
 
@@ -25,14 +29,15 @@ struct SpecializationConstant {
 
 class ComputePipeline {
  public:
+  // `kernel`: what its dispatches are timed and named as (the SPIR-V may be a variant of it).
   // `binding_count` storage buffers at bindings 0..binding_count-1 of set 0.
-  ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
+  ComputePipeline(VulkanContext& ctx, Kernel kernel, std::span<const std::uint32_t> spirv,
                   std::uint32_t binding_count, std::uint32_t push_constant_bytes,
                   std::span<const SpecializationConstant> specialization = {});
   // Binding i of set 0 has descriptor type binding_types[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
   // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER or VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER (a
   // kernel's vec4 stores: one per lane instead of one per 32-bit word on lavapipe).
-  ComputePipeline(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv,
+  ComputePipeline(VulkanContext& ctx, Kernel kernel, std::span<const std::uint32_t> spirv,
                   std::span<const VkDescriptorType> binding_types,
                   std::uint32_t push_constant_bytes,
                   std::span<const SpecializationConstant> specialization = {});
@@ -47,7 +52,8 @@ class ComputePipeline {
   // Same for a uniform or storage texel buffer binding.
   void bind(std::uint32_t binding, const TexelView& view);
 
-  const std::string& name() const;
+  Kernel kernel() const;
+  const char* name() const { return kernel_name(kernel()); }
   VkPipeline pipeline() const;
   VkPipelineLayout layout() const;
   VkDescriptorSet descriptor_set() const;
@@ -72,10 +78,10 @@ class KernelTimer {
   bool has_timestamps() const;
   // Call once at the start of each command buffer that times dispatches.
   void reset(VkCommandBuffer cmd);
-  void begin(VkCommandBuffer cmd, const std::string& kernel);
+  void begin(VkCommandBuffer cmd, const TimerLabel& label);
   void end(VkCommandBuffer cmd);
-  // After the submit has finished: milliseconds per kernel name for the dispatches since reset().
-  std::map<std::string, double> read_ms() const;
+  // After the submit has finished: milliseconds per label for the dispatches since reset().
+  std::map<TimerLabel, double> read_ms() const;
 
  private:
   struct State;
@@ -83,16 +89,18 @@ class KernelTimer {
 };
 
 // Records push constants + bind + dispatch of `groups` workgroups along x, timed when `timer` is
-// given (under `label`, or the pipeline's name), then a compute→compute barrier so the next
+// given (under `label`, or the pipeline's kernel), then a compute→compute barrier so the next
 // dispatch sees this one's writes.
 void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const void* push,
-                     std::uint32_t groups, KernelTimer* timer, std::string_view label = {});
+                     std::uint32_t groups, KernelTimer* timer,
+                     std::optional<TimerLabel> label = std::nullopt);
 // The same with the workgroup counts read on the device from a VkDispatchIndirectCommand at
 // `offset` in `args` (written by an earlier dispatch: make it visible to
 // VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT first, e.g. with indirect_args_barrier).
 void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
                               const void* push, const StorageBuffer& args, VkDeviceSize offset,
-                              KernelTimer* timer, std::string_view label = {});
+                              KernelTimer* timer,
+                              std::optional<TimerLabel> label = std::nullopt);
 // Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
 void indirect_args_barrier(VkCommandBuffer cmd);
 // Writes `bytes` (at most 65536, a multiple of 4) of `data` into `dst` at `offset` (record a

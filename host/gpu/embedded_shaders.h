@@ -6,10 +6,15 @@
 #include <span>
 #include <string_view>
 
+#include "kernel_names.h"
+
 namespace hrpp {
 
 // The SPIR-V words of kernel `name` ("trace_closest", "trace_any"); throws hrpp::Error for an
 // unknown name.
 std::span<const std::uint32_t> embedded_spirv(std::string_view name);
+inline std::span<const std::uint32_t> embedded_spirv(Kernel k) {
+  return embedded_spirv(kernel_name(k));
+}
 
 }  // namespace hrpp

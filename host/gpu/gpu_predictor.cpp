@@ -61,9 +61,9 @@ std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uin
 ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up, bool counts) {
   const SpecializationConstant spec[] = {{HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
                                          {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u}};
-  return ComputePipeline(ctx, "hrpp_predict",
-                         embedded_spirv(query_kind(c) == QueryKind::kAny ? "hrpp_predict_any"
-                                                                      : "hrpp_predict"),
+  return ComputePipeline(ctx, Kernel::hrpp_predict,
+                         embedded_spirv(query_kind(c) == QueryKind::kAny ? Kernel::hrpp_predict_any
+                                                                      : Kernel::hrpp_predict),
                          kStageBindingTypes, sizeof(gpu::StagePushConstants), spec);
 }
 
@@ -89,9 +89,9 @@ struct Table {
         tag_view(ctx, tags),
         slot_view(ctx, slots),
         predicts{make_predict(ctx, c, p.go_up, false), make_predict(ctx, c, p.go_up, true)},
-        resolve(ctx, "hrpp_resolve", embedded_spirv("hrpp_resolve"), kStageBindingTypes,
+        resolve(ctx, Kernel::hrpp_resolve, embedded_spirv(Kernel::hrpp_resolve), kStageBindingTypes,
                 sizeof(gpu::StagePushConstants)),
-        insert(ctx, "hrpp_insert", embedded_spirv("hrpp_insert"), HRPP_TABLE_BINDING_COUNT,
+        insert(ctx, Kernel::hrpp_insert, embedded_spirv(Kernel::hrpp_insert), HRPP_TABLE_BINDING_COUNT,
                sizeof(gpu::InsertPushConstants)) {
     clear();
     upload_params();
@@ -145,7 +145,7 @@ struct Queue {
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters"),
         trace(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
               sizeof(gpu::TracePushConstants)),
-        pass_args(ctx, "hrpp_pass_args", embedded_spirv("hrpp_pass_args"), 1,
+        pass_args(ctx, Kernel::hrpp_pass_args, embedded_spirv(Kernel::hrpp_pass_args), 1,
                   sizeof(gpu::StagePushConstants)) {
     trace.bind(HRPP_TRACE_BINDING_COUNTERS, trace_counters);
     pass_args.bind(0, state);
@@ -187,17 +187,16 @@ struct GpuPredictor::State {
   }
 
   // One round of predict → trace of the queue → resolve over the rays of `pilot_pass`
-  // (HRPP_PASS_*: shaders/shared/hrpp_passes.h), timed under labels
-  // "<prefix><kernel>:<class>".
+  // (HRPP_PASS_*: shaders/shared/hrpp_passes.h), timed under {kernel, `phase`, class}.
   void record_pass(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
                    const gpu::TracePushConstants& trace_pc, std::uint32_t pilot_pass,
-                   KernelTimer* timer, std::uint32_t stride = 0, const std::string& prefix = "") {
+                   KernelTimer* timer, std::uint32_t stride = 0, Phase phase = Phase::kRun) {
     // A pass over a fraction of the rays launches only the workgroups that have some: the
     // host's count sizes it, or hrpp_pass_args.comp on the device (not the trace's indirect
     // arguments, a workgroup per trace_group_rays of every ray).
     const bool fraction = pilot_pass == HRPP_PASS_PILOTS || pilot_pass == HRPP_PASS_SAMPLE;
     const gpu::StagePushConstants spc = stage_push(trace_pc, pilot_pass, stride);
-    const std::string label = prefix + "hrpp_predict:" + ray_class_name(c);
+    const TimerLabel label{Kernel::hrpp_predict, phase, c};
     if (count.host) {
       const std::uint32_t per_group = spc.trace_group_rays;
       const std::uint32_t n = gpu::hrpp_pass_ray_count(*count.host, pilot_pass, spc.pilot_stride);
@@ -213,7 +212,7 @@ struct GpuPredictor::State {
       record_dispatch_indirect(cmd, table(c).predict(), &spc, q.state,
                                offsetof(gpu::PredictQueue, predict_groups), timer, label);
     }
-    record_queue_trace(cmd, c, trace_pc, timer, prefix);
+    record_queue_trace(cmd, c, trace_pc, timer, phase);
   }
 
   // Empties the queue (its cursors and indirect arguments) for another round; the answer counts
@@ -250,20 +249,19 @@ struct GpuPredictor::State {
   // The trace over the queue and the resolve pass, after hrpp_predict: the trace's ray count
   // is the queue's size, both dispatched indirectly from the queue.
   void record_queue_trace(VkCommandBuffer cmd, RayClass c, const gpu::TracePushConstants& trace_pc,
-                          KernelTimer* timer, const std::string& prefix = "") {
+                          KernelTimer* timer, Phase phase = Phase::kRun) {
     Queue& q = queue(c);
-    const std::string cls = std::string(":") + ray_class_name(c);
     indirect_args_barrier(cmd);
     record_copy(cmd, q.state, offsetof(gpu::PredictQueue, queued), q.trace_counters,
                 offsetof(gpu::TraceCounters, ray_count), sizeof(std::uint32_t));
     transfer_compute_barrier(cmd);
     record_dispatch_indirect(cmd, q.trace, &trace_pc, q.state,
                              offsetof(gpu::PredictQueue, trace_groups), timer,
-                             prefix + q.trace.name() + cls);
+                             TimerLabel{q.trace.kernel(), phase, c});
     const gpu::StagePushConstants spc = stage_push(trace_pc);
     record_dispatch_indirect(cmd, table(c).resolve, &spc, q.state,
                              offsetof(gpu::PredictQueue, resolve_groups), timer,
-                             prefix + "hrpp_resolve" + cls);
+                             TimerLabel{Kernel::hrpp_resolve, phase, c});
   }
 };
 
@@ -410,10 +408,10 @@ void GpuPredictor::record_sample(VkCommandBuffer cmd, RayClass c, const RayCount
                                  KernelTimer* timer) {
   s_->start_queue(cmd, c, count, clock);
   s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, s_->config.sample,
-                  kSampleLabel);
+                  Phase::kSample);
   const gpu::StagePushConstants none = s_->stage_push(trace_pc, HRPP_PASS_NONE);
   record_dispatch(cmd, s_->table(c).predict(), &none, 1, timer,
-                  std::string(kSampleLabel) + kEmptyDispatchLabel + ":" + ray_class_name(c));
+                  TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty, c});
 }
 
 void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
@@ -452,7 +450,7 @@ PredictedTrace GpuPredictor::finish(RayClass c, bool sampled) const {
   const std::uint32_t pass = sampled ? HRPP_PASS_SAMPLE : HRPP_PASS_ALL;
   if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->config.sample) || state.resolve_done != out.queued || state.aborted != 0 ||
       traced.aborted != 0)
-    throw Error("hrpp_predict / " + q.trace.name() + " / hrpp_resolve: only " +
+    throw Error(std::string("hrpp_predict / ") + q.trace.name() + " / hrpp_resolve: only " +
                 std::to_string(answered) + " of " + std::to_string(state.ray_count) +
                 " rays answered (" + std::to_string(state.aborted + traced.aborted) +
                 " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "

@@ -51,11 +51,6 @@ struct PredictedTrace {
   std::uint64_t queued = 0;             // rays the trace kernel traced
 };
 
-// The timer-label prefix of a sample's kernels (GpuPredictor::record_sample).
-inline constexpr const char* kSampleLabel = "sample_";
-// The kernel name of a sample's empty dispatch (HRPP_PASS_NONE): what one dispatch costs.
-inline constexpr const char* kEmptyDispatchLabel = "hrpp_empty";
-
 class GpuPredictor {
  public:
   // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
@@ -83,15 +78,14 @@ class GpuPredictor {
 
   // Before recording a class's traces: zeroes its predictor counters (host write).
   void begin(RayClass c);
-  // Records the predicted trace of the class's rays, kernels timed under
-  // "<kernel>:<class>" labels. `clock`: use stamp of ray 0 (LRU). Not in batched mode.
+  // Records the predicted trace of the class's rays, kernels timed under {kernel, class}
+  // labels (hrpp/timer_label.h). `clock`: use stamp of ray 0 (LRU). Not in batched mode.
   void record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
               const gpu::TracePushConstants& trace_pc, std::uint32_t clock, KernelTimer* timer);
   // Records the HRPP stage over a sample of the class's rays (every config().sample-th), its
-  // kernels timed under "<kSampleLabel><kernel>:<class>": the adaptive predictor's sample
-  // frame, which then traces every ray with the plain kernel. Then one hrpp_predict dispatch
-  // over no ray, timed as "<kSampleLabel><kEmptyDispatchLabel>:<class>": the fixed cost of a
-  // dispatch, which weighs 1/sample as much per ray in a frame that predicts every ray. Not in
+  // kernels timed in Phase::kSample: the adaptive predictor's sample frame, which then traces
+  // every ray with the plain kernel. Then one hrpp_predict dispatch over no ray, timed in
+  // Phase::kSampleEmpty: the fixed cost of a dispatch, which weighs 1/sample as much per ray in a frame that predicts every ray. Not in
   // batched mode.
   void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
                      const gpu::TracePushConstants& trace_pc, std::uint32_t clock,

@@ -27,7 +27,7 @@ std::vector<std::uint64_t> hash_rays_on_gpu(VulkanContext& ctx, const gpu::HashP
   ray_buf.upload(rays);
   key_buf.fill(0xFFFFFFFFu);  // poison: no key has bits above 47
   param_buf.upload(&params, sizeof params);
-  ComputePipeline p(ctx, "hrpp_hash_rays", embedded_spirv("hrpp_hash_rays"),
+  ComputePipeline p(ctx, Kernel::hrpp_hash_rays, embedded_spirv(Kernel::hrpp_hash_rays),
                     HRPP_HASH_BINDING_COUNT, sizeof(std::uint32_t));
   p.bind(HRPP_HASH_BINDING_RAYS, ray_buf);
   p.bind(HRPP_HASH_BINDING_KEYS, key_buf);

@@ -115,8 +115,7 @@ struct QueryArrays {
                  std::string(query_kind_label(kind)) + " trace counters"),
         kernel(c, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
                sizeof(gpu::TracePushConstants), spec),
-        indexed(c, kernel.name(),
-                embedded_spirv(trace_indexed_kernel(kind)),
+        indexed(c, kernel.kernel(), embedded_spirv(trace_indexed_kernel(kind)),
                 kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants), spec) {
     for (ComputePipeline* k : {&kernel, &indexed}) k->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
   }
@@ -247,8 +246,8 @@ struct GpuTracer::State {
     transfer_compute_barrier(cmd);
   }
 
-  static std::string label(const ComputePipeline& p, RayClass c) {
-    return p.name() + ":" + ray_class_name(c);
+  static TimerLabel label(const ComputePipeline& p, RayClass c) {
+    return {p.kernel(), Phase::kRun, c};
   }
 
   // The plain trace kernel, or with `ray_indices` its indexed twin reading them.
@@ -306,7 +305,7 @@ struct GpuTracer::State {
     out.counters = traversal_counters(k);
     const std::uint64_t done = out.counters.rays;
     if (done != k.ray_count || k.aborted != 0)
-      throw Error(query(c).kernel.name() + ": only " + std::to_string(done) + " of " +
+      throw Error(std::string(query(c).kernel.name()) + ": only " + std::to_string(done) + " of " +
                   std::to_string(k.ray_count) + " rays finished (" + std::to_string(k.aborted) +
                   " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
                   "subgroup) ended the kernel's loops at " +
@@ -426,9 +425,9 @@ GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c, RaySorte
       s_->query(c).kernel.name());
   if (sorted) sorter->finish(n);
   GpuTraceResult out = s_->finish(c);
-  for (const auto& [kernel, ms] : s_->timer.read_ms()) {
+  for (const auto& [label, ms] : s_->timer.read_ms()) {
     out.kernel_ms += ms;
-    if (kernel == RaySorter::kTimerLabel) out.sort_ms += ms;
+    if (is_ray_sort(label.kernel)) out.sort_ms += ms;
   }
   return out;
 }

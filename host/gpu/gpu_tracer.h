@@ -98,7 +98,7 @@ class GpuTracer {
   //                           hrpp::Error naming the loop limiter otherwise), returns the
   //                           counters (hits left empty) and HRPP counters since begin.
   // One trace per query kind (hit-all, hit-any) per command buffer. Dispatches are timed with
-  // `timer` when given, under "<kernel>:<class>" labels.
+  // `timer` when given, under {kernel, class} labels (hrpp/timer_label.h).
   void begin(RayClass c);
   void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
               const TexelView* ray_indices = nullptr);

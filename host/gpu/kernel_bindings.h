@@ -12,6 +12,7 @@
 #include <vulkan/vulkan.h>
 
 #include "hrpp_interface.h"
+#include "kernel_names.h"
 #include "trace/query_kind.h"
 #include "trace_interface.h"
 
@@ -55,11 +56,11 @@ static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
 
 // The trace kernel of a query kind (shaders/trace_closest.comp, shaders/trace_any.comp) and its
 // indexed variant (trace_*_indexed.comp).
-constexpr const char* trace_kernel(QueryKind k) {
-  return k == QueryKind::kAny ? "trace_any" : "trace_closest";
+constexpr Kernel trace_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? Kernel::trace_any : Kernel::trace_closest;
 }
-constexpr const char* trace_indexed_kernel(QueryKind k) {
-  return k == QueryKind::kAny ? "trace_any_indexed" : "trace_closest_indexed";
+constexpr Kernel trace_indexed_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? Kernel::trace_any_indexed : Kernel::trace_closest_indexed;
 }
 
 }  // namespace hrpp

@@ -66,11 +66,11 @@ struct RaySorter::State {
                "ray sort counts"),
         order(c, order_bytes(max_rays), "ray sort order"),
         order_view(c, order),
-        keys(pipeline(c, "ray_sort_keys")),
-        count(pipeline(c, "ray_sort_count")),
-        scan(pipeline(c, "ray_sort_scan")),
-        scatter(pipeline(c, "ray_sort_scatter")),
-        gather(pipeline(c, "ray_sort_gather")),
+        keys(pipeline(c, Kernel::ray_sort_keys)),
+        count(pipeline(c, Kernel::ray_sort_count)),
+        scan(pipeline(c, Kernel::ray_sort_scan)),
+        scatter(pipeline(c, Kernel::ray_sort_scatter)),
+        gather(pipeline(c, Kernel::ray_sort_gather)),
         timer(c, 2 + 3 * HRPP_SORT_PASSES) {
     for (ComputePipeline* p : all()) {
       p->bind(HRPP_SORT_BINDING_ITEMS, items);
@@ -85,8 +85,8 @@ struct RaySorter::State {
                   std::to_string(RaySorter::kMaxRays) + " one sort takes");
   }
 
-  static ComputePipeline pipeline(VulkanContext& c, const char* name) {
-    return ComputePipeline(c, name, embedded_spirv(name), kSortBindingTypes,
+  static ComputePipeline pipeline(VulkanContext& c, Kernel kernel) {
+    return ComputePipeline(c, kernel, embedded_spirv(kernel), kSortBindingTypes,
                            sizeof(gpu::RaySortPushConstants));
   }
 
@@ -119,15 +119,15 @@ struct RaySorter::State {
     gpu::RaySortPushConstants pc = push_constants(n);
     const std::uint32_t half = static_cast<std::uint32_t>(max_rays);
     pc.dst = 0;
-    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
+    record_dispatch(cmd, keys, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t);
     for (std::uint32_t pass = 0; pass < HRPP_SORT_PASSES; ++pass) {
       pc.shift = pass * HRPP_SORT_DIGIT_BITS;
       pc.src = (pass % 2) * half;
       pc.dst = ((pass + 1) % 2) * half;
       const std::uint32_t block_groups = groups(pc.blocks, HRPP_SORT_WORKGROUP_SIZE);
-      record_dispatch(cmd, count, &pc, block_groups, t, kTimerLabel);
-      record_dispatch(cmd, scan, &pc, 1, t, kTimerLabel);
-      record_dispatch(cmd, scatter, &pc, block_groups, t, kTimerLabel);
+      record_dispatch(cmd, count, &pc, block_groups, t);
+      record_dispatch(cmd, scan, &pc, 1, t);
+      record_dispatch(cmd, scatter, &pc, block_groups, t);
     }
   }
 
@@ -136,7 +136,7 @@ struct RaySorter::State {
     gathered = true;
     if (n == 0) return;
     const gpu::RaySortPushConstants pc = push_constants(n);
-    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t, kTimerLabel);
+    record_dispatch(cmd, gather, &pc, groups(n, HRPP_SORT_WORKGROUP_SIZE), t);
   }
 
   void finish(std::uint32_t n) const {

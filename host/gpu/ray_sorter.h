@@ -35,9 +35,6 @@ class RaySorter {
  public:
   // Most rays one sort takes: the item array's two halves fill one storage buffer's range.
   static constexpr std::size_t kMaxRays = std::size_t{1} << 22;
-  // The label the sort's dispatches are timed under.
-  static constexpr const char* kTimerLabel = "ray_sort";
-
   // Sorts up to `max_rays` rays at once, keys quantized in `bounds` (the scene's). Throws
   // hrpp::Error when max_rays exceeds what one storage buffer holds.
   RaySorter(VulkanContext& ctx, const Aabb& bounds, std::size_t max_rays);
@@ -48,7 +45,8 @@ class RaySorter {
   // The rays record() reads, in queue order (2 texels per ray).
   void bind_rays(const TexelView& rays);
   // Records the sort of the first `count` rays into `cmd`: keys, then the radix passes, whose
-  // last writes the order. Dispatches are timed under kTimerLabel when `timer` is given.
+  // last writes the order. Dispatches are timed under their kernels when `timer` is given
+  // (reported together as "ray_sort": hrpp/timer_label.h).
   void record(VkCommandBuffer cmd, std::uint32_t count, KernelTimer* timer);
   // The order once a recorded sort has run: entry j (uint, 4 per 16-byte texel) is the queue
   // index of the ray at sorted position j. Valid until the next sort.

@@ -1,8 +1,41 @@
 #include "hrpp/adaptive_predictor.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace hrpp {
+
+namespace {
+
+bool is_trace_kernel(Kernel k) {
+  return k == Kernel::trace_closest || k == Kernel::trace_any ||
+         k == Kernel::trace_closest_indexed || k == Kernel::trace_any_indexed;
+}
+
+}  // namespace
+
+void add_kernel_times(ClassFrameCost& cost, const std::map<TimerLabel, double>& kernels_ms) {
+  for (const auto& [label, ms] : kernels_ms) {
+    const bool predict = label.kernel == Kernel::hrpp_predict;
+    const bool resolve = label.kernel == Kernel::hrpp_resolve;
+    if (!predict && !resolve && !is_trace_kernel(label.kernel))
+      throw std::logic_error(std::string("kernel ") + kernel_name(label.kernel) +
+                             " timed for a ray class");
+    switch (label.phase) {
+      case Phase::kSampleEmpty:
+        cost.empty_dispatch_ms += ms;
+        break;
+      case Phase::kSample:
+        cost.sample_ms += ms;
+        if (predict || resolve) cost.sample_stage_ms += ms;
+        break;
+      case Phase::kRun:
+        (predict ? cost.predict_ms : resolve ? cost.resolve_ms : cost.trace_ms) += ms;
+        break;
+    }
+  }
+}
 
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
     : adaptive_(config.adapts()), passes_(config.pilot >= 2 ? 2 : 1) {

@@ -25,9 +25,11 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 
 #include "common/name_table.h"
 #include "hrpp/predictor_config.h"
+#include "hrpp/timer_label.h"
 #include "hrpp/ray_class.h"
 
 namespace hrpp {
@@ -77,6 +79,11 @@ struct ClassFrameCost {
 
   double cost_ms() const { return predict_ms + trace_ms + resolve_ms; }
 };
+
+// Books one frame's device times of a class (labels without the class) into `cost`: by phase
+// (the frame's own work, the sample, the sample's empty dispatch) and by kernel (hrpp_predict,
+// hrpp_resolve, the trace kernels). Throws std::logic_error for a kernel that no class runs.
+void add_kernel_times(ClassFrameCost& cost, const std::map<TimerLabel, double>& kernels_ms);
 
 // One frame's decision for one class.
 struct ClassDecision {

@@ -2,6 +2,12 @@
 
 namespace hrpp {
 
+std::map<std::string, double> times_by_name(const std::map<TimerLabel, double>& kernels_ms) {
+  std::map<std::string, double> named;
+  for (const auto& [label, ms] : kernels_ms) named[label_name(label)] += ms;
+  return named;
+}
+
 RayClassStats& RayClassStats::operator+=(const RayClassStats& o) {
   counters += o.counters;
   predictor += o.predictor;

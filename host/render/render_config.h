@@ -14,6 +14,7 @@
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
+#include "hrpp/timer_label.h"
 #include "hrpp_types.h"
 #include "trace/ray_order.h"
 #include "trace/traversal_counters.h"
@@ -47,6 +48,10 @@ struct RenderConfig {
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };
 
+// Device times by their names in reports (label_name: the ray sorter's kernels summed as
+// "ray_sort", a sample's as "sample_<kernel>").
+std::map<std::string, double> times_by_name(const std::map<TimerLabel, double>& kernels_ms);
+
 // Counters and device time of one ray class (camera, bounce, shadow).
 struct RayClassStats {
   TraversalCounters counters;          // verification included when the class probes
@@ -55,7 +60,7 @@ struct RayClassStats {
   std::uint64_t predicted_traces = 0;  // of those, through the HRPP stage
   std::uint64_t traced = 0;            // rays the trace kernel traced (HRPP: the queues)
   std::uint64_t sampled = 0;           // HRPP sample frames: rays that ran the HRPP stage
-  std::map<std::string, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve
+  std::map<TimerLabel, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve (no class)
 
   RayClassStats& operator+=(const RayClassStats& o);
 };
@@ -63,7 +68,7 @@ struct RayClassStats {
 // One frame = one sample pass over every pixel: device time per kernel (timestamps around every
 // dispatch, summed) and counters per ray class.
 struct FrameStats {
-  std::map<std::string, double> kernels_ms;
+  std::map<TimerLabel, double> kernels_ms;  // every dispatch, by label without the class
   PerClass<RayClassStats> classes;
   PerClass<ClassDecision> decisions;  // HRPP on: the adaptive predictor after this frame
   double wall_s = 0.0;  // host wall time

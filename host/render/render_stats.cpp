@@ -22,7 +22,7 @@ json counters_json(const TraversalCounters& c) {
 json class_json(const RayClassStats& s, bool hrpp_on) {
   json j = counters_json(s.counters);
   j["trace_dispatches"] = s.traces;
-  j["kernels_ms"] = s.kernels_ms;
+  j["kernels_ms"] = times_by_name(s.kernels_ms);
   if (hrpp_on) {
     json p;
     for (const CounterKey& k : kPredictorCounterKeys) p[k.key] = s.predictor.c[k.index];
@@ -52,7 +52,7 @@ void add_classes(json& j, const FrameStats& f, bool hrpp_on) {
 }
 
 json frame_json(const FrameStats& f, bool hrpp_on) {
-  json j{{"kernels_ms", f.kernels_ms}, {"wall_s", f.wall_s}};
+  json j{{"kernels_ms", times_by_name(f.kernels_ms)}, {"wall_s", f.wall_s}};
   add_classes(j, f, hrpp_on);
   if (hrpp_on)
     for (RayClass c : kRayClasses) j["hrpp_decisions"][ray_class_name(c)] = decision_json(f.decisions[c]);
@@ -100,7 +100,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                 {"textures", s.textures},
                 {"texel_bytes", s.texel_bytes},
                 {"texture_halvings", s.texture_halvings}};
-  j["kernels_ms"] = s.kernels_ms;
+  j["kernels_ms"] = times_by_name(s.kernels_ms);
   j["kernels_ms_total"] = kernels_total;
   add_classes(j, s, hrpp_on);
   j["totals"] = counters_json(total);
@@ -118,7 +118,7 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
                 s.features.empty() ? "(none)" : json(s.features).dump().c_str());
   out += line;
   double total = 0.0;
-  for (const auto& [k, ms] : s.kernels_ms) {
+  for (const auto& [k, ms] : times_by_name(s.kernels_ms)) {
     std::snprintf(line, sizeof line, "kernel      %-18s %10.3f ms\n", k.c_str(), ms);
     out += line;
     total += ms;

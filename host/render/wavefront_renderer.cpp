@@ -119,13 +119,6 @@ const StorageBuffer& resident_hits(GpuTracer& tracer, RayClass c, std::size_t ra
   return tracer.hit_buffer(c);
 }
 
-// A timer label "<kernel>:<class>" (GpuTracer) split into the two.
-std::pair<std::string, std::string> split_label(const std::string& label) {
-  const std::size_t colon = label.find(':');
-  if (colon == std::string::npos) return {label, ""};
-  return {label.substr(0, colon), label.substr(colon + 1)};
-}
-
 // What one frame of a class cost, for the adaptive predictor.
 ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
   ClassFrameCost c;
@@ -134,25 +127,7 @@ ClassFrameCost frame_cost(const RayClassStats& s, Probe mode) {
   c.traced = s.traced;
   c.sampled = s.sampled;
   c.rounds = s.traces;
-  const std::string_view sample = kSampleLabel;
-  for (const auto& [label, ms] : s.kernels_ms) {
-    const std::string_view kernel = label;
-    const bool in_sample = kernel.starts_with(sample);
-    const std::string_view name = in_sample ? kernel.substr(sample.size()) : kernel;
-    const bool predict = name == "hrpp_predict", resolve = name == "hrpp_resolve";
-    if (in_sample && name == kEmptyDispatchLabel) {
-      c.empty_dispatch_ms += ms;
-    } else if (in_sample) {
-      c.sample_ms += ms;
-      if (predict || resolve) c.sample_stage_ms += ms;
-    } else if (predict) {
-      c.predict_ms += ms;
-    } else if (resolve) {
-      c.resolve_ms += ms;
-    } else {
-      c.trace_ms += ms;
-    }
-  }
+  add_kernel_times(c, s.kernels_ms);
   return c;
 }
 
@@ -202,11 +177,11 @@ struct WavefrontRenderer::State {
         shadow_hit_view(c, resident_hits(tracer, RayClass::kShadow, wave)),
         path_view(c, paths),
         spec(specialization(rs.features)),
-        generate(c, "render_generate", embedded_spirv("render_generate"), kBindingTypes,
+        generate(c, Kernel::render_generate, embedded_spirv(Kernel::render_generate), kBindingTypes,
                  sizeof(gpu::RenderPushConstants), spec),
-        shade(c, "render_shade", embedded_spirv("render_shade"), kBindingTypes,
+        shade(c, Kernel::render_shade, embedded_spirv(Kernel::render_shade), kBindingTypes,
               sizeof(gpu::RenderPushConstants), spec),
-        accumulate(c, "render_accumulate", embedded_spirv("render_accumulate"), kBindingTypes,
+        accumulate(c, Kernel::render_accumulate, embedded_spirv(Kernel::render_accumulate), kBindingTypes,
                    sizeof(gpu::RenderPushConstants), spec),
         timer(c, 48),  // up to 16 HRPP dispatches, 7 of the sort, the render kernels
         adaptive(config.predictor) {
@@ -277,9 +252,8 @@ struct WavefrontRenderer::State {
         },
         what);
     for (const auto& [label, ms] : timer.read_ms()) {
-      const auto [kernel, cls] = split_label(label);
-      stats.kernels_ms[kernel] += ms;
-      if (!cls.empty()) stats.classes[parse_ray_class(cls)].kernels_ms[kernel] += ms;
+      stats.kernels_ms[label.without_class()] += ms;
+      if (label.ray_class) stats.classes[*label.ray_class].kernels_ms[label.without_class()] += ms;
     }
     gpu::RenderQueues q{};
     queues.download(&q, sizeof q);
@@ -395,9 +369,9 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     FrameStats frame;
-    for (const char* k : {"render_generate", "trace_closest", "render_shade", "trace_any",
-                          "render_accumulate"})
-      frame.kernels_ms[k] = 0.0;
+    for (Kernel k : {Kernel::render_generate, Kernel::trace_closest, Kernel::render_shade,
+                     Kernel::trace_any, Kernel::render_accumulate})
+      frame.kernels_ms[TimerLabel{k}] = 0.0;
     for (RayClass c : kRayClasses) s_->tracer.set_probing(c, s_->adaptive.mode(c));
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
