@@ -271,7 +271,7 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
   if (ctx) {
     b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
     b.gpu->warm_up();
-    b.tracers.push_back(std::make_unique<GpuBackend>(*b.gpu, false, false));
+    b.tracers.push_back(std::make_unique<GpuBackend>(*b.gpu));
   }
   b.predictor = o.hrpp.config();
   if (ctx && b.predictor.enabled) {
@@ -279,7 +279,7 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.hrpp->warm_up();
     std::printf("hrpp        %s; ray classes: %s\n", describe(b.predictor).c_str(),
                 ray_class_list(b.predictor.classes).c_str());
-    b.tracers.push_back(std::make_unique<GpuBackend>(*b.hrpp, true, b.predictor.batch != 0));
+    b.tracers.push_back(std::make_unique<GpuBackend>(*b.hrpp));
   }
   report["hrpp"] = predictor_config_json(b.predictor);
   report["hrpp"]["rays"] = ray_class_list(b.predictor.classes);

@@ -116,7 +116,7 @@ void run_trace(const TraceOptions& o) {
 
   // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come
   // from one more run that also counts what full traversals would visit (outside the timings).
-  GpuBackend backend(tracer, predictor.enabled, predictor.batch != 0, sorter.get());
+  GpuBackend backend(tracer, sorter.get());
   TracerRun result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {

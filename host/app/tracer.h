@@ -70,8 +70,11 @@ class GpuBackend final : public Tracer {
  public:
   // `sorter`: sort the rays on the device before each trace and trace them through the order
   // (its time counted; the hits are in the rays' order; GpuTracer::trace).
-  GpuBackend(GpuTracer& tracer, bool hrpp, bool batched, RaySorter* sorter = nullptr)
-      : tracer_(tracer), hrpp_(hrpp), batched_(batched), sorter_(sorter) {}
+  explicit GpuBackend(GpuTracer& tracer, RaySorter* sorter = nullptr)
+      : tracer_(tracer),
+        hrpp_(tracer.predictor_config() != nullptr),
+        batched_(hrpp_ && tracer.predictor_config()->batch > 0),
+        sorter_(sorter) {}
   TracerKind kind() const override { return hrpp_ ? TracerKind::kGpuHrpp : TracerKind::kGpu; }
   const char* name() const override { return hrpp_ ? "gpu-hrpp" : "gpu"; }
   const char* timing() const override;

@@ -346,6 +346,10 @@ GpuTracer& GpuTracer::operator=(GpuTracer&&) noexcept = default;
 
 const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 
+const PredictorConfig* GpuTracer::predictor_config() const {
+  return s_->predictor ? &s_->predictor->config() : nullptr;
+}
+
 GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter) {
   GpuTraceResult out;
   out.hits.resize(rays.size());

@@ -122,6 +122,8 @@ class GpuTracer {
   void warm_up();
 
   const GpuTracerConfig& config() const;
+  // HRPP's configuration; nullptr when the tracer has no predictor (HRPP off).
+  const PredictorConfig* predictor_config() const;
 
   // HRPP on: how class `c` traces through the HRPP stage from the next record on (the adaptive
   // predictor's switch; initially every class the configuration names at Probe::kAll). A sample
