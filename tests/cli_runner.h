@@ -26,17 +26,22 @@ inline std::string read_file(const std::filesystem::path& p) {
   return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
-// `hrpp ARGS` with stdin from /dev/null; stdout and stderr go through files in `dir`.
-inline CliResult run_hrpp(const std::string& args, const std::filesystem::path& dir) {
+// A shell command line with stdin from /dev/null; stdout and stderr go through files in `dir`.
+inline CliResult run_command(const std::string& command_line, const std::filesystem::path& dir) {
   const std::filesystem::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(HRPP_BINARY) + " " + args + " >" + out.string() + " 2>" +
-                          err.string() + " </dev/null";
+  const std::string cmd =
+      command_line + " >" + out.string() + " 2>" + err.string() + " </dev/null";
   const int raw = std::system(cmd.c_str());
   CliResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
   r.out = read_file(out);
   r.err = read_file(err);
   return r;
+}
+
+// `hrpp ARGS`, as run_command.
+inline CliResult run_hrpp(const std::string& args, const std::filesystem::path& dir) {
+  return run_command(std::string(HRPP_BINARY) + " " + args, dir);
 }
 
 // A fixture with a fresh directory per test (removed afterwards) and run() for hrpp commands.

@@ -121,9 +121,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, NodeLayoutTest, testing::ValuesIn(test::referen
 TEST(NodeLayout, NamesRoundTrip) {
   for (const auto& [layout, name] : kNodeLayoutNames) {
     EXPECT_STREQ(node_layout_name(layout), name);
-    EXPECT_EQ(cli_map(kNodeLayoutNames).at(name), layout);
+    EXPECT_EQ(value_map(kNodeLayoutNames).at(name), layout);
   }
-  EXPECT_EQ(cli_map(kNodeLayoutNames).size(), kNodeLayoutNames.size());  // names differ
+  EXPECT_EQ(value_map(kNodeLayoutNames).size(), kNodeLayoutNames.size());  // names differ
 }
 
 }  // namespace

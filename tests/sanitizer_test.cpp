@@ -18,17 +18,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // `ENV PROGRAM ARGS` under the test's environment (the asan preset's), with stdin from /dev/null.
-test::CliResult run_with_env(const std::string& env, const std::string& program, const std::string& args,
-                    const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = env + " " + program + " " + args + " >" + out.string() + " 2>" +
-                          err.string() + " </dev/null";
-  const int raw = std::system(cmd.c_str());
-  test::CliResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-  r.out = test::read_file(out);
-  r.err = test::read_file(err);
-  return r;
+test::CliResult run_with_env(const std::string& env, const std::string& program,
+                             const std::string& args, const fs::path& dir) {
+  return test::run_command(env + " " + program + " " + args, dir);
 }
 
 // The preset's LSAN_OPTIONS followed by `extra` (a later flag overrides an earlier one).
@@ -90,8 +82,8 @@ TEST_F(SanitizerReport, PresetPassesTheProjectSuppressions) {
   EXPECT_NE(r.err.find("leak_probe_lost_block"), std::string::npos) << r.err;
 }
 
-// The test that failed on AMD CPUs only (BadInputCli.ScenesOverTheDeviceMemoryAreRefusedBeforeUpload):
-// hrpp refusing a scene after creating its Vulkan instance, under ASan. The same command runs on
+// The check that failed on AMD CPUs only (BadInputCli.ScenesOverTheDeviceMemoryAreRefused-
+// BeforeUpload): hrpp refusing a scene after creating its Vulkan instance, under ASan. It runs on
 // this CPU, as lavapipe runs on an AMD Zen CPU (CPUID_OVERRIDE=family17h: the driver then keeps
 // the block tests/sanitizers/lsan.supp describes), and without AVX-512; GALLIUM_DUMP_CPU shows
 // which path Mesa took. Every run must end the same way: the refusal, exit 1, no leak report.

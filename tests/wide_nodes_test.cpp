@@ -187,9 +187,9 @@ TEST(WideNodes, ASceneTooWideForTheGridNamesTheOption) {
 TEST(WideNodes, NamesRoundTrip) {
   for (const auto& [format, name] : kNodeFormatNames) {
     EXPECT_STREQ(node_format_name(format), name);
-    EXPECT_EQ(cli_map(kNodeFormatNames).at(name), format);
+    EXPECT_EQ(value_map(kNodeFormatNames).at(name), format);
   }
-  EXPECT_EQ(cli_map(kNodeFormatNames).size(), kNodeFormatNames.size());  // names differ
+  EXPECT_EQ(value_map(kNodeFormatNames).size(), kNodeFormatNames.size());  // names differ
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // One name table per enum: its values and their names, written once, and everything made from
-// it: the name function, the parser (one-line error listing the names), the CLI11 option map and
-// the list for help texts. A new value is one line in its table.
+// it: the name function, the parser (one-line error listing the names), the CLI11 validator
+// (app/cli_names.h) and the list for help texts. A new value is one line in its table.
 #pragma once
 
 #include <array>
@@ -47,9 +47,9 @@ E parse_in(const NameTable<E, N>& table, std::string_view name, std::string_view
   throw Error(std::string(what) + " '" + std::string(name) + "' (" + names_in(table) + ")");
 }
 
-// name -> value, for CLI11's CheckedTransformer.
+// name -> value.
 template <class E, std::size_t N>
-std::map<std::string, E> cli_map(const NameTable<E, N>& table) {
+std::map<std::string, E> value_map(const NameTable<E, N>& table) {
   std::map<std::string, E> m;
   for (const Named<E>& n : table) m.emplace(n.name, n.value);
   return m;
