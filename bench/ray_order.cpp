@@ -52,8 +52,7 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray>
                  const Variant& v, QueryKind query) {
   Timed t;
   if (!v.gather) {
-    GpuTraceResult r =
-        tracer.trace(rays, query, v.order == RayOrder::kOff ? nullptr : &sorter);
+    GpuTraceResult r = tracer.trace(rays, query, v.order == RayOrder::kOff ? nullptr : &sorter);
     t.hits = std::move(r.hits);
     t.trace_ms = r.kernel_ms - r.sort_ms;
     t.sort_ms = r.sort_ms;
@@ -72,14 +71,13 @@ Timed trace_once(GpuTracer& tracer, RaySorter& sorter, std::span<const gpu::Ray>
 // Each variant's lane use of the interior-node loop: one more, untimed trace by the layout's
 // counting tracer (GpuTracerConfig::count_steps: a kernel variant that counts subgroup steps).
 std::vector<double> lane_uses(std::unique_ptr<GpuTracer> (&counting)[2], RaySorter& sorter,
-                              std::span<const gpu::Ray> batch,
-                              const std::vector<Variant>& variants, QueryKind query,
-                              std::uint32_t subgroup_size) {
+                              std::span<const gpu::Ray> batch, const std::vector<Variant>& variants,
+                              QueryKind query, std::uint32_t subgroup_size) {
   std::vector<double> uses;
   for (const Variant& v : variants) {
     const int l = v.layout == NodeLayout::kDfs ? 0 : 1;
-    uses.push_back(lane_use(trace_once(*counting[l], sorter, batch, v, query).counters,
-                            subgroup_size));
+    uses.push_back(
+        lane_use(trace_once(*counting[l], sorter, batch, v, query).counters, subgroup_size));
   }
   return uses;
 }

@@ -67,9 +67,9 @@ std::vector<Bvh> build_both(const Scene& scene, const Options& o) {
 bool same_answers(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b, QueryKind query) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (query == QueryKind::kAny ? (a[i].prim >= 0) != (b[i].prim >= 0)
-                : a[i].prim != b[i].prim || a[i].t != b[i].t || a[i].u != b[i].u ||
-                      a[i].v != b[i].v)
+    if (query == QueryKind::kAny
+            ? (a[i].prim >= 0) != (b[i].prim >= 0)
+            : a[i].prim != b[i].prim || a[i].t != b[i].t || a[i].u != b[i].u || a[i].v != b[i].v)
       return false;
   }
   return true;

@@ -29,8 +29,7 @@ inline std::string read_file(const std::filesystem::path& p) {
 // A shell command line with stdin from /dev/null; stdout and stderr go through files in `dir`.
 inline CliResult run_command(const std::string& command_line, const std::filesystem::path& dir) {
   const std::filesystem::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd =
-      command_line + " >" + out.string() + " 2>" + err.string() + " </dev/null";
+  const std::string cmd = command_line + " >" + out.string() + " 2>" + err.string() + " </dev/null";
   const int raw = std::system(cmd.c_str());
   CliResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);

@@ -49,8 +49,8 @@ TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
   EXPECT_EQ(ctx.memory().report().buffers.at("wide texel array"), bytes);
 
   // Bound as a storage buffer it would be cut at the range: refused by name.
-  ComputePipeline kernel(ctx, Kernel::trace_closest, embedded_spirv(Kernel::trace_closest), kTraceBindingTypes,
-                         sizeof(gpu::TracePushConstants));
+  ComputePipeline kernel(ctx, Kernel::trace_closest, embedded_spirv(Kernel::trace_closest),
+                         kTraceBindingTypes, sizeof(gpu::TracePushConstants));
   const std::string bind = test::error_of([&] { kernel.bind(HRPP_TRACE_BINDING_COUNTERS, texels); });
   EXPECT_NE(bind.find("wide texel array is read through texel views only"), std::string::npos)
       << bind;

@@ -40,7 +40,8 @@ class ExtremeRaysGpu : public testing::TestWithParam<test::Frame> {};
 std::pair<GpuTraceResult, GpuTraceResult> trace_both(const GpuBvh& bvh,
                                                      const std::vector<gpu::Ray>& rays) {
   GpuTracer tracer(context(), bvh);
-  std::pair<GpuTraceResult, GpuTraceResult> r{tracer.trace(rays, QueryKind::kClosest), tracer.trace(rays, QueryKind::kAny)};
+  std::pair<GpuTraceResult, GpuTraceResult> r{tracer.trace(rays, QueryKind::kClosest),
+                                              tracer.trace(rays, QueryKind::kAny)};
   EXPECT_EQ(r.first.hits.size(), rays.size());
   EXPECT_EQ(r.second.hits.size(), rays.size());
   return r;

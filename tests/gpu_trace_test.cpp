@@ -279,7 +279,8 @@ TEST(GpuTracer, ChunksAndEmptyBatches) {
   GpuTracer tracer(context(), bvh, GpuTracerConfig{1});
   EXPECT_TRUE(tracer.trace({}, QueryKind::kClosest).hits.empty());
   const std::vector<gpu::Ray> rays = primary_rays(scene.cameras.at(0));
-  const GpuTraceResult r = tracer.trace(rays, QueryKind::kClosest);  // 1 ray per invocation: 64 workgroups
+  const GpuTraceResult r =
+      tracer.trace(rays, QueryKind::kClosest);  // 1 ray per invocation: 64 workgroups
   ASSERT_EQ(r.counters.rays, rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(r.hits[i].prim, trace_closest(bvh, rays[i]).prim);
   EXPECT_EQ(context().validation_messages(), 0u);

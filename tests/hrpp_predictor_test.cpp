@@ -66,8 +66,8 @@ PredictorConfig config(PredictorMode mode, TableConfig table) {
   return p;
 }
 
-GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& rays, QueryKind kind,
-                         GpuTracer** keep = nullptr) {
+GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& rays,
+                         QueryKind kind, GpuTracer** keep = nullptr) {
   GpuTracerConfig tc;
   tc.rays_per_invocation = 8;
   static std::vector<std::unique_ptr<GpuTracer>> tracers;
@@ -163,7 +163,8 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
       for (const TableConfig& table :
            {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kNone}})
       for (const Case& c : cases()) {
-        if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact) continue;  // hit-any has one mode
+        if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact)
+          continue;                                           // hit-any has one mode
         if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
         PredictorConfig p = config(mode, table);
         p.go_up = go_up;
@@ -236,7 +237,8 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
         std::uint64_t hits = 0;
         for (const gpu::Hit& h : r.hits) hits += h.prim >= 0;
         EXPECT_EQ(r.counters.hits, hits) << what;
-        if (mode == PredictorMode::kExact) expect_same_hits(r.hits, off.trace(rays, QueryKind::kClosest).hits, what);
+        if (mode == PredictorMode::kExact)
+          expect_same_hits(r.hits, off.trace(rays, QueryKind::kClosest).hits, what);
         if (n == 1500 && t.entries() > 8) {
           EXPECT_GT(tp, 0u) << what;
         }

@@ -105,7 +105,8 @@ TEST(HrppRender, SampleFramesRenderTheImageOfHrppOff) {
     EXPECT_GT(f.classes[k].kernels_ms.count(TimerLabel{Kernel::hrpp_predict, Phase::kSample}), 0u)
         << what;
     // The empty dispatch that measures a dispatch's fixed cost ran and was timed.
-    EXPECT_GT(f.classes[k].kernels_ms.count(TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty}), 0u)
+    EXPECT_GT(f.classes[k].kernels_ms.count(TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty}),
+              0u)
         << what;
     EXPECT_GT(f.decisions[k].dispatch_ms, 0.0) << what;
     // (Visit counts vary run to run by a few: a lane's extra steps depend on its subgroup's

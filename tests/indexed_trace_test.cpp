@@ -152,7 +152,8 @@ TEST_F(IndexedTrace, PermutationGivesThePlainKernelsHits) {
                                  (list == &identity ? "identity" : list == &reversed ? "reversed"
                                                                                       : "random");
         const Traced indexed = trace_resident(tracer, c, rays, n, list);
-        ASSERT_TRUE(same_answers(indexed.hits, plain.hits, 0, n, query_kind(c) == QueryKind::kAny)) << what;
+        ASSERT_TRUE(same_answers(indexed.hits, plain.hits, 0, n, query_kind(c) == QueryKind::kAny))
+            << what;
         expect_same_counters(indexed.counters, plain.counters, list == &identity, what);
       }
     }

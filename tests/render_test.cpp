@@ -127,8 +127,8 @@ TEST(Render, CountersAreConsistent) {
   EXPECT_EQ(s.camera_rays(), 32u * 32u * 3u);
   // Every continuation ray and every shadow ray leaves a surface that a camera or bounce ray
   // hit: at most one of each per hit.
-  const std::uint64_t surface_hits = s.classes[RayClass::kCamera].counters.hits +
-                                     s.classes[RayClass::kBounce].counters.hits;
+  const std::uint64_t surface_hits =
+      s.classes[RayClass::kCamera].counters.hits + s.classes[RayClass::kBounce].counters.hits;
   EXPECT_GT(s.bounce_rays(), 0u);
   EXPECT_LE(s.bounce_rays(), surface_hits);
   EXPECT_GT(s.shadow().counters.rays, 0u);

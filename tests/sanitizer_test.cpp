@@ -88,8 +88,8 @@ TEST_F(SanitizerReport, PresetPassesTheProjectSuppressions) {
 // the block tests/sanitizers/lsan.supp describes), and without AVX-512; GALLIUM_DUMP_CPU shows
 // which path Mesa took. Every run must end the same way: the refusal, exit 1, no leak report.
 TEST_F(SanitizerReport, VulkanUnderAsanGivesOneVerdictOnEveryCpuPath) {
-  const std::string args = "render builtin:cornell --size 512x512 --spp 1 --out " +
-                           (dir_ / "i.exr").string();
+  const std::string args =
+      "render builtin:cornell --size 512x512 --spp 1 --out " + (dir_ / "i.exr").string();
   const std::string base = "HRPP_DEVICE_HEAP_MIB=1 GALLIUM_DUMP_CPU=true";
   const std::string preload = std::string("LD_PRELOAD=") + HRPP_CPUID_OVERRIDE;
   for (const std::string mode : {"", "family17h", "no-avx512", "family17h,no-avx512"}) {

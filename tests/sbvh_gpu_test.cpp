@@ -33,8 +33,10 @@ using test::context;
 int count_differences(const GpuBvh& object, const GpuBvh& split,
                       const std::vector<gpu::Ray>& rays, const std::string& what) {
   GpuTracer on_object(context(), object), on_split(context(), split);
-  const GpuTraceResult oc = on_object.trace(rays, QueryKind::kClosest), oa = on_object.trace(rays, QueryKind::kAny);
-  const GpuTraceResult sc = on_split.trace(rays, QueryKind::kClosest), sa = on_split.trace(rays, QueryKind::kAny);
+  const GpuTraceResult oc = on_object.trace(rays, QueryKind::kClosest),
+                       oa = on_object.trace(rays, QueryKind::kAny);
+  const GpuTraceResult sc = on_split.trace(rays, QueryKind::kClosest),
+                       sa = on_split.trace(rays, QueryKind::kAny);
   int differ = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const gpu::Hit ref = trace_closest(split, rays[i]);
@@ -78,7 +80,8 @@ TEST_P(ExtremeRaysSbvh, EqualObjectSplitAnswersAndKeepTheExactRules) {
     const std::vector<gpu::Ray> rays = test::extreme_rays(x, split.bounds.center());
     EXPECT_EQ(count_differences(object, split, rays, GetParam().name), 0) << huge;
     GpuTracer tracer(context(), split);
-    EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0) << huge;
+    EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0)
+        << huge;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

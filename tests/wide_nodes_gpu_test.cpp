@@ -88,7 +88,8 @@ TEST(WideNodesGpuSteps, AWideStepCoversMoreOfTheTree) {
     SCOPED_TRACE(node_format_name(f));
     GpuTracer on_wide(context(), wide(scene, f), counting);
     for (const std::vector<gpu::Ray>* rays : {&b.primary, &b.diffuse.rays}) {
-      const GpuTraceResult w = on_wide.trace(*rays, QueryKind::kClosest), n = on_binary.trace(*rays, QueryKind::kClosest);
+      const GpuTraceResult w = on_wide.trace(*rays, QueryKind::kClosest),
+                           n = on_binary.trace(*rays, QueryKind::kClosest);
       for (std::size_t i = 0; i < rays->size(); ++i) ASSERT_TRUE(test::same_hit(w.hits[i], n.hits[i]));
       EXPECT_GT(w.counters.interior_steps, 0u);
       EXPECT_LT(w.counters.interior_steps * 4, n.counters.interior_steps * 3);
@@ -111,7 +112,8 @@ TEST_P(ExtremeRaysWide, EqualTheCpuReferenceAndKeepTheExactRules) {
       const std::vector<gpu::Ray> rays = test::extreme_rays(x, bvh.bounds.center());
       EXPECT_EQ(count_differences(bvh, rays, GetParam().name), 0) << huge;
       GpuTracer tracer(context(), bvh);
-      EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0) << huge;
+      EXPECT_EQ(test::count_extreme_failures(x, tracer.trace(rays, QueryKind::kClosest).hits), 0)
+          << huge;
     }
   }
   EXPECT_EQ(context().validation_messages(), 0u);

@@ -352,8 +352,7 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
   std::vector<TracerResult> results;
   std::vector<gpu::Hit> ref_hits, hits;
   for (const std::unique_ptr<Tracer>& t : b.tracers) {
-    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(kind)))
-      continue;
+    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(kind))) continue;
     const bool reference = t->kind() == TracerKind::kCpuReference;
     TracerResult r = time_tracer(*t, rays, kind, o.repeat, reference ? ref_hits : hits);
     if (reference) {
@@ -392,8 +391,8 @@ std::size_t print_rows(const char* kname, std::size_t rays, QueryKind kind,
                 r.name.c_str(), r.mrays, r.median_ms, r.hits, r.validation.checked,
                 r.validation.ties, r.validation.mismatches,
                 !r.validation.mismatches ? ""
-                : r.speculative         ? "  (speculative HRPP: wrong predicted hits)"
-                                        : "  <-- MISMATCHES vs CPU reference");
+                : r.speculative          ? "  (speculative HRPP: wrong predicted hits)"
+                                         : "  <-- MISMATCHES vs CPU reference");
     first = false;
     kj["tracers"].push_back(tracer_json(r));
     if (!r.speculative) mismatches += r.validation.mismatches;
@@ -445,8 +444,7 @@ std::size_t bench_kind(const BenchOptions& o, Backends& b, const RayBatches& bat
     report["kinds"].push_back({{"kind", kname}, {"rays", 0}});
     return 0;
   }
-  const std::vector<TracerResult> results =
-      time_tracers(o, b, rays, query, batches.scene_diagonal);
+  const std::vector<TracerResult> results = time_tracers(o, b, rays, query, batches.scene_diagonal);
   const std::optional<PredictorSummary> hrpp_summary = count_hrpp(b, rays, query);
   nlohmann::json kj = {{"kind", kname},
                        {"rays", rays.size()},

@@ -78,7 +78,8 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
               ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
   std::printf("rays        %zu %s queries, %llu hit%s\n", rays,
               o.query == QueryKind::kAny ? "any-hit" : "closest-hit",
-              static_cast<unsigned long long>(c.hits), o.query == QueryKind::kAny ? " (occluded)" : "");
+              static_cast<unsigned long long>(c.hits),
+              o.query == QueryKind::kAny ? " (occluded)" : "");
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0,
@@ -110,8 +111,9 @@ void run_trace(const TraceOptions& o) {
   const std::unique_ptr<RaySorter> sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
   if (o.repeat > 1) {
     tracer.warm_up();
-    if (sorter) tracer.trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)),
-                             o.query, sorter.get());  // the sort's and indexed kernels' JIT
+    if (sorter)
+      tracer.trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)), o.query,
+                   sorter.get());  // the sort's and indexed kernels' JIT
   }
 
   // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come

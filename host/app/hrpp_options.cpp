@@ -82,8 +82,9 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->transform(one_of(kPredictorModeNames))
       ->default_str(predictor_mode_name(o.mode))
       ->group(g);
-  cmd->add_option("--hash", o.hash, "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
-                                    "two-point")
+  cmd->add_option("--hash", o.hash,
+                  "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
+                  "two-point")
       ->transform(one_of(kHashKindNames))
       ->default_str(hash_kind_name(o.hash))
       ->group(g);

@@ -44,10 +44,10 @@ enum class NodeFormat {
   kWide4,       // 4-wide WideNodes, child boxes quantised (bvh/wide_nodes.h); HRPP off only
   kWide4Float,  // 4-wide WideFloatNodes, child boxes as floats; HRPP off only
 };
-inline constexpr NameTable<NodeFormat, 3> kNodeFormatNames = {{{NodeFormat::kBinary, "binary"},
-                                                                {NodeFormat::kWide4, "wide4"},
-                                                                {NodeFormat::kWide4Float,
-                                                                 "wide4-float"}}};
+inline constexpr NameTable<NodeFormat, 3> kNodeFormatNames = {
+    {{NodeFormat::kBinary, "binary"},
+     {NodeFormat::kWide4, "wide4"},
+     {NodeFormat::kWide4Float, "wide4-float"}}};
 constexpr const char* node_format_name(NodeFormat f) { return name_in(kNodeFormatNames, f); }
 
 struct GpuBvh {

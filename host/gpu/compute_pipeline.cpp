@@ -44,9 +44,10 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
                                  std::span<const std::uint32_t> spirv, std::uint32_t binding_count,
                                  std::uint32_t push_constant_bytes,
                                  std::span<const SpecializationConstant> specialization)
-    : ComputePipeline(ctx, kernel, spirv,
-                      std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                      push_constant_bytes, specialization) {}
+    : ComputePipeline(
+          ctx, kernel, spirv,
+          std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+          push_constant_bytes, specialization) {}
 
 void ComputePipeline::State::create_module(std::span<const std::uint32_t> spirv) {
   VkShaderModuleCreateInfo mci{};

@@ -99,8 +99,7 @@ void record_dispatch(VkCommandBuffer cmd, const ComputePipeline& pipeline, const
 // VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT first, e.g. with indirect_args_barrier).
 void record_dispatch_indirect(VkCommandBuffer cmd, const ComputePipeline& pipeline,
                               const void* push, const StorageBuffer& args, VkDeviceSize offset,
-                              KernelTimer* timer,
-                              std::optional<TimerLabel> label = std::nullopt);
+                              KernelTimer* timer, std::optional<TimerLabel> label = std::nullopt);
 // Makes compute-shader writes visible to indirect dispatches, copies and later dispatches.
 void indirect_args_barrier(VkCommandBuffer cmd);
 // Writes `bytes` (at most 65536, a multiple of 4) of `data` into `dst` at `offset` (record a

@@ -63,7 +63,7 @@ ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up
                                          {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u}};
   return ComputePipeline(ctx, Kernel::hrpp_predict,
                          embedded_spirv(query_kind(c) == QueryKind::kAny ? Kernel::hrpp_predict_any
-                                                                      : Kernel::hrpp_predict),
+                                                                         : Kernel::hrpp_predict),
                          kStageBindingTypes, sizeof(gpu::StagePushConstants), spec);
 }
 
@@ -91,8 +91,8 @@ struct Table {
         predicts{make_predict(ctx, c, p.go_up, false), make_predict(ctx, c, p.go_up, true)},
         resolve(ctx, Kernel::hrpp_resolve, embedded_spirv(Kernel::hrpp_resolve), kStageBindingTypes,
                 sizeof(gpu::StagePushConstants)),
-        insert(ctx, Kernel::hrpp_insert, embedded_spirv(Kernel::hrpp_insert), HRPP_TABLE_BINDING_COUNT,
-               sizeof(gpu::InsertPushConstants)) {
+        insert(ctx, Kernel::hrpp_insert, embedded_spirv(Kernel::hrpp_insert),
+               HRPP_TABLE_BINDING_COUNT, sizeof(gpu::InsertPushConstants)) {
     clear();
     upload_params();
     bind_table(insert, 0);

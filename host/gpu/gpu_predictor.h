@@ -85,8 +85,8 @@ class GpuPredictor {
   // Records the HRPP stage over a sample of the class's rays (every config().sample-th), its
   // kernels timed in Phase::kSample: the adaptive predictor's sample frame, which then traces
   // every ray with the plain kernel. Then one hrpp_predict dispatch over no ray, timed in
-  // Phase::kSampleEmpty: the fixed cost of a dispatch, which weighs 1/sample as much per ray in a frame that predicts every ray. Not in
-  // batched mode.
+  // Phase::kSampleEmpty: the fixed cost of a dispatch, which weighs 1/sample as much per ray in a
+  // frame that predicts every ray. Not in batched mode.
   void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
                      const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
                      KernelTimer* timer);

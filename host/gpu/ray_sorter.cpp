@@ -61,8 +61,9 @@ struct RaySorter::State {
         grid(ray_sort_grid(bounds)),
         max_rays((check_max(max), std::max<std::size_t>(max, 1))),
         items(c, 2 * max_rays * 2 * sizeof(std::uint32_t), "ray sort items"),
-        counts(c, (kDoneWords + std::size_t{HRPP_SORT_BINS} * HRPP_SORT_MAX_BLOCKS) *
-                      sizeof(std::uint32_t),
+        counts(c,
+               (kDoneWords + std::size_t{HRPP_SORT_BINS} * HRPP_SORT_MAX_BLOCKS) *
+                   sizeof(std::uint32_t),
                "ray sort counts"),
         order(c, order_bytes(max_rays), "ray sort order"),
         order_view(c, order),

@@ -13,10 +13,14 @@ TableConfig table_preset(TablePreset preset) {
   // tuned (the default): 2^14 × 2 × 1 = 32k entries of one node, 512 KiB: the cheapest probe
   // measured (2 tag fetches, one leaf to verify) for the most true positives per byte.
   switch (preset) {
-    case TablePreset::kUnbounded: return {1u << 17, 16, 16, TablePolicy::kNone};
-    case TablePreset::kSmall: return {1u << 10, 8, 8, TablePolicy::kLru};
-    case TablePreset::kTiny: return {4, 2, 2, TablePolicy::kLru};
-    case TablePreset::kTuned: break;
+    case TablePreset::kUnbounded:
+      return {1u << 17, 16, 16, TablePolicy::kNone};
+    case TablePreset::kSmall:
+      return {1u << 10, 8, 8, TablePolicy::kLru};
+    case TablePreset::kTiny:
+      return {4, 2, 2, TablePolicy::kLru};
+    case TablePreset::kTuned:
+      break;
   }
   return {1u << 14, 2, 1, TablePolicy::kLru};
 }

@@ -103,7 +103,6 @@ struct PredictorConfig {
   bool adapts() const { return adaptive && batch == 0; }
 };
 
-
 // The kernels' parameters of the hit-all or hit-any predictor. Throws hrpp::Error for a table
 // whose sets is not a power of two or whose sizes are 0, or a bad hash precision.
 gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box);

@@ -69,16 +69,16 @@ std::string format_summary(const std::string& label, const PredictorSummary& s, 
       format_bytes(s.occupancy.bytes).c_str(), "", u(c[HRPP_PC_VERIFY_INTERIOR]),
       u(c[HRPP_PC_VERIFY_LEAVES]), u(c[HRPP_PC_VERIFY_TRIANGLES]));
   if (s.baseline && n > 0 && static_cast<std::size_t>(n) < sizeof buf) {
-    n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n),
-                       "%-11s interior nodes %llu with HRPP, %llu without: skipped %lld, savings "
-                       "%.1f%%, net of verification %.1f%%%s\n",
-                       "", u(s.trace.interior_visited - c[HRPP_PC_VERIFY_INTERIOR]),
-                       u(c[HRPP_PC_BASELINE_INTERIOR]),
-                       static_cast<long long>(s.skipped_interior), 100.0 * s.savings,
-                       100.0 * s.net_savings,
-                       kind == QueryKind::kAny ? ""
-                               : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST]))
-                                     .c_str());
+    n += std::snprintf(
+        buf + n, sizeof buf - static_cast<std::size_t>(n),
+        "%-11s interior nodes %llu with HRPP, %llu without: skipped %lld, savings "
+        "%.1f%%, net of verification %.1f%%%s\n",
+        "", u(s.trace.interior_visited - c[HRPP_PC_VERIFY_INTERIOR]),
+        u(c[HRPP_PC_BASELINE_INTERIOR]), static_cast<long long>(s.skipped_interior),
+        100.0 * s.savings, 100.0 * s.net_savings,
+        kind == QueryKind::kAny
+            ? ""
+            : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST])).c_str());
   }
   return buf;
 }

@@ -120,7 +120,6 @@ glm::vec3 grid_scale(const glm::vec3& extent, std::uint32_t n) {
 
 }  // namespace
 
-
 gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box) {
   if (config.bits < 1 || config.bits > HRPP_HASH_BITS_MAX)
     throw Error("--hash-bits: " + std::to_string(config.bits) + " is outside 1..8");

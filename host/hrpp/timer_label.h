@@ -45,9 +45,12 @@ constexpr bool is_ray_sort(Kernel k) {
 inline std::string label_name(const TimerLabel& l) {
   const std::string kernel = is_ray_sort(l.kernel) ? "ray_sort" : kernel_name(l.kernel);
   switch (l.phase) {
-    case Phase::kSample: return "sample_" + kernel;
-    case Phase::kSampleEmpty: return "sample_hrpp_empty";
-    case Phase::kRun: break;
+    case Phase::kSample:
+      return "sample_" + kernel;
+    case Phase::kSampleEmpty:
+      return "sample_hrpp_empty";
+    case Phase::kRun:
+      break;
   }
   return kernel;
 }

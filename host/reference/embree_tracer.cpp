@@ -161,8 +161,8 @@ std::vector<gpu::Hit> EmbreeTracer::trace(std::span<const gpu::Ray> rays, QueryK
   return hits;
 }
 
-void EmbreeTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind,
-                         std::span<gpu::Hit> hits, int threads) const {
+void EmbreeTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind, std::span<gpu::Hit> hits,
+                         int threads) const {
   parallel_ranges(rays.size(), threads, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       hits[i] = kind == QueryKind::kAny ? (occluded(rays[i]) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f}

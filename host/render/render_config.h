@@ -22,8 +22,8 @@
 namespace hrpp {
 
 struct RenderConfig {
-  static constexpr std::uint32_t kMaxSide = 16384;   // image width and height
-  static constexpr std::uint32_t kMaxDepth = 1024;   // max_depth
+  static constexpr std::uint32_t kMaxSide = 16384;  // image width and height
+  static constexpr std::uint32_t kMaxDepth = 1024;  // max_depth
 
   std::uint32_t width = 256;
   std::uint32_t height = 256;
@@ -31,9 +31,9 @@ struct RenderConfig {
   // Surface interactions per path; each also samples one light, so light reaches the camera
   // over up to max_depth + 1 segments (1: direct light only).
   std::uint32_t max_depth = 8;
-  std::uint32_t rr_depth = 3;   // Russian roulette from this many interactions on
+  std::uint32_t rr_depth = 3;  // Russian roulette from this many interactions on
   std::uint32_t seed = 0;
-  std::uint32_t camera = 0;     // index into Scene::cameras
+  std::uint32_t camera = 0;                  // index into Scene::cameras
   std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)
   // Run every kernel once on a few paths before the timed frame: the first dispatch of a
   // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe"). The image and
@@ -54,12 +54,12 @@ std::map<std::string, double> times_by_name(const std::map<TimerLabel, double>& 
 
 // Counters and device time of one ray class (camera, bounce, shadow).
 struct RayClassStats {
-  TraversalCounters counters;          // verification included when the class probes
-  gpu::PredictorCounters predictor{};  // HRPP on: summed over the class's traces
-  std::uint64_t traces = 0;            // traces (one per bounce and wavefront)
-  std::uint64_t predicted_traces = 0;  // of those, through the HRPP stage
-  std::uint64_t traced = 0;            // rays the trace kernel traced (HRPP: the queues)
-  std::uint64_t sampled = 0;           // HRPP sample frames: rays that ran the HRPP stage
+  TraversalCounters counters;               // verification included when the class probes
+  gpu::PredictorCounters predictor{};       // HRPP on: summed over the class's traces
+  std::uint64_t traces = 0;                 // traces (one per bounce and wavefront)
+  std::uint64_t predicted_traces = 0;       // of those, through the HRPP stage
+  std::uint64_t traced = 0;                 // rays the trace kernel traced (HRPP: the queues)
+  std::uint64_t sampled = 0;                // HRPP sample frames: rays that ran the HRPP stage
   std::map<TimerLabel, double> kernels_ms;  // hrpp_predict, trace_*, hrpp_resolve (no class)
 
   RayClassStats& operator+=(const RayClassStats& o);
@@ -71,7 +71,7 @@ struct FrameStats {
   std::map<TimerLabel, double> kernels_ms;  // every dispatch, by label without the class
   PerClass<RayClassStats> classes;
   PerClass<ClassDecision> decisions;  // HRPP on: the adaptive predictor after this frame
-  double wall_s = 0.0;  // host wall time
+  double wall_s = 0.0;                // host wall time
 
   // Camera + bounce rays (hit-all), as one class.
   RayClassStats closest() const;
@@ -91,7 +91,7 @@ struct RenderStats : FrameStats {
   std::size_t textures = 0;
   std::size_t texel_bytes = 0;
   int texture_halvings = 0;
-  std::vector<FrameStats> frames;     // one per sample pass
+  std::vector<FrameStats> frames;  // one per sample pass
 };
 
 struct RenderResult {

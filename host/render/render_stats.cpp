@@ -35,7 +35,7 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
 }
 
 json decision_json(const ClassDecision& d) {
-  return json{{"mode", probe_name(d.mode)},  {"reason", reason_name(d.reason)},
+  return json{{"mode", probe_name(d.mode)},   {"reason", reason_name(d.reason)},
               {"gain_ms", d.gain_ms},         {"off_ms_per_ray", d.off_ms_per_ray},
               {"dispatch_ms", d.dispatch_ms}, {"confidence", d.confidence},
               {"next", probe_name(d.next)}};

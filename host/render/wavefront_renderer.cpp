@@ -181,8 +181,8 @@ struct WavefrontRenderer::State {
                  sizeof(gpu::RenderPushConstants), spec),
         shade(c, Kernel::render_shade, embedded_spirv(Kernel::render_shade), kBindingTypes,
               sizeof(gpu::RenderPushConstants), spec),
-        accumulate(c, Kernel::render_accumulate, embedded_spirv(Kernel::render_accumulate), kBindingTypes,
-                   sizeof(gpu::RenderPushConstants), spec),
+        accumulate(c, Kernel::render_accumulate, embedded_spirv(Kernel::render_accumulate),
+                   kBindingTypes, sizeof(gpu::RenderPushConstants), spec),
         timer(c, 48),  // up to 16 HRPP dispatches, 7 of the sort, the render kernels
         adaptive(config.predictor) {
     if (cfg.reorder != RayOrder::kOff) make_sorter(bvh.bounds);

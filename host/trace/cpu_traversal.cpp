@@ -86,8 +86,8 @@ gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
   return traverse(bvh, ray, true, counters);
 }
 
-bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind,
-                   gpu::Hit& best, TraversalCounters* counters) {
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind, gpu::Hit& best,
+                   TraversalCounters* counters) {
   TraversalCounters c;
   const RaySetup r = setup_ray(ray);
   const bool answered =

@@ -24,8 +24,8 @@ gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
 // lower id). QueryKind::kAny: stops at the first hit, best.prim = its triangle id; returns true
 // then.
 // Counts interior nodes, leaves and triangles only (HRPP's verification of predicted nodes).
-bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind,
-                   gpu::Hit& best, TraversalCounters* counters = nullptr);
+bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind, gpu::Hit& best,
+                   TraversalCounters* counters = nullptr);
 
 inline constexpr gpu::Hit kMiss{-1, 0.0f, 0.0f, 0.0f};
 
