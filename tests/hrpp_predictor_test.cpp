@@ -131,7 +131,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       expect_same_hits(on.hits, reference.hits, what);
       expect_counters_add_up(on.predictor, c.rays->size(), what);
       const auto& pc = on.predictor.c;
-      const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.kind));
+      const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
       EXPECT_GT(occ.entries, 0u) << what;
       EXPECT_LE(occ.entries, occ.capacity) << what;
       EXPECT_LE(occ.nodes, occ.entries * t.nodes) << what;
@@ -188,7 +188,7 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
         EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
         EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
-        const TableOccupancy occ = tracer->predictor_occupancy(ray_file_class(c.kind));
+        const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
         EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
         EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
         expect_counters_add_up(gpu.predictor, c.rays->size(), what);
@@ -261,7 +261,7 @@ TEST(HrppPredictor, SampleAnswersAreHrppOffs) {
       p.hash.bits = 3;  // coarse: predictor hits, wrong ones among them
       GpuTracer on(context(), bunny().bvh, tc, p);
       on.trace(rays, k.kind);  // every ray predicted: fills the table
-      on.set_probing(ray_file_class(k.kind), Probe::kSample);
+      on.predictor()->set_probing(ray_file_class(k.kind), Probe::kSample);
       const GpuTraceResult r = on.trace(rays, k.kind);
       const GpuTraceResult plain = off.trace(rays, k.kind);
       EXPECT_FALSE(r.predicted) << what;

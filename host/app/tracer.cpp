@@ -41,7 +41,7 @@ const char* GpuBackend::timing() const {
 }
 
 TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
-  if (hrpp_) tracer_.clear_predictor();
+  if (hrpp_) tracer_.predictor()->clear();
   GpuTraceResult g = tracer_.trace(rays, kind, sorter_);
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
 }
@@ -49,12 +49,13 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
                                               std::span<const gpu::Ray> rays, QueryKind kind) {
   const RayClass c = ray_file_class(kind);
-  if (!predictor.predicts(c)) return std::nullopt;
-  tracer.clear_predictor();
-  tracer.set_count_baseline(true);
+  GpuPredictor* hrpp = tracer.predictor();
+  if (!hrpp || !predictor.predicts(c)) return std::nullopt;
+  hrpp->clear();
+  hrpp->set_count_baseline(true);
   const GpuTraceResult counted = tracer.trace(rays, kind);
-  tracer.set_count_baseline(false);
-  return summarize(counted.predictor, counted.counters, tracer.predictor_occupancy(c), true);
+  hrpp->set_count_baseline(false);
+  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), true);
 }
 
 }  // namespace hrpp::app

@@ -72,8 +72,8 @@ class GpuBackend final : public Tracer {
   // (its time counted; the hits are in the rays' order; GpuTracer::trace).
   explicit GpuBackend(GpuTracer& tracer, RaySorter* sorter = nullptr)
       : tracer_(tracer),
-        hrpp_(tracer.predictor_config() != nullptr),
-        batched_(hrpp_ && tracer.predictor_config()->batch > 0),
+        hrpp_(tracer.predictor() != nullptr),
+        batched_(hrpp_ && tracer.predictor()->config().batch > 0),
         sorter_(sorter) {}
   TracerKind kind() const override { return hrpp_ ? TracerKind::kGpuHrpp : TracerKind::kGpu; }
   const char* name() const override { return hrpp_ ? "gpu-hrpp" : "gpu"; }

@@ -160,6 +160,9 @@ struct GpuPredictor::State {
   StorageBuffer node_of_prim;
   PerClass<std::unique_ptr<Table>> tables;
   std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
+  PerClass<Probe> probing{};         // how each class's next trace runs the stage
+  PerClass<Probe> recorded{};        // how its last recorded trace ran it
+  PerClass<std::uint32_t> clock{};   // use stamps (LRU): rays of the class traced so far
 
   Table& table(RayClass c) const { return *tables[c]; }
   Queue& queue(QueryKind k) const { return *queues[index_of(k)]; }
@@ -172,10 +175,18 @@ struct GpuPredictor::State {
     p.bind(HRPP_TRACE_BINDING_TRIANGLES, triangles);
   }
 
-  void set_clock(RayClass c, std::uint32_t clock) {
+  // The class's clock into its table's parameters: the use stamp of ray 0 of the next trace.
+  void upload_clock(RayClass c) {
     Table& t = table(c);
-    t.params.clock = clock;
+    t.params.clock = clock[c];
     t.upload_params();
+  }
+
+  bool batched() const { return config.batch > 0; }
+
+  // probing[c], with a sample read as off in batched mode (it has none).
+  Probe probing_now(RayClass c) const {
+    return probing[c] == Probe::kSample && batched() ? Probe::kOff : probing[c];
   }
 
   // `pilot_pass`: HRPP_PASS_*; `stride`: the sample's (0: the pilot schedule's K).
@@ -217,8 +228,16 @@ struct GpuPredictor::State {
 
   // Empties the queue (its cursors and indirect arguments) for another round; the answer counts
   // go on adding up. `rays` (first, end): also the rays to predict (a batch); else the same rays.
-  void start_queue(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                   std::uint32_t clock);
+  void start_queue(VkCommandBuffer cmd, RayClass c, const RayCountSource& count);
+  // The predicted trace of the class's rays (one round, or pilots then the others).
+  void record_rounds(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                     const gpu::TracePushConstants& trace_pc, KernelTimer* timer);
+  // One round over every config.sample-th ray, then an empty predict dispatch.
+  void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                     const gpu::TracePushConstants& trace_pc, KernelTimer* timer);
+  // Batched mode: a round per batch of config.batch rays, inserts applied in ray order.
+  void record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
+                      const gpu::TracePushConstants& trace_pc);
 
   void restart_queue(VkCommandBuffer cmd, RayClass c,
                      std::optional<std::pair<std::uint32_t, std::uint32_t>> rays = {}) {
@@ -310,6 +329,7 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     s_->tables[c] = std::make_unique<Table>(ctx, params, c);
+    s_->probing[c] = Probe::kAll;
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       s_->bind_bvh(*k, nodes, leaves, triangles);
       k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queue(c).state);
@@ -366,20 +386,52 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
   }
 }
 
+void GpuPredictor::set_probing(RayClass c, Probe mode) {
+  s_->probing[c] = s_->config.predicts(c) ? mode : Probe::kOff;
+}
+
+Probe GpuPredictor::probing(RayClass c) const { return s_->probing_now(c); }
+
+bool GpuPredictor::records_indirect(RayClass c) const {
+  return !(s_->batched() && probing(c) == Probe::kAll);
+}
+
 void GpuPredictor::begin(RayClass c) {
+  if (probing(c) == Probe::kOff) return;
   const gpu::PredictorCounters zero{};
   s_->table(c).counters.upload(&zero, sizeof zero);
+}
+
+bool GpuPredictor::record_trace(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                                const gpu::TracePushConstants& trace_pc, KernelTimer* timer) {
+  const Probe mode = s_->recorded[c] = probing(c);
+  if (mode == Probe::kSample) s_->record_sample(cmd, c, count, trace_pc, timer);
+  if (mode != Probe::kAll) return false;
+  if (!s_->batched()) {
+    s_->record_rounds(cmd, c, count, trace_pc, timer);
+  } else if (count.host) {
+    s_->record_batches(cmd, c, *count.host, trace_pc);
+  } else {
+    throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
+  }
+  return true;
+}
+
+Probe GpuPredictor::recorded(RayClass c) const { return s_->recorded[c]; }
+
+void GpuPredictor::advance_clock(RayClass c, std::uint64_t rays) {
+  s_->clock[c] += static_cast<std::uint32_t>(rays);
 }
 
 // The queue emptied for a trace of `count` rays, with their count copied in when it is on the
 // device.
 void GpuPredictor::State::start_queue(VkCommandBuffer cmd, RayClass c,
-                                      const RayCountSource& count, std::uint32_t clock) {
+                                      const RayCountSource& count) {
   if (config.batch > 0)
     throw Error("HRPP's batched mode (--hrpp-batch) records with record_batches");
   Queue& q = queue(c);
   if (q.capacity == 0) throw Error("HRPP: a trace recorded before bind_rays sized its queue");
-  set_clock(c, clock);
+  upload_clock(c);
   const gpu::PredictQueue start = empty_queue(0, count.host ? *count.host : 0);
   const gpu::TraceCounters trace_start{};
   record_update(cmd, q.state, 0, sizeof start, &start);
@@ -392,51 +444,51 @@ void GpuPredictor::State::start_queue(VkCommandBuffer cmd, RayClass c,
   transfer_compute_barrier(cmd);
 }
 
-void GpuPredictor::record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                          const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
-                          KernelTimer* timer) {
-  s_->start_queue(cmd, c, count, clock);
-  const std::uint32_t k = s_->config.pilot;
-  if (k < 2) return s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_ALL, timer);
-  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_PILOTS, timer);  // then the others
-  s_->restart_queue(cmd, c);
-  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_OTHERS, timer);
+void GpuPredictor::State::record_rounds(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                                        const gpu::TracePushConstants& trace_pc,
+                                        KernelTimer* timer) {
+  start_queue(cmd, c, count);
+  if (config.pilot < 2) return record_pass(cmd, c, count, trace_pc, HRPP_PASS_ALL, timer);
+  record_pass(cmd, c, count, trace_pc, HRPP_PASS_PILOTS, timer);  // then the others
+  restart_queue(cmd, c);
+  record_pass(cmd, c, count, trace_pc, HRPP_PASS_OTHERS, timer);
 }
 
-void GpuPredictor::record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                                 const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
-                                 KernelTimer* timer) {
-  s_->start_queue(cmd, c, count, clock);
-  s_->record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, s_->config.sample,
+void GpuPredictor::State::record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                                        const gpu::TracePushConstants& trace_pc,
+                                        KernelTimer* timer) {
+  start_queue(cmd, c, count);
+  record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, config.sample,
                   Phase::kSample);
-  const gpu::StagePushConstants none = s_->stage_push(trace_pc, HRPP_PASS_NONE);
-  record_dispatch(cmd, s_->table(c).predict(), &none, 1, timer,
+  const gpu::StagePushConstants none = stage_push(trace_pc, HRPP_PASS_NONE);
+  record_dispatch(cmd, table(c).predict(), &none, 1, timer,
                   TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty, c});
 }
 
-void GpuPredictor::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
-                                  const gpu::TracePushConstants& trace_pc, std::uint32_t clock) {
-  Queue& q = s_->queue(c);
-  Table& t = s_->table(c);
-  s_->set_clock(c, clock);
-  const gpu::StagePushConstants spc = s_->stage_push(trace_pc);  // no pilot: batch order
+void GpuPredictor::State::record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
+                                         const gpu::TracePushConstants& trace_pc) {
+  Queue& q = queue(c);
+  Table& t = table(c);
+  upload_clock(c);
+  const gpu::StagePushConstants spc = stage_push(trace_pc);  // no pilot: batch order
   const gpu::PredictQueue zero = empty_queue(0, 0);
   const gpu::TraceCounters trace_zero{};
   vkCmdUpdateBuffer(cmd, q.state.handle(), 0, sizeof zero, &zero);
   vkCmdUpdateBuffer(cmd, q.trace_counters.handle(), 0, sizeof trace_zero, &trace_zero);
-  for (std::uint32_t first = 0; first < count; first += s_->config.batch) {
-    const std::uint32_t n = std::min(s_->config.batch, count - first);
+  for (std::uint32_t first = 0; first < count; first += config.batch) {
+    const std::uint32_t n = std::min(config.batch, count - first);
     // The batch: the cursor starts at `first`, prediction stops at first + n.
-    s_->restart_queue(cmd, c, std::pair{first, first + n});
+    restart_queue(cmd, c, std::pair{first, first + n});
     record_dispatch(cmd, t.predict(), &spc, (n + spc.trace_group_rays - 1) / spc.trace_group_rays,
                     nullptr);
-    s_->record_queue_trace(cmd, c, trace_pc, nullptr);
-    const gpu::InsertPushConstants ipc{first, n, clock + first, 0};
+    record_queue_trace(cmd, c, trace_pc, nullptr);
+    const gpu::InsertPushConstants ipc{first, n, clock[c] + first, 0};
     record_dispatch(cmd, t.insert, &ipc, 1, nullptr);
   }
 }
 
-PredictedTrace GpuPredictor::finish(RayClass c, bool sampled) const {
+PredictedTrace GpuPredictor::finish(RayClass c) const {
+  const bool sampled = s_->recorded[c] == Probe::kSample;
   const Queue& q = s_->queue(c);
   gpu::PredictQueue state{};
   q.state.download(&state, sizeof state);
@@ -497,8 +549,10 @@ void GpuPredictor::set_count_baseline(bool on) {
 }
 
 void GpuPredictor::clear() {
-  for (RayClass c : kRayClasses)
+  for (RayClass c : kRayClasses) {
     if (s_->tables[c]) s_->table(c).clear();
+    s_->clock[c] = 0;
+  }
 }
 
 }  // namespace hrpp

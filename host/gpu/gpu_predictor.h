@@ -19,6 +19,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/memory_plan.h"
+#include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/predictor_stats.h"
 #include "hrpp/ray_class.h"
@@ -76,28 +77,41 @@ class GpuPredictor {
   void bind_rays(QueryKind kind, const TexelView& rays, const TexelView& hits,
                  std::size_t capacity);
 
-  // Before recording a class's traces: zeroes its predictor counters (host write).
+  // Routing: how each class's traces run through the stage from the next record on (the
+  // adaptive predictor's switch, host/hrpp/adaptive_predictor.h). Initially every class the
+  // configuration names probes (Probe::kAll), the others are off for good. A sample (not in
+  // batched mode: there it reads as off) runs the stage over every config().sample-th ray, then
+  // the tracer's plain trace over every ray: the hits are HRPP off's, the counters the sample's.
+  void set_probing(RayClass c, Probe mode);
+  Probe probing(RayClass c) const;
+  // False when the class's next trace needs its ray count on the host (batched mode).
+  bool records_indirect(RayClass c) const;
+
+  // The tracer's side of a trace of class `c` (host/gpu/gpu_tracer.cpp):
+  //   begin(c)          before recording: zeroes the class's counters (host write) when it probes;
+  //   record_trace(...) records the stage as probing(c) says, its use stamps (LRU) continuing
+  //                     the class's clock, its kernels timed under {kernel, phase, class}
+  //                     labels (hrpp/timer_label.h). Returns true when the stage answers every
+  //                     ray (Probe::kAll), false when the tracer traces them itself (off, or
+  //                     after a sample's stage);
+  //   recorded(c)       after the submit: how that trace ran the stage;
+  //   finish(c)         checks that every ray the stage took was answered (throws hrpp::Error
+  //                     naming the loop limiter otherwise) and returns what it did: the whole
+  //                     trace for kAll, the sample's for kSample;
+  //   advance_clock(c, rays)  then, with the rays of the whole trace.
+  // With Probe::kAll a trace is predict → trace of the queue → resolve (config().pilot >= 2:
+  // two such rounds, pilots first); in batched mode (config().batch = K > 0) per batch of K
+  // rays a round whose inserts are deferred, then hrpp_insert applying them in ray order
+  // (untimed, and only with the count on the host). A sample is one round over every
+  // config().sample-th ray, timed in Phase::kSample, then one hrpp_predict dispatch over no ray
+  // timed in Phase::kSampleEmpty: the fixed cost of a dispatch, which weighs 1/sample as much
+  // per ray in a frame that predicts every ray.
   void begin(RayClass c);
-  // Records the predicted trace of the class's rays, kernels timed under {kernel, class}
-  // labels (hrpp/timer_label.h). `clock`: use stamp of ray 0 (LRU). Not in batched mode.
-  void record(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-              const gpu::TracePushConstants& trace_pc, std::uint32_t clock, KernelTimer* timer);
-  // Records the HRPP stage over a sample of the class's rays (every config().sample-th), its
-  // kernels timed in Phase::kSample: the adaptive predictor's sample frame, which then traces
-  // every ray with the plain kernel. Then one hrpp_predict dispatch over no ray, timed in
-  // Phase::kSampleEmpty: the fixed cost of a dispatch, which weighs 1/sample as much per ray in a
-  // frame that predicts every ray. Not in batched mode.
-  void record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
-                     const gpu::TracePushConstants& trace_pc, std::uint32_t clock,
-                     KernelTimer* timer);
-  // Deterministic order (config().batch = K > 0): per batch of K rays a predict, trace and
-  // resolve that defers its inserts, then hrpp_insert applying them in ray order. Untimed.
-  void record_batches(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
-                      const gpu::TracePushConstants& trace_pc, std::uint32_t clock);
-  // After the submit: checks that every ray was answered (throws hrpp::Error naming the loop
-  // limiter otherwise) and returns what the class's trace did.
-  // `sampled`: the trace was record_sample's (its sample answered, not every ray).
-  PredictedTrace finish(RayClass c, bool sampled = false) const;
+  bool record_trace(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+                    const gpu::TracePushConstants& trace_pc, KernelTimer* timer);
+  Probe recorded(RayClass c) const;
+  PredictedTrace finish(RayClass c) const;
+  void advance_clock(RayClass c, std::uint64_t rays);
 
   // Rays one workgroup of hrpp_predict takes: every lane, or one per subgroup in serial mode,
   // times rays_per_invocation. The trace kernel over the queue takes the same.
@@ -105,7 +119,7 @@ class GpuPredictor {
   // Reads the class's table back and counts what it holds (empty for a class that does not
   // predict: it has no table).
   TableOccupancy occupancy(RayClass c) const;
-  // Empties every table.
+  // Empties every table and restarts the use clocks.
   void clear();
   // Turns the counting of full traversals (PredictorConfig::count_baseline) on or off.
   void set_count_baseline(bool on);

@@ -101,7 +101,6 @@ struct QueryArrays {
   ComputePipeline kernel;
   // The same kernel over a ray index list (trace_*_indexed.comp), timed under the same label.
   ComputePipeline indexed;
-  Probe recorded = Probe::kOff;  // how the last recorded trace ran the HRPP stage
 
   // `count_steps`: the kernels count the interior loop's subgroup iterations
   // (GpuTracerConfig::count_steps); `nodes`: the node array holds them (--bvh-nodes).
@@ -137,9 +136,7 @@ struct GpuTracer::State {
   TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
   std::unique_ptr<QueryArrays> queries[2];        // [index_of(QueryKind)]
   KernelTimer timer;
-  std::unique_ptr<GpuPredictor> predictor;  // HRPP on
-  PerClass<Probe> probing{};                // HRPP on: how each class traces through it now
-  PerClass<std::uint32_t> clock{};          // HRPP use stamps: rays of the class traced so far
+  std::unique_ptr<GpuPredictor> predictor;  // HRPP on: routes the classes that probe
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
@@ -165,12 +162,9 @@ struct GpuTracer::State {
         k->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
       }
     }
-    if (predictor_config.enabled) {
+    if (predictor_config.enabled)
       predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
                                                  triangle_view);
-      for (RayClass k : kRayClasses)
-        probing[k] = predictor_config.predicts(k) ? Probe::kAll : Probe::kOff;
-    }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
     probe.tmin = 0.0f;
@@ -180,15 +174,7 @@ struct GpuTracer::State {
 
   QueryArrays& query(RayClass c) { return *queries[index_of(query_kind(c))]; }
   const QueryArrays& query(RayClass c) const { return *queries[index_of(query_kind(c))]; }
-  bool predicts(RayClass c) const { return predictor && probing[c] == Probe::kAll; }
-  bool samples(RayClass c) const {
-    return predictor && probing[c] == Probe::kSample && !batched();
-  }
-  Probe probing_now(RayClass c) const {
-    if (predicts(c)) return Probe::kAll;
-    return samples(c) ? Probe::kSample : Probe::kOff;
-  }
-  bool batched() const { return predictor && predictor->config().batch > 0; }
+  Probe probing(RayClass c) const { return predictor ? predictor->probing(c) : Probe::kOff; }
   bool serial() const { return predictor && predictor->config().serial; }
 
   std::uint32_t rays_per_workgroup() const {
@@ -261,12 +247,7 @@ struct GpuTracer::State {
               const TexelView* ray_indices) {
     check_resident(c, count);
     const gpu::TracePushConstants pc = push_constants();
-    query(c).recorded = probing_now(c);
-    if (predicts(c)) {
-      if (batched()) return predictor->record_batches(cmd, c, count, pc, clock[c]);
-      return predictor->record(cmd, c, RayCountSource{&count}, pc, clock[c], t);
-    }
-    if (samples(c)) predictor->record_sample(cmd, c, RayCountSource{&count}, pc, clock[c], t);
+    if (predictor && predictor->record_trace(cmd, c, RayCountSource{&count}, pc, t)) return;
     prepare_trace(cmd, c, &count, nullptr, 0);
     ComputePipeline& k = plain_kernel(c, ray_indices);
     const std::uint32_t per_group = rays_per_workgroup();
@@ -280,16 +261,14 @@ struct GpuTracer::State {
     if (query(c).rays.size() == 0)
       throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
     const gpu::TracePushConstants pc = push_constants();
-    query(c).recorded = probing_now(c);
     const RayCountSource source{nullptr, &queue, count_offset, args_offset};
-    if (predicts(c)) return predictor->record(cmd, c, source, pc, clock[c], t);
-    if (samples(c)) predictor->record_sample(cmd, c, source, pc, clock[c], t);
+    if (predictor && predictor->record_trace(cmd, c, source, pc, t)) return;
     prepare_trace(cmd, c, nullptr, &queue, count_offset);
     ComputePipeline& k = query(c).kernel;
     record_dispatch_indirect(cmd, k, &pc, queue, args_offset, t, label(k, c));
   }
 
-  bool records_indirect(RayClass c) const { return !(predicts(c) && batched()); }
+  bool records_indirect(RayClass c) const { return !predictor || predictor->records_indirect(c); }
 
   void check_resident(RayClass c, std::size_t count) const {
     if (count * sizeof(gpu::Ray) > query(c).rays.size() || count > chunk_rays())
@@ -315,9 +294,12 @@ struct GpuTracer::State {
     return out;
   }
 
+  // After the submit: the plain trace's counters, or the HRPP stage's as it ran (kAll: the whole
+  // trace; kSample: the sample's predictor counters beside the plain trace's).
   GpuTraceResult finish(RayClass c) {
+    const Probe ran = predictor ? predictor->recorded(c) : Probe::kOff;
     GpuTraceResult out;
-    if (query(c).recorded == Probe::kAll) {
+    if (ran == Probe::kAll) {
       const PredictedTrace p = predictor->finish(c);
       out.counters = p.counters;
       out.predictor = p.predictor;
@@ -326,12 +308,12 @@ struct GpuTracer::State {
     } else {
       out = finish_plain(c);
     }
-    if (query(c).recorded == Probe::kSample) {  // the sample's counters beside the plain's
-      const PredictedTrace p = predictor->finish(c, true);
+    if (ran == Probe::kSample) {
+      const PredictedTrace p = predictor->finish(c);
       out.predictor = p.predictor;
       out.sampled = p.counters.rays;
     }
-    clock[c] += static_cast<std::uint32_t>(out.counters.rays);
+    if (predictor) predictor->advance_clock(c, out.counters.rays);
     return out;
   }
 };
@@ -346,9 +328,9 @@ GpuTracer& GpuTracer::operator=(GpuTracer&&) noexcept = default;
 
 const GpuTracerConfig& GpuTracer::config() const { return s_->config; }
 
-const PredictorConfig* GpuTracer::predictor_config() const {
-  return s_->predictor ? &s_->predictor->config() : nullptr;
-}
+GpuPredictor* GpuTracer::predictor() { return s_->predictor.get(); }
+
+const GpuPredictor* GpuTracer::predictor() const { return s_->predictor.get(); }
 
 GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter) {
   GpuTraceResult out;
@@ -380,7 +362,7 @@ StorageBuffer& GpuTracer::ray_buffer(RayClass c, std::size_t rays) {
 StorageBuffer& GpuTracer::hit_buffer(RayClass c) { return s_->query(c).hits; }
 
 void GpuTracer::begin(RayClass c) {
-  if (s_->predicts(c) || s_->samples(c)) s_->predictor->begin(c);
+  if (s_->predictor) s_->predictor->begin(c);
 }
 
 void GpuTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
@@ -418,7 +400,7 @@ GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c, RaySorte
   if (count == 0) return {};
   begin(c);
   const auto n = static_cast<std::uint32_t>(count);
-  const bool sorted = sorter && !s_->predicts(c);  // HRPP's stage keeps queue order
+  const bool sorted = sorter && s_->probing(c) != Probe::kAll;  // HRPP's stage keeps queue order
   if (sorted) sorter->bind_rays(s_->query(c).ray_view);
   s_->ctx->submit_and_wait(
       [&](VkCommandBuffer cmd) {
@@ -438,36 +420,17 @@ GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c, RaySorte
 
 void GpuTracer::warm_up() {
   const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
+  GpuPredictor* hrpp = s_->predictor.get();
   for (RayClass c : kRayClasses) {
     trace(rays, c);
-    if (!s_->predictor || !s_->predicts(c)) continue;
+    if (s_->probing(c) != Probe::kAll) continue;
     // The plain kernel and a sample too: the adaptive switch may turn to them.
-    for (Probe p : {Probe::kOff, Probe::kSample}) {
-      s_->probing[c] = p;
-      trace(rays, c);
+    for (Probe p : {Probe::kOff, Probe::kSample, Probe::kAll}) {
+      hrpp->set_probing(c, p);
+      if (p != Probe::kAll) trace(rays, c);
     }
-    s_->probing[c] = Probe::kAll;
   }
-  clear_predictor();  // the warm-up rays leave nothing behind
-}
-
-void GpuTracer::set_probing(RayClass c, Probe mode) {
-  if (s_->predictor) s_->probing[c] = s_->predictor->config().predicts(c) ? mode : Probe::kOff;
-}
-
-Probe GpuTracer::probing(RayClass c) const { return s_->probing_now(c); }
-
-TableOccupancy GpuTracer::predictor_occupancy(RayClass c) const {
-  return s_->predictor ? s_->predictor->occupancy(c) : TableOccupancy{};
-}
-
-void GpuTracer::set_count_baseline(bool on) {
-  if (s_->predictor) s_->predictor->set_count_baseline(on);
-}
-
-void GpuTracer::clear_predictor() {
-  if (s_->predictor) s_->predictor->clear();
-  for (RayClass c : kRayClasses) s_->clock[c] = 0;
+  if (hrpp) hrpp->clear();  // the warm-up rays leave nothing behind
 }
 
 }  // namespace hrpp

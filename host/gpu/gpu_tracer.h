@@ -1,6 +1,8 @@
 // Closest-hit and any-hit ray queries on the GPU: the BVH uploaded once, rays traced by the
 // trace_closest / trace_any kernels with the CPU reference's semantics (host/trace/
-// cpu_traversal.h), results, work counters and kernel time read back.
+// cpu_traversal.h), results, work counters and kernel time read back. The wavefront renderer's
+// device tracer (gpu/device_tracer.h); with HRPP on, the classes that probe trace through the
+// HRPP stage (gpu/gpu_predictor.h), which decides how each trace runs.
 #pragma once
 
 #include <cstdint>
@@ -11,14 +13,12 @@
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
+#include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer_config.h"
 #include "gpu/memory_plan.h"
-#include "gpu_types.h"
-#include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
-#include "trace/traversal_counters.h"
 
 namespace hrpp {
 
@@ -29,19 +29,7 @@ class KernelTimer;
 class RaySorter;
 class TexelView;
 
-struct GpuTraceResult {
-  std::vector<gpu::Hit> hits;   // one per ray; any-hit: prim 0 occluded, -1 free (t, u, v = 0)
-  TraversalCounters counters;   // summed over the ray chunks of the call
-  double kernel_ms = 0.0;       // device timestamps around the trace's dispatches (0 when
-                                // HRPP runs in batches: many small dispatches)
-  double sort_ms = 0.0;         // of kernel_ms, the sort's dispatches (trace() with a sorter)
-  bool predicted = false;       // the HRPP stage ran (the class probes)
-  std::uint64_t traced = 0;     // rays the trace kernel traced (HRPP: the queue)
-  gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
-  std::uint64_t sampled = 0;    // HRPP sample (Probe::kSample): rays that ran the stage
-};
-
-class GpuTracer {
+class GpuTracer final : public DeviceTracer {
  public:
   // The device buffers a tracer over `bvh` allocates with `resident_rays` rays of each query
   // kind resident (0: none yet): the BVH arrays (read through texel views only), with HRPP on
@@ -56,7 +44,7 @@ class GpuTracer {
   // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
             const PredictorConfig& predictor = {});
-  ~GpuTracer();
+  ~GpuTracer() override;
   GpuTracer(GpuTracer&&) noexcept;
   GpuTracer& operator=(GpuTracer&&) noexcept;
   GpuTracer(const GpuTracer&) = delete;
@@ -75,40 +63,27 @@ class GpuTracer {
     return trace(rays, ray_file_class(kind), sorter);
   }
 
-  // Device-resident rays (the wavefront renderer, host/render/): hit-all classes (camera,
-  // bounce) share one ray and hit array, the hit-any class has its own, grown to hold at least
-  // `rays` rays, so other kernels write rays into them and read hits back without a host round
-  // trip. The references stay valid until a call asks for more. A hit-any record in the hit
-  // array is the first occluder found (prim >= 0) or a miss; trace() turns it into 0 / -1.
-  StorageBuffer& ray_buffer(RayClass c, std::size_t rays);
-  StorageBuffer& hit_buffer(RayClass c);
-
-  // Traces recorded into the caller's command buffer, over ray_buffer(c)[0..count):
-  //   begin(c)                before recording: zeroes the class's HRPP counters (host write);
-  //   record(...)             the trace of `count` rays (known on the host): ray j, or with
-  //                           `ray_indices` (a texel view of uint, 4 per texel; --reorder) the
-  //                           ray whose index is entry j of the list, its hit written at that
-  //                           index (the indexed kernels); HRPP's predicted trace ignores the
-  //                           list (its stage traces in queue order); or
-  //   record_indirect(...)    the trace of as many rays as the uint at `count_offset` of
-  //                           `queue` says when the command buffer runs, with the
-  //                           VkDispatchIndirectCommand at `args_offset` (workgroups of
-  //                           rays_per_workgroup() rays); not in HRPP's batched mode;
-  //   finish(c)               after the submit: checks that every ray finished (throws
-  //                           hrpp::Error naming the loop limiter otherwise), returns the
-  //                           counters (hits left empty) and HRPP counters since begin.
-  // One trace per query kind (hit-all, hit-any) per command buffer. Dispatches are timed with
-  // `timer` when given, under {kernel, class} labels (hrpp/timer_label.h).
-  void begin(RayClass c);
+  // DeviceTracer (gpu/device_tracer.h). Hit-any records in the hit array: trace() turns them
+  // into 0 / -1. With `ray_indices`, HRPP's predicted trace ignores the list (its stage traces
+  // in queue order); record_indirect is not for HRPP's batched mode (records_indirect false).
+  // rays_per_workgroup: with or without HRPP.
+  StorageBuffer& ray_buffer(RayClass c, std::size_t rays) override;
+  StorageBuffer& hit_buffer(RayClass c) override;
+  void begin(RayClass c) override;
   void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
-              const TexelView* ray_indices = nullptr);
+              const TexelView* ray_indices = nullptr) override;
   void record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
-                       VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* timer);
-  GpuTraceResult finish(RayClass c);
-  // False when the class's trace needs its ray count on the host (HRPP's batched mode).
-  bool records_indirect(RayClass c) const;
-  // Rays one workgroup of a trace takes, with or without HRPP (indirect dispatch arguments).
-  std::uint32_t rays_per_workgroup() const;
+                       VkDeviceSize count_offset, VkDeviceSize args_offset,
+                       KernelTimer* timer) override;
+  GpuTraceResult finish(RayClass c) override;
+  bool records_indirect(RayClass c) const override;
+  std::uint32_t rays_per_workgroup() const override;
+  // Traces a few rays with each kernel (with HRPP, the plain kernel and a sample too), then
+  // empties the predictor's tables.
+  void warm_up() override;
+  GpuPredictor* predictor() override;
+  const GpuPredictor* predictor() const override;
+
   // Most rays one dispatch reaches on `device` with `config` (storage-buffer range,
   // texel-buffer size, workgroup count).
   static std::size_t max_dispatch_rays(const DeviceInfo& device, const GpuTracerConfig& config);
@@ -117,26 +92,7 @@ class GpuTracer {
   // (as trace()).
   GpuTraceResult trace_resident(std::size_t count, RayClass c, RaySorter* sorter = nullptr);
 
-  // Traces a few rays with each kernel: the first dispatch of a pipeline JIT-compiles on
-  // lavapipe, so call this before timing.
-  void warm_up();
-
   const GpuTracerConfig& config() const;
-  // HRPP's configuration; nullptr when the tracer has no predictor (HRPP off).
-  const PredictorConfig* predictor_config() const;
-
-  // HRPP on: how class `c` traces through the HRPP stage from the next record on (the adaptive
-  // predictor's switch; initially every class the configuration names at Probe::kAll). A sample
-  // (not in batched mode) runs the stage over every PredictorConfig::sample-th ray, then the
-  // plain trace over every ray: the hits are HRPP off's, the HRPP counters the sample's.
-  void set_probing(RayClass c, Probe mode);
-  Probe probing(RayClass c) const;
-  // HRPP on: what the class's table holds now; empty every table.
-  TableOccupancy predictor_occupancy(RayClass c) const;
-  void clear_predictor();
-  // HRPP on: count what full traversals would visit (savings %) in the next traces; doubles
-  // their work, so time with it off.
-  void set_count_baseline(bool on);
 
  private:
   struct State;

@@ -12,6 +12,9 @@
 
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
+#include "gpu/device_tracer.h"
+#include "gpu/gpu_predictor.h"
+#include "gpu/gpu_tracer.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/ray_sorter.h"
 #include "gpu/memory_plan.h"
@@ -113,8 +116,15 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
   return q;
 }();
 
+// The device tracer: the one place that names its backend (with the sizes above:
+// wavefront_paths, check_render_fits).
+std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
+                                          const RenderConfig& config) {
+  return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
+}
+
 // The tracer's hit array of a ray class, sized for `rays` resident rays.
-const StorageBuffer& resident_hits(GpuTracer& tracer, RayClass c, std::size_t rays) {
+const StorageBuffer& resident_hits(DeviceTracer& tracer, RayClass c, std::size_t rays) {
   tracer.ray_buffer(c, rays);
   return tracer.hit_buffer(c);
 }
@@ -139,7 +149,9 @@ struct WavefrontRenderer::State {
   RenderScene rs;
   std::uint32_t wave;  // paths per wavefront
   RenderBufferNeeds needs;
-  GpuTracer tracer;
+  std::unique_ptr<DeviceTracer> device;
+  DeviceTracer& tracer;
+  GpuPredictor* hrpp;  // HRPP on: the tracer's stage, which routes each class (else nullptr)
   StorageBuffer params, paths, next_paths, next_rays, shadows, image, queues;
   StorageBuffer shade_triangles, materials, lights, textures, texels;
   TexelView shade_view, material_view, light_view;
@@ -156,7 +168,9 @@ struct WavefrontRenderer::State {
         rs(make_render_scene(scene)),
         wave(wavefront_paths(c, config)),
         needs(check_render_fits(c, scene, bvh, config, wave, RenderBufferNeeds(rs, config, wave))),
-        tracer(c, bvh, config.tracer, config.predictor),
+        device(make_tracer(c, bvh, config)),
+        tracer(*device),
+        hrpp(tracer.predictor()),
         params(c, needs.params),
         paths(c, needs.paths),
         next_paths(c, needs.next_paths),
@@ -227,10 +241,12 @@ struct WavefrontRenderer::State {
   // when there is none: no sorter, camera rays, or HRPP's predicted trace (its stage keeps
   // queue order).
   const TexelView* record_order(VkCommandBuffer cmd, RayClass c, std::uint32_t n) {
-    if (!sorter || c != RayClass::kBounce || tracer.probing(c) == Probe::kAll) return nullptr;
+    if (!sorter || c != RayClass::kBounce || probing(c) == Probe::kAll) return nullptr;
     sorter->record(cmd, n, &timer);
     return &sorter->order_view();
   }
+
+  Probe probing(RayClass c) const { return hrpp ? hrpp->probing(c) : Probe::kOff; }
 
   void upload_params(const Camera& cam) {
     const gpu::RenderParams p = make_render_params(cfg, cam, rs, tracer.rays_per_workgroup());
@@ -363,7 +379,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     FrameStats discard;
     s_->tracer.warm_up();
     s_->trace_wavefront(0, std::min(pixels, 64u), 0, discard);
-    s_->tracer.clear_predictor();  // HRPP: the warm-up paths leave nothing behind
+    if (s_->hrpp) s_->hrpp->clear();  // the warm-up paths leave nothing behind
   }
   s_->image.fill(0);
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
@@ -372,14 +388,15 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     for (Kernel k : {Kernel::render_generate, Kernel::trace_closest, Kernel::render_shade,
                      Kernel::trace_any, Kernel::render_accumulate})
       frame.kernels_ms[TimerLabel{k}] = 0.0;
-    for (RayClass c : kRayClasses) s_->tracer.set_probing(c, s_->adaptive.mode(c));
+    if (s_->hrpp)
+      for (RayClass c : kRayClasses) s_->hrpp->set_probing(c, s_->adaptive.mode(c));
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
     frame.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
     for (RayClass c : kRayClasses)
       frame.decisions[c] =
-          s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->tracer.probing(c)));
+          s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
     stats += frame;
     stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);
@@ -392,7 +409,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
 }
 
 TableOccupancy WavefrontRenderer::predictor_occupancy(RayClass c) const {
-  return s_->tracer.predictor_occupancy(c);
+  return s_->hrpp ? s_->hrpp->occupancy(c) : TableOccupancy{};
 }
 
 }  // namespace hrpp

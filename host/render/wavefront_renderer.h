@@ -4,8 +4,9 @@
 // with the continuation rays looping back to trace_closest until --max-depth or Russian
 // roulette ends every path. With HRPP on, each trace of a class that probes is the HRPP stage
 // (hrpp_predict → trace kernel over the queue → hrpp_resolve), and an adaptive predictor
-// (host/hrpp/adaptive_predictor.h) decides per frame which classes probe. The traces are GpuTracer's kernels on its own device-resident ray
-// and hit arrays (so HRPP, when configured, predicts them too: one traversal in the project).
+// (host/hrpp/adaptive_predictor.h) decides per frame which classes probe. The traces are the
+// device tracer's (gpu/device_tracer.h; GpuTracer's kernels) on its own device-resident ray and
+// hit arrays (so HRPP, when configured, predicts them too: one traversal in the project).
 // render_shade fills the continuation and shadow queues with atomic counters; the shadow trace
 // and render_accumulate are dispatched indirectly from the shadow queue, so a bounce is one
 // command buffer; the host reads the queues (a few bytes) once per bounce.
@@ -16,7 +17,7 @@
 #include <memory>
 
 #include "bvh/gpu_layout.h"
-#include "gpu/gpu_tracer.h"
+#include "hrpp/predictor_stats.h"
 #include "hrpp/ray_class.h"
 #include "render/render_config.h"
 #include "render/render_scene.h"
