@@ -103,7 +103,7 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
            {"--hrpp on --hash md5", "--hash"},
            {"--hrpp on --hash-bits 9", "--hash-bits"},
            {"--hrpp on --table-sets 3", "--table-sets"},
-           {"--hrpp on --table-policy fifo", "--table-policy"},
+           {"--hrpp on --table-policy mru", "--table-policy"},
            {"--hrpp on --table-preset huge", "--table-preset"},
            {"--hrpp on --hrpp-rays some", "--hrpp-rays"},
            {"--hrpp on --hrpp-batch 100000", "--hrpp-batch"}}) {

@@ -21,6 +21,7 @@
 #include "gpu/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp/reference_predictor.h"
+#include "hrpp/reference_table.h"
 #include "hrpp_counter_checks.h"
 #include "test_scenes.h"
 #include "trace/ray_batches.h"
@@ -137,7 +138,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       EXPECT_LE(occ.nodes, occ.entries * t.nodes) << what;
       if (t.sets == 4) {  // 8 entries of 2 nodes: full at once
         EXPECT_EQ(occ.entries, occ.capacity) << what;
-        if (t.policy == TablePolicy::kLru) {
+        if (t.policy != TablePolicy::kNone) {
           EXPECT_GT(pc[HRPP_PC_EVICTIONS], 0u) << what;
         } else {
           EXPECT_GT(pc[HRPP_PC_INSERT_DROPS], 0u) << what;
@@ -155,13 +156,14 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
 }
 
 // The deterministic configuration: GPU counters and hits = the CPU reference predictor's, with
-// a roomy table and with tiny ones that evict (lru) or drop (none).
+// a roomy table and with tiny ones that evict (lru, fifo) or drop (none).
 TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
   const TableConfig roomy{1u << 12, 8, 16, TablePolicy::kNone};
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const std::uint32_t go_up : {0u, 2u})
       for (const TableConfig& table :
-           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kNone}})
+           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kFifo},
+            TableConfig{4, 2, 2, TablePolicy::kNone}})
       for (const Case& c : cases()) {
         if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact)
           continue;                                           // hit-any has one mode
@@ -195,7 +197,8 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         if (table.sets == roomy.sets) {
           EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
         } else {
-          const int full = table.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
+          const int full =
+              table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
           EXPECT_GT(cpu.predictor.c[full], 0u) << what;
         }
         std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
@@ -297,6 +300,39 @@ TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {
     expect_counters_add_up(on.predictor, c.rays->size(), c.name);
     std::printf("%s speculative N=%u: %llu wrong closest hits of %zu rays\n", c.name,
                 p.hash.bits, static_cast<unsigned long long>(differ), c.rays->size());
+  }
+}
+
+// Which key each policy gives up when a full set takes a new one: one set of two ways, keys 1
+// and 2 inserted at clocks 1 and 2, key 1 probed at clock 3, key 3 inserted at clock 4. lru
+// evicts key 2 (key 1 was used last), fifo key 1 (it came in first; the probe wrote nothing),
+// none drops key 3. The GPU table makes the same choices (ReferencePredictorReproducesGpuCounters).
+TEST(HrppPredictor, PoliciesEvictTheirVictims) {
+  struct Expect {
+    TablePolicy policy;
+    bool holds[3];  // keys 1, 2, 3 afterwards
+    ReferenceTable::Outcome third;
+    std::uint64_t evictions;
+  };
+  using O = ReferenceTable::Outcome;
+  for (const Expect& e : {Expect{TablePolicy::kLru, {true, false, true}, O::kInserted, 1},
+                          Expect{TablePolicy::kFifo, {false, true, true}, O::kInserted, 1},
+                          Expect{TablePolicy::kNone, {true, true, false}, O::kDropped, 0}}) {
+    gpu::PredictorParams params{};
+    params.sets = 1;
+    params.ways = 2;
+    params.nodes = 2;
+    params.policy = static_cast<std::uint32_t>(e.policy);
+    ReferenceTable table(params);
+    std::uint64_t evictions = 0;
+    EXPECT_EQ(table.insert(1, 10, 1, evictions), O::kInserted);
+    EXPECT_EQ(table.insert(2, 20, 2, evictions), O::kInserted);
+    ASSERT_NE(table.lookup(1, 3), nullptr);
+    EXPECT_EQ(table.insert(3, 30, 4, evictions), e.third) << table_policy_name(e.policy);
+    for (std::uint64_t key = 1; key <= 3; ++key)
+      EXPECT_EQ(table.lookup(key, 5) != nullptr, e.holds[key - 1])
+          << table_policy_name(e.policy) << " key " << key;
+    EXPECT_EQ(evictions, e.evictions) << table_policy_name(e.policy);
   }
 }
 

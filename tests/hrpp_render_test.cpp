@@ -75,7 +75,7 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
     }
     EXPECT_EQ(exact.stats.closest().predictor.c[HRPP_PC_WRONG_CLOSEST], 0u) << what;
     if (t.sets == 4) {
-      const int full = t.policy == TablePolicy::kLru ? HRPP_PC_EVICTIONS : HRPP_PC_INSERT_DROPS;
+      const int full = t.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
       EXPECT_GT(exact.stats.closest().predictor.c[full], 0u) << what;
     }
   }

@@ -107,7 +107,8 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
   cmd->add_option("--table-nodes", o.nodes, "Nodes per entry (overrides the preset)")->group(g);
   cmd->add_option_function<TablePolicy>(
          "--table-policy", [&o](const TablePolicy& p) { o.policy = p; },
-         "When full: none (drop) or lru (overrides the preset)")
+         "When full: none (drop), lru (evict the least recently used) or fifo (evict the "
+         "oldest key; probe hits write nothing) (overrides the preset)")
       ->transform(one_of(kTablePolicyNames))
       ->group(g);
   cmd->add_option("--hrpp-batch", o.batch,

@@ -27,12 +27,13 @@ enum class PredictorMode : std::uint32_t {
 enum class TablePolicy : std::uint32_t {
   kNone = HRPP_POLICY_NONE,
   kLru = HRPP_POLICY_LRU,
+  kFifo = HRPP_POLICY_FIFO,
 };
 
 inline constexpr NameTable<PredictorMode, 2> kPredictorModeNames = {
     {{PredictorMode::kSpeculative, "speculative"}, {PredictorMode::kExact, "exact"}}};
 inline constexpr NameTable<TablePolicy, HRPP_POLICY_COUNT> kTablePolicyNames = {
-    {{TablePolicy::kNone, "none"}, {TablePolicy::kLru, "lru"}}};
+    {{TablePolicy::kNone, "none"}, {TablePolicy::kLru, "lru"}, {TablePolicy::kFifo, "fifo"}}};
 constexpr const char* predictor_mode_name(PredictorMode m) {
   return name_in(kPredictorModeNames, m);
 }

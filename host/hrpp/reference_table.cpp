@@ -35,14 +35,15 @@ const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t 
   return nullptr;
 }
 
-// The way holding `key`, else the first empty way, else (lru) the way with the oldest stamp,
-// emptied; none: `dropped`.
-ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
+// The way holding `key`, else the first empty way, else (lru, fifo) the way with the oldest
+// stamp, emptied; none: dropped.
+ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
                                                std::uint64_t& evictions) {
   const std::size_t base = set_base(key);
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag == key || way.tag == kEmptyTag) {
+      claim = way.tag == key ? Claim::kFound : Claim::kClaimed;
       way.tag = key;
       return way;
     }
@@ -52,11 +53,13 @@ ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
     if (ways_[base + w].stamp < victim->stamp) victim = &ways_[base + w];
   switch (policy_) {
     case TablePolicy::kNone:
-      dropped = true;
+      claim = Claim::kDropped;
       return *victim;
     case TablePolicy::kLru:
+    case TablePolicy::kFifo:
       break;
   }
+  claim = Claim::kClaimed;
   ++evictions;
   victim->tag = key;
   std::fill(victim->slots.begin(), victim->slots.end(), kEmptyNode);
@@ -66,10 +69,11 @@ ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, bool& dropped,
 ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std::uint32_t clock,
                                                std::uint64_t& evictions) {
   if (ways_.empty()) return Outcome::kDropped;
-  bool dropped = false;
-  Way& way = claim_way(key, dropped, evictions);
-  if (dropped) return Outcome::kDropped;
-  if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
+  Claim claim = Claim::kFound;
+  Way& way = claim_way(key, claim, evictions);
+  if (claim == Claim::kDropped) return Outcome::kDropped;
+  if (policy_ == TablePolicy::kLru || (policy_ == TablePolicy::kFifo && claim == Claim::kClaimed))
+    way.stamp = std::max(way.stamp, clock);
   Outcome outcome = Outcome::kDropped;
   for (int& slot : way.slots) {
     if (slot == node) {
@@ -82,7 +86,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
       break;
     }
   }
-  if (outcome == Outcome::kDropped && policy_ == TablePolicy::kLru) {
+  if (outcome == Outcome::kDropped && policy_ != TablePolicy::kNone) {
     way.slots[clock % params_.nodes] = node;
     ++evictions;
     outcome = Outcome::kInserted;

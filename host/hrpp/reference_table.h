@@ -1,7 +1,8 @@
 // The CPU mirror of one class's GPU predictor table (shaders/lib/hrpp_table.glsl): sets × ways
 // entries of a 64-bit tag (the full key), a use stamp and `nodes` node slots, the same set
 // function, and the same policies when an insert finds no room (none: drop; lru: evict the way
-// with the oldest stamp, or overwrite slot clock mod nodes of a full node list). Applied one
+// with the oldest stamp, or overwrite slot clock mod nodes of a full node list; fifo: as lru,
+// with a way's stamp set only when its key comes in). Applied one
 // operation at a time in the deterministic order (hrpp_insert's), it holds exactly what the GPU
 // table holds, so the reference predictor is the ground truth of every policy.
 #pragma once
@@ -24,7 +25,7 @@ class ReferenceTable {
 
   // The node slots of `key`'s entry (filled in slot order; HRPP_EMPTY_NODE after the last
   // node), or nullptr when no way holds the key. A hit renews the entry's stamp with `clock`
-  // (lru).
+  // (lru only).
   const std::vector<int>* lookup(std::uint64_t key, std::uint32_t clock);
   // Inserts `node` under `key` at use stamp `clock`; adds the entries and nodes it replaced to
   // `evictions`.
@@ -40,7 +41,10 @@ class ReferenceTable {
     std::vector<int> slots;  // HRPP_EMPTY_NODE = empty
   };
   std::size_t set_base(std::uint64_t key) const;
-  Way& claim_way(std::uint64_t key, bool& dropped, std::uint64_t& evictions);
+  // What claim_way did: found the key's way, brought the key in (an empty way or a victim), or
+  // dropped the insert (none).
+  enum class Claim { kFound, kClaimed, kDropped };
+  Way& claim_way(std::uint64_t key, Claim& claim, std::uint64_t& evictions);
 
   gpu::PredictorParams params_{};
   TablePolicy policy_;

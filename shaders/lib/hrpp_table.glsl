@@ -9,6 +9,9 @@
 //   lru:  no free way: the way with the oldest use stamp (probe hits and inserts renew it) is
 //         evicted (tag swapped by CAS, slots emptied); full node list: the slot (stamp mod
 //         nodes) is overwritten. Both count as evictions.
+//   fifo: as lru, but a way's stamp is the clock at which its key came in (an empty way
+//         claimed, or a victim replaced), never renewed: the oldest key is evicted, and a probe
+//         hit writes nothing to the table.
 // Stamps are the ray's clock (PredictorParams.clock + ray index), so they wrap after 2^32 rays.
 //
 // The includer defines HRPP_TABLE_BASE (first binding) and enables 64-bit integers and atomics.
@@ -69,7 +72,7 @@ const uint kHrppDropped = 2u;
 #define HRPP_TABLE_FETCH_TAG hrpp_load_tag
 #endif
 
-// Entry index holding `key`, or -1. A hit renews the entry's stamp (LRU).
+// Entry index holding `key`, or -1. A hit renews the entry's stamp (lru).
 int hrpp_table_lookup(uint64_t key, uint clock) {
   const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
   int found = -1;
@@ -84,6 +87,7 @@ int hrpp_table_lookup(uint64_t key, uint clock) {
 uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions) {
   const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
   int entry = -1;
+  bool claimed = false;  // this insert brought the key in (fifo's stamp)
   for (uint w = 0u; w < hrpp.ways && entry < 0; ++w) {
     const uint64_t tag = hrpp_load_tag(base + w);
     if (tag == key) {
@@ -91,6 +95,7 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
     } else if (tag == kHrppEmptyTag) {
       const uint64_t prev = atomicCompSwap(hrpp_tags[base + w], kHrppEmptyTag, key);
       if (prev == kHrppEmptyTag || prev == key) entry = int(base + w);
+      claimed = prev == kHrppEmptyTag;
     }
   }
   if (entry < 0) {
@@ -102,13 +107,15 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
     const uint64_t prev = atomicCompSwap(hrpp_tags[victim], old, key);
     if (prev != old && prev != key) return kHrppDropped;  // another ray replaced it first
     if (prev == old && old != key) {
+      claimed = true;
       ++evictions;
       for (uint s = 0u; s < hrpp.nodes; ++s)
         atomicExchange(hrpp_slots[victim * hrpp.nodes + s], kHrppEmptyNode);
     }
     entry = int(victim);
   }
-  if (hrpp.policy == HRPP_POLICY_LRU) atomicMax(hrpp_stamps[entry], clock);
+  if (hrpp.policy == HRPP_POLICY_LRU || (hrpp.policy == HRPP_POLICY_FIFO && claimed))
+    atomicMax(hrpp_stamps[entry], clock);
   const uint first = uint(entry) * hrpp.nodes;
   uint outcome = kHrppDropped;  // until a slot holds the node
   for (uint s = 0u; s < hrpp.nodes && outcome == kHrppDropped; ++s) {
@@ -118,7 +125,7 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
     if (held == kHrppEmptyNode) outcome = kHrppInserted;
     else if (held == uint(node)) outcome = kHrppPresent;
   }
-  if (outcome == kHrppDropped && hrpp.policy == HRPP_POLICY_LRU) {
+  if (outcome == kHrppDropped && hrpp.policy != HRPP_POLICY_NONE) {
     atomicExchange(hrpp_slots[first + clock % hrpp.nodes], uint(node));
     ++evictions;
     outcome = kHrppInserted;

@@ -51,8 +51,9 @@ struct HashParams {
 #define HRPP_POLICY_NONE 0  // the paper: drop the insert
 #define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
                             // shaders/lib/hrpp_table.glsl)
+#define HRPP_POLICY_FIFO 2  // evict the way whose key came in first (a probe hit writes nothing)
 #define HRPP_POLICY_COUNT \
-  2  // a new policy: its branches in shaders/lib/hrpp_table.glsl and
+  3  // a new policy: its branches in shaders/lib/hrpp_table.glsl and
      // host/hrpp/reference_table.cpp, its name in predictor_config.h
 
 // Ray classes: each has its own table, switch, counters and
