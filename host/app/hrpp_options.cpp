@@ -1,7 +1,6 @@
 #include "app/hrpp_options.h"
 
 #include <algorithm>
-#include <map>
 #include <string>
 
 #include "app/cli_names.h"
