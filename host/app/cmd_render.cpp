@@ -4,7 +4,6 @@
 // device time and per-ray-class counters, writes the image (EXR linear, PNG sRGB) and
 // optionally the stats JSON.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -23,6 +22,7 @@
 #include "cpu_render/cpu_renderer.h"
 #include "gpu/vulkan_context.h"
 #include "render/image_output.h"
+#include "render/render_progress.h"
 #include "render/render_stats.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"
@@ -90,27 +90,13 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
                                                     baseline));
 }
 
-// A progress line on stderr once the render has taken more than a second.
-std::function<void(std::uint32_t)> progress_line(std::uint32_t spp) {
-  const auto start = std::chrono::steady_clock::now();
-  return [start, spp, shown = false](std::uint32_t done) mutable {
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (s < 1.0 && !shown) return;
-    shown = true;
-    std::fprintf(stderr, "\rrender: %u/%u spp, %.1f s", done, spp, s);
-    if (done == spp) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  };
-}
-
 // --backend cpu: the CPU reference renderer, on every hardware thread. HRPP lives in the trace
 // kernels, so it is refused here; the device options do not apply.
 void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bvh) {
   if (o.render.predictor.enabled)
     throw Error("--backend cpu: HRPP runs in the device's trace kernels only (use --hrpp off)");
   const CpuRenderer renderer(scene, bvh, o.render);
-  const RenderResult result = renderer.render(progress_line(o.render.spp));
+  const RenderResult result = renderer.render(render_progress(o.render.spp));
   write_image(o.out, result.width, result.height, result.rgb);
   DeviceInfo cpu;
   cpu.name = "CPU reference renderer";
@@ -149,7 +135,7 @@ void run_render(RenderOptions& o) {
   o.render.tracer = o.render.tracer.resolved_for(ctx.info());  // the stats name the device's
   WavefrontRenderer renderer(ctx, scene, bvh, o.render);
 
-  const RenderResult result = renderer.render(progress_line(o.render.spp));
+  const RenderResult result = renderer.render(render_progress(o.render.spp));
   check_validation_messages(ctx);
   write_image(o.out, result.width, result.height, result.rgb);
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
