@@ -221,6 +221,53 @@ TEST(Render, FurnaceWhiteBoxInEnvironment) {
   EXPECT_EQ(r.stats.shadow().counters.rays, 0u);  // no lights to sample
 }
 
+// A scene without lights (most glTF models) is lit by RenderConfig::default_environment. A
+// lightless diffuse plane of albedo a that fills the view then has radiance a · L exactly (every
+// bounce escapes into the environment), the view away from it L; with none, black.
+TEST(Render, LightlessSceneGetsTheDefaultEnvironment) {
+  Material grey;
+  grey.base_color = glm::vec3(0.6f);
+  Scene scene;
+  scene.name = "test:lightless-plane";
+  scene.materials.push_back(grey);
+  add_quad(scene, {-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}, 0);
+  Camera cam;
+  cam.position = {0, 0, 3};
+  cam.forward = {0, 0, -1};
+  cam.up = {0, 1, 0};
+  cam.yfov = 1.0f;
+  scene.cameras.push_back(cam);
+  cam.forward = {0, 0, 1};
+  scene.cameras.push_back(cam);
+  const glm::vec3 env(0.5f, 1.0f, 2.0f);
+  for (std::uint32_t camera : {0u, 1u}) {
+    RenderConfig config = small(2, 3);
+    config.camera = camera;
+    config.default_environment = env;
+    const RenderResult r = render(scene, config);
+    EXPECT_EQ(r.stats.lighting, Lighting::kDefaultEnvironment);
+    EXPECT_EQ(r.stats.environment, env);
+    const glm::vec3 expected = camera == 0 ? 0.6f * env : env;
+    for (std::size_t i = 0; i < r.rgb.size(); ++i)
+      ASSERT_NEAR(r.rgb[i], expected[static_cast<int>(i % 3)], 1e-5f)
+          << "camera " << camera << " value " << i;
+  }
+  RenderConfig dark = small(1, 3);
+  dark.default_environment = glm::vec3(0.0f);
+  const RenderResult black = render(scene, dark);
+  EXPECT_EQ(black.stats.lighting, Lighting::kNone);
+  EXPECT_EQ(*std::max_element(black.rgb.begin(), black.rgb.end()), 0.0f);
+  EXPECT_NE(render_stats_text(dark, black).find("lighting    none"), std::string::npos);
+  // A scene with a light of its own keeps it alone.
+  Light point;
+  point.position = {0, 0, 1};
+  scene.lights.push_back(point);
+  const RenderResult lit = render(scene, small(1, 3));
+  EXPECT_EQ(lit.stats.lighting, Lighting::kScene);
+  EXPECT_EQ(lit.stats.environment, glm::vec3(0.0f));
+  EXPECT_EQ(render_stats_text(small(1, 3), lit).find("lighting"), std::string::npos);
+}
+
 // HRPP through the renderer: the predictor lives in the trace kernels, so render only passes its
 // configuration on. In exact mode every closest hit equals the full traversal's and any-hit
 // answers are exact, so the image is the one without HRPP, bit for bit; the per-class HRPP

@@ -4,6 +4,7 @@
 // device time and per-ray-class counters, writes the image (EXR linear, PNG sRGB) and
 // optionally the stats JSON.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -41,6 +42,7 @@ struct RenderOptions {
   std::string size = "256x256";
   std::string out = "render.png";
   std::string stats;
+  std::string default_environment = "1";
   RenderConfig render;
   HrppOptions hrpp;
 };
@@ -55,6 +57,21 @@ void parse_size(const std::string& s, RenderConfig& c) {
                 std::to_string(RenderConfig::kMaxSide) + " each, e.g. 256x256");
   c.width = w;
   c.height = h;
+}
+
+// "none" → 0; "G" → (G, G, G); "R,G,B"; each finite and >= 0. One-line error otherwise.
+glm::vec3 parse_environment(const std::string& s) {
+  if (s == "none") return glm::vec3(0.0f);
+  float c[3] = {0, 0, 0};
+  char extra = 0;
+  const int n = std::sscanf(s.c_str(), "%f,%f,%f%c", &c[0], &c[1], &c[2], &extra);
+  const bool ok = n == 1 ? std::sscanf(s.c_str(), "%f%c", &c[0], &extra) == 1 : n == 3;
+  if (n == 1) c[1] = c[2] = c[0];
+  for (float v : c)
+    if (!ok || !std::isfinite(v) || v < 0.0f || v > 1e30f)
+      throw Error("--default-environment \"" + s +
+                  "\": expected none, a radiance G or R,G,B (finite, >= 0), e.g. 1 or 0.8,0.9,1");
+  return {c[0], c[1], c[2]};
 }
 
 // Ranges checked here rather than by CLI11 so that every bad value is one line and exit 1.
@@ -116,6 +133,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
 
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
+  o.render.default_environment = parse_environment(o.default_environment);
   check_range("--spp", o.render.spp, 1, 1u << 20);
   check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
@@ -195,6 +213,10 @@ void add_render_command(CLI::App& app) {
                   "(direction octant, then the origin's Morton code); the image is the same")
       ->transform(one_of(kRayOrderNames))
       ->default_str(ray_order_name(o->render.reorder));
+  cmd->add_option("--default-environment", o->default_environment,
+                  "Radiance of the uniform environment that lights a scene without any light "
+                  "(most glTF models): G or R,G,B, or none to render such a scene black")
+      ->capture_default_str();
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_render(*o); });
 }

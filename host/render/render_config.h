@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/name_table.h"
 #include "gpu/gpu_tracer_config.h"
 #include "gpu_types.h"
 #include "hrpp/adaptive_predictor.h"
@@ -20,6 +21,15 @@
 #include "trace/traversal_counters.h"
 
 namespace hrpp {
+
+// What lit a render: the scene's own lights (emissive triangles, point, spot and directional
+// lights, environments), or, for a scene without any, RenderConfig::default_environment, or
+// nothing (the image is black).
+enum class Lighting : std::uint8_t { kScene, kDefaultEnvironment, kNone };
+inline constexpr NameTable<Lighting, 3> kLightingNames = {{{Lighting::kScene, "scene"},
+                                                           {Lighting::kDefaultEnvironment,
+                                                            "default environment"},
+                                                           {Lighting::kNone, "none"}}};
 
 struct RenderConfig {
   static constexpr std::uint32_t kMaxSide = 16384;  // image width and height
@@ -44,6 +54,9 @@ struct RenderConfig {
   // sort's order (no ray, hit or path state moves); the image is the same bit for bit, only the
   // trace's coherence changes. Not applied to a bounce that HRPP predicts.
   RayOrder reorder = RayOrder::kOff;
+  // Radiance of the uniform environment that lights a scene without any light, as glTF viewers
+  // light such a model (--default-environment); zero: none, and such a scene renders black.
+  glm::vec3 default_environment{1.0f};
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };
@@ -88,6 +101,8 @@ struct RenderStats : FrameStats {
   std::size_t triangles = 0;
   std::size_t emissive_triangles = 0;
   std::size_t delta_lights = 0;
+  Lighting lighting = Lighting::kScene;
+  glm::vec3 environment{0.0f};  // the constant environment's radiance (the default's included)
   std::size_t textures = 0;
   std::size_t texel_bytes = 0;
   int texture_halvings = 0;

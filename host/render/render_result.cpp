@@ -13,6 +13,8 @@ RenderResult make_render_result(const RenderConfig& config, const RenderScene& r
   stats.triangles = rs.triangles.size();
   stats.emissive_triangles = rs.emissive_triangles;
   stats.delta_lights = rs.delta_lights;
+  stats.lighting = rs.lighting;
+  stats.environment = rs.environment;
   stats.textures = rs.features.on[HRPP_FEATURE_TEXTURES] ? rs.textures.size() : 0;
   stats.texel_bytes = stats.textures ? rs.texels.size() * sizeof(std::uint32_t) : 0;
   stats.texture_halvings = rs.texture_halvings;

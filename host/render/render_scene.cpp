@@ -217,7 +217,8 @@ void make_light_cdf(const std::vector<float>& power, RenderScene& out) {
 
 }  // namespace
 
-RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes) {
+RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
+                              std::size_t texel_budget_bytes) {
   RenderScene out;
   add_materials(scene, out);
   if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
@@ -229,8 +230,13 @@ RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes
   const float radius = add_triangles(scene, out, power);
   out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
   add_scene_lights(scene, radius, out, power);
-  out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
   make_light_cdf(power, out);
+  if (out.lights.empty() && !emits(out.environment)) {
+    const bool lit = emits(default_environment);
+    out.lighting = lit ? Lighting::kDefaultEnvironment : Lighting::kNone;
+    if (lit) out.environment = default_environment;
+  }
+  out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
   return out;
 }
 

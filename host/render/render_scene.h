@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "render/render_config.h"
 #include "render_interface.h"
 #include "scene/scene.h"
 
@@ -32,6 +33,7 @@ struct RenderScene {
   std::vector<gpu::GpuTexture> textures;
   std::vector<std::uint32_t> texels;  // RGBA8, R in the low byte
   glm::vec3 environment{0.0f};        // sum of the constant environment lights
+  Lighting lighting = Lighting::kScene;
   RenderFeatures features;
   int texture_halvings = 0;  // times every texture was halved to fit the texel budget
   std::size_t emissive_triangles = 0;
@@ -39,8 +41,11 @@ struct RenderScene {
 };
 
 // Area-quad lights are sampled through their emissive triangles (every loader adds the quad as
-// emissive geometry). Lights are chosen by power. Textures whose RGBA8 texels exceed
-// `texel_budget_bytes` are halved (box filter) until they fit.
-RenderScene make_render_scene(const Scene& scene, std::size_t texel_budget_bytes = 64u << 20);
+// emissive geometry). Lights are chosen by power. A scene with no light that emits is lit by a
+// uniform environment of radiance `default_environment` (Lighting::kDefaultEnvironment), or by
+// nothing when that is zero (kNone). Textures whose RGBA8 texels exceed `texel_budget_bytes`
+// are halved (box filter) until they fit.
+RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
+                              std::size_t texel_budget_bytes = 64u << 20);
 
 }  // namespace hrpp

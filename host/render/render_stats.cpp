@@ -97,6 +97,8 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
   j["scene"] = {{"triangles", s.triangles},
                 {"emissive_triangles", s.emissive_triangles},
                 {"delta_lights", s.delta_lights},
+                {"lighting", name_in(kLightingNames, s.lighting)},
+                {"environment", {s.environment.r, s.environment.g, s.environment.b}},
                 {"textures", s.textures},
                 {"texel_bytes", s.texel_bytes},
                 {"texture_halvings", s.texture_halvings}};
@@ -117,6 +119,17 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
   std::snprintf(line, sizeof line, "features    %s\n",
                 s.features.empty() ? "(none)" : json(s.features).dump().c_str());
   out += line;
+  if (s.lighting != Lighting::kScene) {
+    if (s.lighting == Lighting::kNone)
+      std::snprintf(line, sizeof line, "lighting    none: the scene has no light and "
+                                       "--default-environment is none, so the image is black\n");
+    else
+      std::snprintf(line, sizeof line,
+                    "lighting    the scene has no light: a uniform environment of radiance "
+                    "(%g, %g, %g) lights it (--default-environment)\n",
+                    s.environment.r, s.environment.g, s.environment.b);
+    out += line;
+  }
   double total = 0.0;
   for (const auto& [k, ms] : times_by_name(s.kernels_ms)) {
     std::snprintf(line, sizeof line, "kernel      %-18s %10.3f ms\n", k.c_str(), ms);
