@@ -1,8 +1,7 @@
 // render_shade: one path vertex per item of the wavefront. Misses add the environment; hits add
-// emission (camera rays and after delta bounces only: every other bounce's light comes from
-// next-event estimation), sample one light for a shadow ray (render_accumulate adds its payload
-// when trace_any finds it unoccluded), and sample the material for the continuation ray, with
-// Russian roulette. The decisions are shaders/shared/path_vertex.h, which the CPU reference
+// emission with its multiple importance sampling weight (emission_weight), sample one light for
+// a shadow ray (render_accumulate adds its payload, MIS-weighted, when trace_any finds it
+// unoccluded), and sample the material for the continuation ray, with Russian roulette. The decisions are shaders/shared/path_vertex.h, which the CPU reference
 // renderer runs too; this kernel reads the scene's arrays and fills the queues. Outputs are
 // compacted with atomicAdd; every path owns its random stream, so the order in the queues does
 // not change the image. The shadow queue's size also becomes the indirect dispatch arguments of
@@ -53,7 +52,9 @@ uint queue_shadow_ray(PathState path, Lobe lobe, SurfaceHit s, vec3 wo, VertexSa
   float prob;
   const GpuLight light = load_light(pick_light(u.light, prob));
   const LightSample ls = sample_light(light, s, u.light_u1, u.light_u2);
-  const vec3 contribution = light_contribution(path, lobe, s, wo, ls, prob);
+  const bool last = path.depth + 1u >= params.max_depth;
+  const vec3 contribution =
+      light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy, last);
   if (!traces_shadow_ray(contribution, ls)) return 0u;
   const uint slot = atomicAdd(queues.shadow_rays, 1u);
   shadow_rays[slot] = ls.shadow;
@@ -69,17 +70,25 @@ void queue_continuation(PathState path, Lobe lobe, GpuMaterial m, SurfaceHit s, 
   if (!survives(throughput, path.depth + 1u, params.rr_depth, u.rr)) return;
   const uint slot = atomicAdd(queues.next_rays, 1u);
   next_rays[slot] = continuation_ray(s, b);
-  next_paths[slot] = continuation_path(path, throughput, lobe);
+  next_paths[slot] = continuation_path(path, throughput, lobe, b);
 }
 
 // A path vertex at a hit: queues its shadow and continuation rays, returns the emission it
 // sees; shadow_end as queue_shadow_ray returns it.
+// The emission the path's ray finds on triangle t, MIS-weighted.
+vec3 hit_emission(Ray ray, Hit hit, PathState path, ShadeTriangle t, vec3 emission) {
+  if (!kEmissiveTriangles || emission == vec3(0.0)) return vec3(0.0);
+  const float pick = t.light > 0u ? light_pick_prob(t.light - 1u) : 0.0;
+  const float light_pdf = hit_light_pdf(t, pick, ray.dir, hit.t);
+  return path.throughput * emission * emission_weight(params.light_strategy, path, light_pdf);
+}
+
 vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
-  const SurfaceHit s = make_surface_hit(load_shade_triangle(uint(hit.prim)), hit, ray.dir);
+  const ShadeTriangle t = load_shade_triangle(uint(hit.prim));
+  const SurfaceHit s = make_surface_hit(t, hit, ray.dir);
   const GpuMaterial m = load_material(s.material);
   const vec3 wo = -ray.dir;
-  vec3 radiance = vec3(0.0);
-  if (counts_emission(path) && kEmissiveTriangles) radiance += path.throughput * m.emission;
+  vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
   vec3 albedo = m.base_color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
   const VertexSamples u = vertex_samples(path, params.seed);

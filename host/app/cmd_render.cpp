@@ -213,6 +213,12 @@ void add_render_command(CLI::App& app) {
                   "(direction octant, then the origin's Morton code); the image is the same")
       ->transform(one_of(kRayOrderNames))
       ->default_str(ray_order_name(o->render.reorder));
+  cmd->add_option("--light-sampling", o->render.light_sampling,
+                  "How emissive triangles light a path: mis (light and BSDF sampling combined "
+                  "by the power heuristic), light (light sampling alone) or bsdf (BSDF "
+                  "sampling alone); the mean is the same")
+      ->transform(one_of(kLightSamplingNames))
+      ->default_str(name_in(kLightSamplingNames, o->render.light_sampling));
   cmd->add_option("--default-environment", o->default_environment,
                   "Radiance of the uniform environment that lights a scene without any light "
                   "(most glTF models): G or R,G,B, or none to render such a scene black")

@@ -35,7 +35,9 @@ struct PathTracer {
     float prob = 0.0f;
     const gpu::GpuLight& light = rs.lights[pick_light(rs, u.light, prob)];
     const gpu::LightSample ls = gpu::sample_light(light, s, u.light_u1, u.light_u2);
-    const vec3 contribution = gpu::light_contribution(path, lobe, s, wo, ls, prob);
+    const bool last = path.depth + 1u >= params.max_depth;
+    const vec3 contribution =
+        gpu::light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy, last);
     if (!gpu::traces_shadow_ray(contribution, ls)) return;
     if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow]))
       pixel += glm::vec4(contribution, 0.0f);
@@ -49,8 +51,12 @@ struct PathTracer {
     const gpu::GpuMaterial& m = rs.materials[s.material];
     const vec3 wo = -ray.dir;
     vec3 radiance(0.0f);
-    if (gpu::counts_emission(path) && gpu::kEmissiveTriangles)
-      radiance += path.throughput * m.emission;
+    if (gpu::kEmissiveTriangles && m.emission != vec3(0.0f)) {
+      const float pick = t.light > 0u ? pick_prob(rs, t.light - 1u) : 0.0f;
+      const float light_pdf = gpu::hit_light_pdf(t, pick, ray.dir, hit.t);
+      radiance += path.throughput * m.emission *
+                  gpu::emission_weight(params.light_strategy, path, light_pdf);
+    }
     vec3 albedo = m.base_color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
@@ -62,7 +68,7 @@ struct PathTracer {
     vec3 throughput = path.throughput * b.weight;
     if (!gpu::survives(throughput, path.depth + 1u, params.rr_depth, u.rr)) return false;
     ray = gpu::continuation_ray(s, b);
-    path = gpu::continuation_path(path, throughput, lobe);
+    path = gpu::continuation_path(path, throughput, lobe, b);
     return true;
   }
 

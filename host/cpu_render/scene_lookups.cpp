@@ -15,6 +15,10 @@ std::uint32_t pick_light(const RenderScene& rs, float u, float& prob) {
   return lo;
 }
 
+float pick_prob(const RenderScene& rs, std::uint32_t i) {
+  return rs.lights[i].cdf - (i > 0 ? rs.lights[i - 1].cdf : 0.0f);
+}
+
 glm::vec3 sample_texture(const RenderScene& rs, int index, glm::vec2 uv) {
   const gpu::GpuTexture& t = rs.textures[static_cast<std::size_t>(index)];
   const gpu::TextureFootprint f = gpu::texture_footprint(t, uv);

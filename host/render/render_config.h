@@ -16,6 +16,7 @@
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
 #include "hrpp/timer_label.h"
+#include "render_interface.h"
 #include "hrpp_types.h"
 #include "trace/ray_order.h"
 #include "trace/traversal_counters.h"
@@ -30,6 +31,17 @@ inline constexpr NameTable<Lighting, 3> kLightingNames = {{{Lighting::kScene, "s
                                                            {Lighting::kDefaultEnvironment,
                                                             "default environment"},
                                                            {Lighting::kNone, "none"}}};
+
+// How emissive triangles light a path vertex (--light-sampling; HRPP_LIGHTS_*,
+// shaders/shared/path_vertex.h): MIS of light and BSDF sampling, or one of them alone (kept for
+// the unbiasedness tests and the error-against-time study).
+enum class LightSampling : std::uint32_t {
+  kMis = HRPP_LIGHTS_MIS,
+  kLight = HRPP_LIGHTS_NEE,
+  kBsdf = HRPP_LIGHTS_BSDF,
+};
+inline constexpr NameTable<LightSampling, 3> kLightSamplingNames = {
+    {{LightSampling::kMis, "mis"}, {LightSampling::kLight, "light"}, {LightSampling::kBsdf, "bsdf"}}};
 
 struct RenderConfig {
   static constexpr std::uint32_t kMaxSide = 16384;  // image width and height
@@ -57,6 +69,7 @@ struct RenderConfig {
   // Radiance of the uniform environment that lights a scene without any light, as glTF viewers
   // light such a model (--default-environment); zero: none, and such a scene renders black.
   glm::vec3 default_environment{1.0f};
+  LightSampling light_sampling = LightSampling::kMis;
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };

@@ -44,6 +44,7 @@ gpu::RenderParams make_render_params(const RenderConfig& c, const Camera& cam,
   p.light_count = static_cast<std::uint32_t>(rs.lights.size());
   p.rr_depth = c.rr_depth;
   p.trace_any_group_rays = trace_any_group_rays;
+  p.light_strategy = static_cast<std::uint32_t>(c.light_sampling);
   return p;
 }
 

@@ -152,6 +152,7 @@ float add_triangles(const Scene& scene, RenderScene& out, std::vector<float>& po
     l.edge2 = t.v2 - t.v0;
     l.color = e;
     out.lights.push_back(l);
+    g.light = static_cast<std::uint32_t>(out.lights.size());  // 1 + its index
     power.push_back(2.0f * kPi * luminance(e) * area);
     ++out.emissive_triangles;
   }
@@ -231,6 +232,8 @@ RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
   out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
   add_scene_lights(scene, radius, out, power);
   make_light_cdf(power, out);
+  if (out.lights.empty())
+    for (gpu::ShadeTriangle& t : out.triangles) t.light = 0;  // no light with power
   if (out.lights.empty() && !emits(out.environment)) {
     const bool lit = emits(default_environment);
     out.lighting = lit ? Lighting::kDefaultEnvironment : Lighting::kNone;

@@ -85,6 +85,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"wavefront_paths", config.wavefront_paths},
                  {"rays_per_invocation", config.tracer.rays_per_invocation},
                  {"reorder", ray_order_name(config.reorder)},
+                 {"light_sampling", name_in(kLightSamplingNames, config.light_sampling)},
                  {"hrpp", hrpp_on ? "on" : "off"},
                  {"frame", "one sample pass over every pixel; the top level sums the frames, "
                            "\"frames\" lists each"}};

@@ -76,7 +76,7 @@ Ray load_ray(uint i) {
 PathState load_path(uint i) {
   const uvec4 a = texel_at(path_texels, 2u * i);
   const uvec4 b = texel_at(path_texels, 2u * i + 1u);
-  return PathState(uintBitsToFloat(a.xyz), a.w, b.x, b.y, b.z, b.w);
+  return PathState(uintBitsToFloat(a.xyz), a.w, b.x, b.y, b.z, uintBitsToFloat(b.w));
 }
 
 vec4 float_texel(usamplerBuffer b, uint i) { return uintBitsToFloat(texel_at(b, i)); }
@@ -113,6 +113,9 @@ GpuLight load_light(uint i) {
 }
 
 float light_cdf(uint i) { return uintBitsToFloat(texel_at(light_texels, 4u * i + 1u).w); }
+
+// The probability that next-event estimation picks light i (its share of the cdf).
+float light_pick_prob(uint i) { return light_cdf(i) - (i > 0u ? light_cdf(i - 1u) : 0.0); }
 
 // One atomic per subgroup: the items this invocation finished (0 or 1) summed into
 // queues.done[kernel] (HRPP_RENDER_DONE_*).

@@ -7,6 +7,7 @@
 #define HRPP_BSDF_H
 
 #include "glsl_cpp.h"
+#include "gpu_types.h"  // vec3 on the host
 
 #ifdef __cplusplus
 namespace hrpp::gpu {
@@ -70,6 +71,17 @@ HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float alpha) {
   const float d = ggx_d(max(dot(n, h), 0.0f), a2);
   const float g = ggx_g1(n_o, a2) * ggx_g1(n_i, a2);
   return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * (d * g / (4.0f * n_o));
+}
+
+// GGX metal: the solid-angle pdf with which ggx_sample draws wi (visible normals):
+// G1(wo) D(h) / (4 n·wo).
+HRPP_INLINE float ggx_pdf(vec3 n, vec3 wo, vec3 wi, float alpha) {
+  const float n_o = dot(n, wo);
+  const vec3 h = normalize(wo + wi);
+  const float n_h = dot(n, h);
+  if (n_o <= 0.0f || n_h <= 0.0f || dot(wo, h) <= 0.0f) return 0.0f;
+  const float a2 = alpha * alpha;
+  return ggx_g1(n_o, a2) * ggx_d(n_h, a2) / (4.0f * n_o);
 }
 
 // GGX metal: samples wi from the visible normals; returns f·cos/pdf = F · G1(wi), or 0 when

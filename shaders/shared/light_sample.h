@@ -30,8 +30,16 @@ HRPP_INLINE Ray ray_from(vec3 o, vec3 dir, float tmax) {
 struct LightSample {
   vec3 wi;    // unit direction from the surface point to the light
   vec3 li;    // incident radiance × 1/pdf of the sample (zero: nothing to add)
+  float pdf;  // area lights: the solid-angle pdf of wi (the light's pick not included); 0: a
+              // delta light, which no BSDF sample can find
   Ray shadow;  // from the surface point to the light, offset at both ends
 };
+
+// Solid-angle pdf of a point sampled uniformly on a triangle of doubled area `area2`, at
+// distance `dist` along a direction whose cosine with the triangle's normal is `cos_l`.
+HRPP_INLINE float triangle_solid_angle_pdf(float area2, float cos_l, float dist) {
+  return dist * dist / (abs(cos_l) * 0.5f * area2);
+}
 
 // A point uniformly on emissive triangle l (radiance l.color, two-sided) seen from s: the
 // shadow ray ends just short of it, moved off the triangle towards s.
@@ -46,6 +54,7 @@ HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1
   ls.wi = to / sqrt(d2);
   const float cos_l = dot(c, ls.wi) / area2;  // > 0: s sees the side c points away from
   ls.li = l.color * (abs(cos_l) * 0.5f * area2 / d2);
+  ls.pdf = triangle_solid_angle_pdf(area2, cos_l, sqrt(d2));
   ls.shadow = shadow_ray_to(s.p, s.ng, q, (cos_l > 0.0f ? -c : c) / area2);
   return ls;
 }
@@ -58,6 +67,7 @@ HRPP_INLINE LightSample sample_point_light(GpuLight l, SurfaceHit s) {
   LightSample ls;
   ls.wi = to / sqrt(d2);
   ls.li = l.color / d2;
+  ls.pdf = 0.0f;
   if (l.type == HRPP_LIGHT_SPOT)
     ls.li *= smoothstep(l.cos_outer, l.cos_inner, dot(-ls.wi, l.dir));
   ls.shadow = shadow_ray_to(s.p, s.ng, l.position, vec3(0.0f));
@@ -74,6 +84,7 @@ HRPP_INLINE LightSample sample_light(GpuLight l, SurfaceHit s, float u1, float u
   LightSample ls;
   ls.wi = -l.dir;
   ls.li = kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL ? l.color : vec3(0.0f);
+  ls.pdf = 0.0f;
   ls.shadow = ray_from(offset_ray_origin(s.p, s.ng), ls.wi, float(HRPP_RAY_TMAX_FAR));
   return ls;
 }

@@ -1,6 +1,7 @@
 // One vertex of a path, the decisions render_shade makes at a hit: the random numbers it
 // draws, the lobe it picks, the light it adds through next-event estimation, the direction it
-// continues in and Russian roulette; and the camera ray render_generate starts a path with.
+// continues in and Russian roulette, and the multiple importance sampling weights of the light
+// it sees; and the camera ray render_generate starts a path with.
 // Shared by the render kernels and the CPU reference renderer (glsl_cpp.h): what differs
 // between the two is only how they read the scene's arrays and queue the rays.
 #ifndef HRPP_PATH_VERTEX_H
@@ -34,21 +35,21 @@ HRPP_INLINE Ray camera_ray(RenderParams params, uint pixel, uint sample_index) {
 }
 
 // A path of pixel and sample at depth `depth` carrying `throughput`; specular: 1 after a delta
-// bounce.
+// bounce; pdf: the solid-angle pdf of the BSDF sample that made its ray.
 HRPP_INLINE PathState path_state(vec3 throughput, uint pixel, uint sample_index, uint depth,
-                                 uint specular) {
+                                 uint specular, float pdf) {
   PathState p;
   p.throughput = throughput;
   p.pixel = pixel;
   p.sample_index = sample_index;
   p.depth = depth;
   p.specular = specular;
-  p.pad = 0u;
+  p.pdf = pdf;
   return p;
 }
 
 HRPP_INLINE PathState camera_path(uint pixel, uint sample_index) {
-  return path_state(vec3(1.0f), pixel, sample_index, 0u, 0u);
+  return path_state(vec3(1.0f), pixel, sample_index, 0u, 0u, 0.0f);
 }
 
 // The random numbers of one vertex, drawn from its stream in this order whatever is used.
@@ -75,10 +76,43 @@ HRPP_INLINE VertexSamples vertex_samples(PathState path, uint seed) {
   return u;
 }
 
-// Emission is counted on camera hits and after delta bounces only: every other bounce's light
-// comes from next-event estimation.
-HRPP_INLINE bool counts_emission(PathState path) {
-  return path.depth == 0u || path.specular != 0u;
+// Multiple importance sampling (Veach and Guibas 1995): the power heuristic's weight of a sample
+// drawn with pdf `a` against the other strategy's pdf `b` for the same direction, written so that
+// it neither overflows nor divides by zero; w(a, b) + w(b, a) = 1 for any a, b > 0.
+HRPP_INLINE float mis_power(float a, float b) {
+  if (!(a > 0.0f)) return 0.0f;
+  const float r = b / a;
+  return 1.0f / (1.0f + r * r);
+}
+
+// The weight of a next-event sample of an area light (light_pdf: solid angle, its pick
+// included) against the BSDF's pdf of the same direction, under HRPP_LIGHTS_* `strategy`. At a
+// vertex that cannot continue (`last`: the max depth) no BSDF sample follows, so light sampling
+// carries the whole estimate.
+HRPP_INLINE float nee_weight(uint strategy, bool last, float light_pdf, float bsdf_pdf) {
+  if (last || strategy == HRPP_LIGHTS_NEE) return 1.0f;
+  if (strategy == HRPP_LIGHTS_BSDF) return 0.0f;
+  return mis_power(light_pdf, bsdf_pdf);
+}
+
+// The weight of the emission a path's ray finds at a hit, whose pdf under light sampling is
+// `light_pdf` (solid angle, pick included; 0: the emitter is not a light, which only BSDF
+// samples find). Camera rays and rays after a delta bounce count it whole (no light sample
+// could have found it); the others are nee_weight's complement.
+HRPP_INLINE float emission_weight(uint strategy, PathState path, float light_pdf) {
+  if (path.depth == 0u || path.specular != 0u || !(light_pdf > 0.0f)) return 1.0f;
+  if (strategy == HRPP_LIGHTS_NEE) return 0.0f;
+  if (strategy == HRPP_LIGHTS_BSDF) return 1.0f;
+  return mis_power(path.pdf, light_pdf);
+}
+
+// Light sampling's pdf of the direction in which a ray found emissive triangle t at distance
+// `dist` (solid angle), with `pick` the probability of picking its light (0: not a light).
+HRPP_INLINE float hit_light_pdf(ShadeTriangle t, float pick, vec3 dir, float dist) {
+  if (!(pick > 0.0f)) return 0.0f;
+  const vec3 c = cross(t.v1 - t.v0, t.v2 - t.v0);
+  const float area2 = length(c);
+  return pick * triangle_solid_angle_pdf(area2, dot(c, dir) / area2, dist);
 }
 
 const uint kLobeDiffuse = 0u;
@@ -111,11 +145,22 @@ HRPP_INLINE vec3 eval_lobe_cos(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
   return lobe.albedo * (max(dot(s.ns, wi), 0.0f) / kPi);
 }
 
+// The pdf with which the lobe's sampling (sample_bounce) draws wi (solid angle; delta: 0).
+HRPP_INLINE float lobe_pdf(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
+  if (lobe.delta) return 0.0f;
+  if (kMetal && lobe.kind == kLobeMetal) return ggx_pdf(s.ns, wo, wi, lobe.alpha);
+  return max(dot(s.ns, wi), 0.0f) / kPi;
+}
+
 // Next-event estimation: what light sample ls (of a light picked with probability prob) adds
-// through the path's vertex at s when its shadow ray is unoccluded.
+// through the path's vertex at s when its shadow ray is unoccluded, with its MIS weight
+// (nee_weight; delta lights: 1). `last`: the vertex cannot continue.
 HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec3 wo,
-                                    LightSample ls, float prob) {
-  return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li / prob;
+                                    LightSample ls, float prob, uint strategy, bool last) {
+  const float w = ls.pdf > 0.0f
+                      ? nee_weight(strategy, last, prob * ls.pdf, lobe_pdf(lobe, s, wo, ls.wi))
+                      : 1.0f;
+  return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li * (w / prob);
 }
 
 // A shadow ray is traced only when it carries light; one turned away from the light (offsets
@@ -125,11 +170,13 @@ HRPP_INLINE bool traces_shadow_ray(vec3 contribution, LightSample ls) {
          dot(ls.shadow.dir, ls.wi) > 0.0f;
 }
 
-// The continuation of a path: its direction, the lobe's f·cos/pdf, and the geometric normal on
-// the side it leaves into (zero weight: the path ends).
+// The continuation of a path: its direction, the lobe's f·cos/pdf, the pdf (solid angle;
+// delta lobes: 0) and the geometric normal on the side it leaves into (zero weight: the path
+// ends).
 struct Bounce {
   vec3 wi;
   vec3 weight;
+  float pdf;
   vec3 leave_normal;
 };
 
@@ -138,6 +185,7 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   Bounce b;
   b.wi = vec3(0.0f);
   b.weight = vec3(0.0f);
+  b.pdf = 0.0f;
   b.leave_normal = s.ng;
   if (kGlass && lobe.kind == kLobeGlass) {
     const float eta = s.front ? 1.0f / m.ior : m.ior;
@@ -157,10 +205,12 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
       b.weight = fresnel_schlick(lobe.albedo, max(dot(s.ns, b.wi), 0.0f));
     } else {
       b.weight = ggx_sample(s.ns, wo, lobe.albedo, lobe.alpha, u1, u2, b.wi);
+      b.pdf = ggx_pdf(s.ns, wo, b.wi, lobe.alpha);
     }
   } else {
     b.wi = cosine_hemisphere(s.ns, u1, u2);
     b.weight = lobe.albedo;
+    b.pdf = max(dot(s.ns, b.wi), 0.0f) / kPi;
   }
   // A direction on the wrong side of the geometric surface ends the path.
   if (dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
@@ -183,9 +233,9 @@ HRPP_INLINE Ray continuation_ray(SurfaceHit s, Bounce b) {
   return ray_from(offset_ray_origin(s.p, b.leave_normal), b.wi, float(HRPP_RAY_TMAX_FAR));
 }
 
-HRPP_INLINE PathState continuation_path(PathState path, vec3 throughput, Lobe lobe) {
+HRPP_INLINE PathState continuation_path(PathState path, vec3 throughput, Lobe lobe, Bounce b) {
   return path_state(throughput, path.pixel, path.sample_index, path.depth + 1u,
-                    lobe.delta ? 1u : 0u);
+                    lobe.delta ? 1u : 0u, b.pdf);
 }
 
 #ifdef __cplusplus

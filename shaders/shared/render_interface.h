@@ -71,6 +71,14 @@ inline constexpr bool kGlass = true;
 #define HRPP_LIGHT_SPOT 2u
 #define HRPP_LIGHT_DIRECTIONAL 3u
 
+// How light reaches a path vertex from emissive triangles (RenderParams.light_strategy,
+// --light-sampling): next-event estimation and BSDF sampling combined with the power heuristic
+// (Veach and Guibas 1995), or one of them alone. Delta lights (point, spot, directional) are
+// always sampled; the environment is found by BSDF-sampled rays (path_vertex.h).
+#define HRPP_LIGHTS_MIS 0u
+#define HRPP_LIGHTS_NEE 1u   // light sampling alone: emission a BSDF ray finds is not counted
+#define HRPP_LIGHTS_BSDF 2u  // BSDF sampling alone: no shadow rays to emissive triangles
+
 // Per-frame constants.
 struct RenderParams {
   uint width;
@@ -85,7 +93,7 @@ struct RenderParams {
   uint light_count;    // entries of the light array (selection by its cdf)
   uint rr_depth;       // Russian roulette from this depth on
   uint trace_any_group_rays;  // rays per workgroup of the shadow trace (its indirect dispatch)
-  uint pad1;
+  uint light_strategy;        // HRPP_LIGHTS_*
 };
 
 // One path of the wavefront (its ray is rays[i] of the same index).
@@ -95,7 +103,7 @@ struct PathState {
   uint sample_index;
   uint depth;     // surface interactions so far (camera ray: 0)
   uint specular;  // 1: the last bounce was a delta lobe (emission is then counted on hit)
-  uint pad;
+  float pdf;      // solid-angle pdf of the BSDF sample that made the path's ray (camera ray: 0)
 };
 
 // A shadow ray's payload: added to image[pixel] when the ray is unoccluded.
@@ -132,14 +140,14 @@ struct RenderPushConstants {
 };
 
 // Shading data of one triangle (by triangle id), read as 8 16-byte texels:
-//   v0.xyz material | v1.xyz has_normals | v2.xyz 0 | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
+//   v0.xyz material | v1.xyz has_normals | v2.xyz light | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
 struct ShadeTriangle {
   vec3 v0;
   uint material;
   vec3 v1;
   uint has_normals;
   vec3 v2;
-  uint pad0;
+  uint light;  // emissive triangles: 1 + the index of the triangle's light; 0: not a light
   vec4 n0;
   vec4 n1;
   vec4 n2;
