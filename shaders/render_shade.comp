@@ -91,7 +91,7 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
   vec3 albedo = m.base_color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
-  const VertexSamples u = vertex_samples(path, params.seed);
+  const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);
   const Lobe lobe = choose_lobe(m, albedo, u.lobe);
   shadow_end = queue_shadow_ray(path, lobe, s, wo, u);
   queue_continuation(path, lobe, m, s, wo, u);

@@ -31,6 +31,9 @@ BOUNDED_NODES = 8
 BOUNDED_KIB = [4, 16, 64, 256, 1024, 4096, 16384]
 BOUNDED_WAYS = [1, 4, 8]
 BOUNDED_POLICIES = ["none", "lru"]
+# The estimator RESULTS.md's grids were rendered with (light sampling alone, independent
+# samples), pinned so that they reproduce; hrpp render's defaults are MIS and Sobol samples.
+ESTIMATOR = ["--light-sampling", "light", "--sampler", "independent"]
 HASHES = ["hrpp", "grid-spherical", "two-point"]
 
 MODES = {
@@ -74,7 +77,8 @@ class Jobs:
             os.path.join(self.args.repo, "scenes", f"{scene}.scene.json")
         out = os.path.join(self.args.runs, jid)
         cmd = [self.args.hrpp, "render", scene_arg, "--size", f"{size}x{size}", "--spp", str(spp),
-               "--seed", str(seed), "--out", out + ".exr", "--stats", out + ".json"] + flags
+               "--seed", str(seed), "--out", out + ".exr", "--stats", out + ".json"] + \
+            ESTIMATOR + flags
         line = " ".join(shlex.quote(c) for c in cmd) + " > " + shlex.quote(out + ".log") + " 2>&1"
         row = dict(id=jid, grid=grid, scene=scene, size=size, spp=spp, seed=seed,
                    flags=" ".join(flags), cmd=" ".join(shlex.quote(c) for c in cmd), **meta)

@@ -219,6 +219,11 @@ void add_render_command(CLI::App& app) {
                   "sampling alone); the mean is the same")
       ->transform(one_of(kLightSamplingNames))
       ->default_str(name_in(kLightSamplingNames, o->render.light_sampling));
+  cmd->add_option("--sampler", o->render.sampler,
+                  "Random numbers of a path: sobol (Owen-scrambled Sobol points, decorrelated "
+                  "per pixel) or independent (a hashed stream per path vertex)")
+      ->transform(one_of(kSamplerNames))
+      ->default_str(name_in(kSamplerNames, o->render.sampler));
   cmd->add_option("--default-environment", o->default_environment,
                   "Radiance of the uniform environment that lights a scene without any light "
                   "(most glTF models): G or R,G,B, or none to render such a scene black")

@@ -60,7 +60,7 @@ struct PathTracer {
     vec3 albedo = m.base_color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
-    const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed);
+    const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);
     const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, u.lobe);
     add_light(path, lobe, s, wo, u, pixel);
     if (path.depth + 1u >= params.max_depth) return false;

@@ -43,6 +43,15 @@ enum class LightSampling : std::uint32_t {
 inline constexpr NameTable<LightSampling, 3> kLightSamplingNames = {
     {{LightSampling::kMis, "mis"}, {LightSampling::kLight, "light"}, {LightSampling::kBsdf, "bsdf"}}};
 
+// Where a path's random numbers come from (--sampler; HRPP_SAMPLER_*,
+// shaders/shared/sobol_sampler.h): Owen-scrambled Sobol pairs, or independent PCG streams.
+enum class Sampler : std::uint32_t {
+  kIndependent = HRPP_SAMPLER_INDEPENDENT,
+  kSobol = HRPP_SAMPLER_SOBOL,
+};
+inline constexpr NameTable<Sampler, 2> kSamplerNames = {
+    {{Sampler::kSobol, "sobol"}, {Sampler::kIndependent, "independent"}}};
+
 struct RenderConfig {
   static constexpr std::uint32_t kMaxSide = 16384;  // image width and height
   static constexpr std::uint32_t kMaxDepth = 1024;  // max_depth
@@ -70,6 +79,7 @@ struct RenderConfig {
   // light such a model (--default-environment); zero: none, and such a scene renders black.
   glm::vec3 default_environment{1.0f};
   LightSampling light_sampling = LightSampling::kMis;
+  Sampler sampler = Sampler::kSobol;
   GpuTracerConfig tracer;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };

@@ -45,6 +45,7 @@ gpu::RenderParams make_render_params(const RenderConfig& c, const Camera& cam,
   p.rr_depth = c.rr_depth;
   p.trace_any_group_rays = trace_any_group_rays;
   p.light_strategy = static_cast<std::uint32_t>(c.light_sampling);
+  p.sampler_kind = static_cast<std::uint32_t>(c.sampler);
   return p;
 }
 

@@ -8,7 +8,7 @@
 
 namespace hrpp {
 
-static_assert(sizeof(gpu::RenderParams) == 112);
+static_assert(sizeof(gpu::RenderParams) == 128);
 static_assert(sizeof(gpu::PathState) == 32);
 static_assert(sizeof(gpu::ShadowRecord) == 16);
 static_assert(sizeof(gpu::RenderQueues) == 64);

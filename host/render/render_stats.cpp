@@ -86,6 +86,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"rays_per_invocation", config.tracer.rays_per_invocation},
                  {"reorder", ray_order_name(config.reorder)},
                  {"light_sampling", name_in(kLightSamplingNames, config.light_sampling)},
+                 {"sampler", name_in(kSamplerNames, config.sampler)},
                  {"hrpp", hrpp_on ? "on" : "off"},
                  {"frame", "one sample pass over every pixel; the top level sums the frames, "
                            "\"frames\" lists each"}};

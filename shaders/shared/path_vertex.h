@@ -12,20 +12,31 @@
 #include "light_sample.h"
 #include "render_interface.h"
 #include "rng.h"
+#include "sobol_sampler.h"
 #include "surface_hit.h"
 
 #ifdef __cplusplus
 namespace hrpp::gpu {
 #endif
 
+// The position of sample `sample_index` in its pixel: a Sobol pair, or the path's own stream
+// (depth 0xFFFFFFFF, apart from every vertex's).
+HRPP_INLINE vec2 pixel_jitter(RenderParams params, uint pixel, uint sample_index) {
+  if (params.sampler_kind == HRPP_SAMPLER_SOBOL)
+    return sobol_pair(sample_index, sobol_stream(pixel, 0xFFFFFFFFu, 0u, params.seed));
+  uint rng = rng_init(pixel, sample_index, 0xFFFFFFFFu, params.seed);
+  const float jx = rng_next(rng);
+  return vec2(jx, rng_next(rng));
+}
+
 // The camera ray of pixel `pixel` for sample `sample_index`: pinhole camera, the position in
-// the pixel jittered by the path's own stream (depth 0xFFFFFFFF, apart from every vertex's).
+// the pixel jittered (pixel_jitter).
 HRPP_INLINE Ray camera_ray(RenderParams params, uint pixel, uint sample_index) {
   const uint x = pixel % params.width;
   const uint y = pixel / params.width;
-  uint rng = rng_init(pixel, sample_index, 0xFFFFFFFFu, params.seed);
-  const float sx = (float(x) + rng_next(rng)) / float(params.width);
-  const float sy = (float(y) + rng_next(rng)) / float(params.height);
+  const vec2 j = pixel_jitter(params, pixel, sample_index);
+  const float sx = (float(x) + j.x) / float(params.width);
+  const float sy = (float(y) + j.y) / float(params.height);
   const float tan_half = params.cam_position.w;
   const float aspect = params.cam_forward.w;
   const vec3 d = vec3(params.cam_forward) +
@@ -63,9 +74,25 @@ struct VertexSamples {
   float rr;  // Russian roulette
 };
 
-HRPP_INLINE VertexSamples vertex_samples(PathState path, uint seed) {
-  uint rng = rng_init(path.pixel, path.sample_index, path.depth, seed);
+// A vertex's samples from `sampler_kind` (HRPP_SAMPLER_*): Sobol pairs (lobe, light), (light_u1,
+// light_u2), (u1, u2), (rr, -), each its own stream, or one independent stream.
+HRPP_INLINE VertexSamples vertex_samples(PathState path, uint seed, uint sampler_kind) {
   VertexSamples u;
+  if (sampler_kind == HRPP_SAMPLER_SOBOL) {
+    const vec2 a = sobol_pair(path.sample_index, sobol_stream(path.pixel, path.depth, 0u, seed));
+    const vec2 b = sobol_pair(path.sample_index, sobol_stream(path.pixel, path.depth, 1u, seed));
+    const vec2 c = sobol_pair(path.sample_index, sobol_stream(path.pixel, path.depth, 2u, seed));
+    const vec2 d = sobol_pair(path.sample_index, sobol_stream(path.pixel, path.depth, 3u, seed));
+    u.lobe = a.x;
+    u.light = a.y;
+    u.light_u1 = b.x;
+    u.light_u2 = b.y;
+    u.u1 = c.x;
+    u.u2 = c.y;
+    u.rr = d.x;
+    return u;
+  }
+  uint rng = rng_init(path.pixel, path.sample_index, path.depth, seed);
   u.lobe = rng_next(rng);
   u.light = rng_next(rng);
   u.light_u1 = rng_next(rng);

@@ -79,6 +79,11 @@ inline constexpr bool kGlass = true;
 #define HRPP_LIGHTS_NEE 1u   // light sampling alone: emission a BSDF ray finds is not counted
 #define HRPP_LIGHTS_BSDF 2u  // BSDF sampling alone: no shadow rays to emissive triangles
 
+// Where a path's random numbers come from (RenderParams.sampler_kind, --sampler): Owen-scrambled
+// Sobol points (sobol_sampler.h), or independent PCG streams (rng.h).
+#define HRPP_SAMPLER_INDEPENDENT 0u
+#define HRPP_SAMPLER_SOBOL 1u
+
 // Per-frame constants.
 struct RenderParams {
   uint width;
@@ -94,6 +99,10 @@ struct RenderParams {
   uint rr_depth;       // Russian roulette from this depth on
   uint trace_any_group_rays;  // rays per workgroup of the shadow trace (its indirect dispatch)
   uint light_strategy;        // HRPP_LIGHTS_*
+  uint sampler_kind;          // HRPP_SAMPLER_* (sampler is a GLSL keyword)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 // One path of the wavefront (its ray is rays[i] of the same index).
