@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""How fast does hrpp render's estimator converge? relMSE against a converged reference at equal
+samples per pixel and the wall time it took, per light-sampling strategy and sampler.
+
+For each scene: a reference (--ref-spp samples, --light-sampling mis, --sampler independent, its
+own seed), then one render per (strategy, sampler) at --spp with another seed. Printed per scene
+and configuration: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01) (the
+limit study's measure), its ratio to the baseline configuration (light sampling alone,
+independent samples: the estimator before MIS and Sobol), the mean's ratio to the reference per
+channel, the share of the squared error in the worst 1% of pixels (fireflies concentrate it
+there), the wall time, and relMSE x time (the work-normalised error: lower is better at equal
+time). The reference is hrpp's own, so this measures convergence, not correctness: the
+independent witnesses are the furnace tests (tests/render_test.cpp) and a Blender Cycles render.
+
+Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
+Usage: tools/estimator_error.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64] [--spp 64]
+                                [--ref-spp 4096] [--hrpp BIN] [--json FILE] [--images DIR]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from hrpp_bench import read_exr  # noqa: E402
+
+DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
+CONFIGS = [("light", "independent"), ("mis", "independent"), ("light", "sobol"),
+           ("mis", "sobol"), ("bsdf", "sobol")]
+BASELINE = ("light", "independent")
+EPS = 1e-2
+
+
+def scene_arg(name):
+    """builtin:cornell as it is; any other name: scenes/NAME.scene.json."""
+    if name.startswith("builtin:"):
+        return name
+    return os.path.join(HERE, "..", "scenes", f"{name}.scene.json")
+
+
+def render(a, scene, spp, seed, strategy, sampler, out_dir, tag):
+    base = scene.replace(":", "_")
+    exr = os.path.join(out_dir, f"{base}_{tag}.exr")
+    stats = os.path.join(out_dir, f"{base}_{tag}.json")
+    cmd = [a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(spp), "--seed",
+           str(seed), "--light-sampling", strategy, "--sampler", sampler, "--out", exr,
+           "--stats", stats]
+    print(f"  {' '.join(cmd[1:])}", file=sys.stderr, flush=True)
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"estimator_error: {' '.join(cmd)} failed:\n{r.stderr.strip()}")
+    with open(stats) as f:
+        return read_exr(exr), json.load(f)["wall_s"]
+
+
+def errors(img, ref):
+    import numpy as np
+    sq = (img - ref) ** 2 / (ref ** 2 + EPS)
+    per_pixel = sq.mean(axis=-1).ravel()
+    worst = np.sort(per_pixel)[::-1][:max(1, per_pixel.size // 100)]
+    mean_ratio = img.reshape(-1, 3).mean(0) / ref.reshape(-1, 3).mean(0)
+    return float(sq.mean()), float(worst.sum() / per_pixel.sum()), [float(r) for r in mean_ratio]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scenes", default="builtin:cornell,cornell,bunny,teapot",
+                    help="builtin:cornell and names of scenes/NAME.scene.json (cornell: the "
+                         "glTF Cornell box)")
+    ap.add_argument("--size", default="64x64")
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--ref-spp", type=int, default=4096)
+    ap.add_argument("--hrpp", default=DEFAULT_BIN)
+    ap.add_argument("--json", help="write every figure here")
+    ap.add_argument("--images", help="keep the renders here")
+    a = ap.parse_args()
+    if not os.access(a.hrpp, os.X_OK):
+        sys.exit(f"estimator_error: --hrpp {a.hrpp}: not an executable (build first)")
+    out_dir = a.images or tempfile.mkdtemp(prefix="hrpp_estimator_")
+    os.makedirs(out_dir, exist_ok=True)
+    report = {"size": a.size, "spp": a.spp, "ref_spp": a.ref_spp, "scenes": {}}
+    for scene in a.scenes.split(","):
+        print(f"{scene}: reference, {a.ref_spp} spp", file=sys.stderr, flush=True)
+        ref, ref_s = render(a, scene, a.ref_spp, 1000, "mis", "independent", out_dir, "ref")
+        rows = {}
+        for strategy, sampler in CONFIGS:
+            img, wall = render(a, scene, a.spp, 1, strategy, sampler, out_dir,
+                               f"{strategy}_{sampler}")
+            rel, worst, mean_ratio = errors(img, ref)
+            rows[f"{strategy}/{sampler}"] = {"relmse": rel, "worst_1pct_share": worst,
+                                             "mean_ratio": mean_ratio, "wall_s": wall}
+        base = rows["/".join(BASELINE)]
+        print(f"\n{scene}: {a.size}, {a.spp} spp against {a.ref_spp} spp (mis/independent, "
+              f"{ref_s:.0f} s)")
+        print(f"  {'strategy/sampler':<20} {'relMSE':>9} {'/base':>6} {'worst 1%':>8} "
+              f"{'mean ratio r g b':>22} {'wall s':>7} {'relMSE*s /base':>14}")
+        for name, r in rows.items():
+            r["relmse_ratio"] = r["relmse"] / base["relmse"]
+            r["work_ratio"] = r["relmse"] * r["wall_s"] / (base["relmse"] * base["wall_s"])
+            mr = " ".join(f"{x:.4f}" for x in r["mean_ratio"])
+            print(f"  {name:<20} {r['relmse']:9.5f} {r['relmse_ratio']:6.2f} "
+                  f"{r['worst_1pct_share']:8.2f} {mr:>22} {r['wall_s']:7.2f} "
+                  f"{r['work_ratio']:14.2f}")
+        report["scenes"][scene] = {"reference_wall_s": ref_s, "configs": rows}
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(report, f, indent=2)
+
+
+if __name__ == "__main__":
+    main()
