@@ -1,5 +1,5 @@
-// host/app/: the hrpp command line as a user meets it: help, statistics, the triangle dump, and
-// one-line errors with a non-zero exit for bad files and flags.
+// host/app/: the hrpp command line as a user meets it: help, statistics, the triangle dump, the
+// scene export, and one-line errors with a non-zero exit for bad files and flags.
 #include <sys/wait.h>
 
 #include <array>
@@ -97,6 +97,34 @@ TEST_F(Cli, TriangleDumpIsNineFloatsPerTriangleInIdOrder) {
     EXPECT_EQ(glm::vec3(f[3], f[4], f[5]), t.v1);
     EXPECT_EQ(glm::vec3(f[6], f[7], f[8]), t.v2);
   }
+}
+
+// The scene export for another renderer (tools/cycles_reference.py): the loaded scene's
+// triangles, normals, materials, lights and cameras, as load_scene has them.
+TEST_F(Cli, SceneExportHoldsTheLoadedScene) {
+  const fs::path out = dir_ / "cornell.json";
+  const Result r = run("scene builtin:cornell --export-json " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(out));
+  const Scene scene = builtin_cornell();
+  EXPECT_EQ(j["format"], "hrpp scene export 1");
+  ASSERT_EQ(j["positions"].size(), scene.triangles.size() * 9);
+  ASSERT_EQ(j["normals"].size(), scene.triangles.size() * 9);
+  ASSERT_EQ(j["material_of"].size(), scene.triangles.size());
+  for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+    EXPECT_EQ(j["positions"][9 * i + 3].get<float>(), scene.triangles[i].v1.x);
+    EXPECT_EQ(j["material_of"][i].get<std::uint32_t>(), scene.shading[i].material);
+  }
+  ASSERT_EQ(j["materials"].size(), scene.materials.size());
+  const nlohmann::json& light = j["materials"][3];
+  EXPECT_EQ(light["name"], "light");
+  EXPECT_EQ(light["emission"][0].get<float>(), 17.0f);
+  ASSERT_EQ(j["lights"].size(), 1u);
+  EXPECT_EQ(j["lights"][0]["type"], "area");
+  ASSERT_EQ(j["cameras"].size(), 1u);
+  EXPECT_EQ(j["cameras"][0]["position"][2].get<float>(), scene.cameras[0].position.z);
+  expect_one_line_error(run("scene --export-json " + (dir_ / "no/such/dir/s.json").string()),
+                        "s.json");
 }
 
 TEST_F(Cli, MissingSceneFileIsAOneLineError) {

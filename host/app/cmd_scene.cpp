@@ -15,6 +15,7 @@
 #include "bvh/gpu_layout.h"
 #include "common/bytes.h"
 #include "scene/load_scene.h"
+#include "scene/scene_export.h"
 
 namespace hrpp::app {
 namespace {
@@ -23,25 +24,20 @@ struct SceneOptions {
   SharedOptions shared;
   bool json = false;
   std::string dump_triangles;
+  std::string export_json;
 };
 
 nlohmann::json vec_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-const char* light_name(LightType t) {
-  switch (t) {
-    case LightType::kPoint: return "point";
-    case LightType::kSpot: return "spot";
-    case LightType::kDirectional: return "directional";
-    case LightType::kAreaQuad: return "area";
-    case LightType::kEnvironment: return "environment";
-  }
-  return "?";
-}
+const char* light_name(LightType t) { return name_in(kLightTypeNames, t); }
 
 void run_scene(const SceneOptions& o) {
   check_output_path(o.dump_triangles, "--dump-triangles");
+  check_output_path(o.export_json, "--export-json");
   const Scene scene = load_scene(o.shared.scene);
   if (!o.dump_triangles.empty()) write_triangle_dump(scene, o.dump_triangles);
+  if (!o.export_json.empty())
+    write_file_atomically(o.export_json, scene_json(scene), "cannot write the scene");
   const Bvh bvh = build_bvh(scene, o.shared.bvh);
   const BvhStats s = compute_bvh_stats(bvh, o.shared.bvh);
   const GpuBvh layout = make_gpu_layout(bvh, scene);
@@ -113,6 +109,9 @@ void add_scene_command(CLI::App& app) {
   cmd->add_flag("--json", o->json, "Print the statistics as JSON");
   cmd->add_option("--dump-triangles", o->dump_triangles,
                   "Write the triangles (9 float32 each, id order) to FILE");
+  cmd->add_option("--export-json", o->export_json,
+                  "Write the scene as loaded (triangles, materials, lights, cameras) as JSON to "
+                  "FILE, for another renderer (tools/cycles_reference.py)");
   cmd->add_option("--threads", o->shared.bvh.threads, "BVH build threads (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "common/name_table.h"
+
 namespace hrpp {
 
 // World-space triangle. Its index in Scene::triangles is its triangle id.
@@ -44,6 +46,11 @@ struct Texture {
 };
 
 enum class LightType { kPoint, kSpot, kDirectional, kAreaQuad, kEnvironment };
+inline constexpr NameTable<LightType, 5> kLightTypeNames = {{{LightType::kPoint, "point"},
+                                                             {LightType::kSpot, "spot"},
+                                                             {LightType::kDirectional, "directional"},
+                                                             {LightType::kAreaQuad, "area"},
+                                                             {LightType::kEnvironment, "environment"}}};
 
 struct Light {
   LightType type = LightType::kPoint;

@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""hrpp render against Blender's Cycles, an independent renderer set up to compute the same
+integral (tools/cycles_reference.py says how). For each scene: the scene exported by hrpp
+(`hrpp scene --export-json`), two Cycles renders with different seeds, and hrpp renders with
+its default estimator (MIS, Sobol samples) and with light sampling alone and independent samples,
+all at the same size and samples per pixel.
+
+Printed per scene: the noise floor, relMSE between the two Cycles renders (two independent
+estimates of the same image: twice Cycles' variance, relatively); each hrpp render's relMSE
+against Cycles seed 0, its ratio to the floor, and the variance ratio it implies,
+var(hrpp) / var(Cycles) = 2 x relMSE / floor - 1 (1: as noisy as Cycles at equal spp; 1.5 at
+relMSE = 1.25 x floor); and the means' ratio per channel. Verdict "agrees" when relMSE is within
+2x the floor and every channel's mean within 1%. relMSE = mean of (x - ref)^2 / (ref^2 + 0.01).
+
+Runs with Debian's python3 (numpy, python3-openimageio) and blender (tools/setup.sh installs
+neither blender nor this benchmark's needs beyond numpy: `apt-get install blender`).
+Usage: tools/cycles_compare.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64]
+                               [--spp 1024] [--max-depth 8] [--hrpp BIN] [--blender BIN]
+                               [--json FILE] [--images DIR]
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from hrpp_bench import read_exr  # noqa: E402
+from estimator_error import errors, scene_arg  # noqa: E402
+
+DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
+HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobol"],
+                "hrpp light/independent": ["--light-sampling", "light", "--sampler",
+                                           "independent"]}
+
+
+def run(cmd):
+    print(f"  {' '.join(cmd)}", file=sys.stderr, flush=True)
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"cycles_compare: {' '.join(cmd)} failed:\n{(r.stderr or r.stdout).strip()}")
+
+
+def cycles(a, export, out, seed):
+    run([a.blender, "--background", "--factory-startup", "--python",
+         os.path.join(HERE, "cycles_reference.py"), "--", "--scene", export, "--out", out,
+         "--size", a.size, "--spp", str(a.spp), "--max-depth", str(a.max_depth), "--seed",
+         str(seed)])
+    return read_exr(out)
+
+
+def hrpp(a, scene, flags, out):
+    run([a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(a.spp), "--max-depth",
+         str(a.max_depth), "--seed", "1", "--out", out] + flags)
+    return read_exr(out)
+
+
+def compare_scene(a, scene, out_dir):
+    base = scene.replace(":", "_")
+    export = os.path.join(out_dir, f"{base}.json")
+    run([a.hrpp, "scene", scene_arg(scene), "--export-json", export])
+    ref = cycles(a, export, os.path.join(out_dir, f"{base}_cycles0.exr"), 0)
+    other = cycles(a, export, os.path.join(out_dir, f"{base}_cycles1.exr"), 1)
+    floor, _, floor_mean = errors(other, ref)
+    rows = {"cycles seed 1": {"relmse": floor, "mean_ratio": floor_mean}}
+    for name, flags in HRPP_CONFIGS.items():
+        img = hrpp(a, scene, flags, os.path.join(out_dir, f"{base}_{name.split()[1].replace('/', '_')}.exr"))
+        rel, worst, mean_ratio = errors(img, ref)
+        rows[name] = {"relmse": rel, "worst_1pct_share": worst, "mean_ratio": mean_ratio}
+    for r in rows.values():
+        r["floor_ratio"] = r["relmse"] / floor
+        r["variance_ratio"] = 2.0 * r["relmse"] / floor - 1.0
+        r["agrees"] = r["relmse"] <= 2.0 * floor and all(abs(m - 1.0) <= 0.01
+                                                          for m in r["mean_ratio"])
+    return floor, rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scenes", default="builtin:cornell,cornell,bunny,teapot")
+    ap.add_argument("--size", default="64x64")
+    ap.add_argument("--spp", type=int, default=1024)
+    ap.add_argument("--max-depth", type=int, default=8)
+    ap.add_argument("--hrpp", default=DEFAULT_BIN)
+    ap.add_argument("--blender", default="blender")
+    ap.add_argument("--json", help="write every figure here")
+    ap.add_argument("--images", help="keep the renders and exports here")
+    a = ap.parse_args()
+    if not os.access(a.hrpp, os.X_OK):
+        sys.exit(f"cycles_compare: --hrpp {a.hrpp}: not an executable (build first)")
+    if shutil.which(a.blender) is None:
+        sys.exit(f"cycles_compare: --blender {a.blender}: not found (apt-get install blender)")
+    out_dir = a.images or tempfile.mkdtemp(prefix="hrpp_cycles_")
+    os.makedirs(out_dir, exist_ok=True)
+    report = {"size": a.size, "spp": a.spp, "max_depth": a.max_depth, "scenes": {}}
+    for scene in a.scenes.split(","):
+        print(f"{scene}:", file=sys.stderr, flush=True)
+        floor, rows = compare_scene(a, scene, out_dir)
+        print(f"\n{scene}: {a.size}, {a.spp} spp, max depth {a.max_depth}; against Cycles seed 0, "
+              f"noise floor (Cycles seed 1) relMSE {floor:.5f}")
+        print(f"  {'render':<24} {'relMSE':>9} {'/floor':>7} {'var/Cycles':>10} "
+              f"{'mean ratio r g b':>22}  verdict")
+        for name, r in rows.items():
+            mr = " ".join(f"{x:.4f}" for x in r["mean_ratio"])
+            print(f"  {name:<24} {r['relmse']:9.5f} {r['floor_ratio']:7.2f} "
+                  f"{r['variance_ratio']:10.2f} {mr:>22}  "
+                  f"{'agrees' if r['agrees'] else 'DIFFERS'}")
+        report["scenes"][scene] = {"floor": floor, "renders": rows}
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(report, f, indent=2)
+
+
+if __name__ == "__main__":
+    main()
