@@ -33,7 +33,8 @@ the generated tables in RESULTS.md.
                      the bounded-table and error-vs-time grids: about 1.5 hours on 2 cores
   --test             two configurations on the Cornell box at 32x32 (the pipeline test)
   --smoke            every grid at toy sizes (checks the pipeline in a few minutes)
-  --grids LIST       comma-separated subset: table1,precision,goup,spp,bounded,errtime
+  --grids LIST       comma-separated subset: table1,precision,goup,spp,bounded,errtime (their
+                     rows replace those grids' rows of the CSV; the other rows stay)
   --hrpp PATH        the hrpp binary (default: \$HRPP_BIN, else build/release/host/hrpp,
                      build/sweep/host/hrpp or build/ci/host/hrpp, the first that exists)
   --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log
@@ -117,8 +118,9 @@ if [[ "$RUN" == 1 ]]; then
     "${par[@]}" < "$OUT/jobs.txt" || status=$?
     [[ "$status" == 0 ]] || echo "sweep: $status jobs failed (see $OUT/joblog and runs/*.log)" >&2
 fi
+# A subset of grids (--grids) replaces those grids' rows of the CSV and keeps the others.
 "$PY" "$REPO/tools/sweep_collect.py" --jobs "$OUT/jobs.jsonl" --runs "$OUT/runs" --csv "$CSV" \
-    || status=1
+    ${GRIDS:+--keep-other-grids} || status=1
 "$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
 "$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
 if [[ "$REPORT" == 1 ]]; then

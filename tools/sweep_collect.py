@@ -92,14 +92,26 @@ def flatten(meta, stats):
     return r
 
 
+def kept_rows(path, grids):
+    """The rows of `path` (if it exists) whose grid is not in `grids`, as read."""
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return [r for r in csv.DictReader(f) if r.get("grid") not in grids]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--jobs", required=True, help="jobs.jsonl from sweep_jobs.py")
     ap.add_argument("--runs", required=True, help="directory of ID.json / ID.exr")
     ap.add_argument("--csv", required=True, help="CSV to write")
     ap.add_argument("--no-images", action="store_true", help="skip the image errors")
+    ap.add_argument("--keep-other-grids", action="store_true",
+                    help="keep the rows of grids these jobs do not cover from the CSV's "
+                         "previous contents (a run of some grids merged into a full CSV)")
     a = ap.parse_args()
     metas = [json.loads(l) for l in open(a.jobs) if l.strip()]
+    kept = kept_rows(a.csv, {m["grid"] for m in metas}) if a.keep_other_grids else []
     rows = []
     for m in metas:
         js = os.path.join(a.runs, m["id"] + ".json")
@@ -152,13 +164,16 @@ def main():
         cols += [f"{cls}_{k}" for k in CLASS_KEYS + DERIVED]
     cols += ERRORS + TAIL
     os.makedirs(os.path.dirname(os.path.abspath(a.csv)), exist_ok=True)
+    kept_kernels = sorted({k for r in kept for k in r if k.startswith("ms_")} - set(kernels))
+    cols[len(META + CONFIG + TIMES):len(META + CONFIG + TIMES)] = kept_kernels
     with open(a.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=cols, extrasaction="ignore")
         w.writeheader()
-        for r in rows:
+        for r in kept + rows:
             w.writerow({k: ("" if r.get(k) is None else r.get(k, "")) for k in cols})
     ok = sum(1 for r in rows if r["ok"])
-    print(f"sweep_collect: {ok} of {len(rows)} runs -> {a.csv}")
+    print(f"sweep_collect: {ok} of {len(rows)} runs -> {a.csv}"
+          + (f" (and {len(kept)} kept rows of other grids)" if kept else ""))
     return 0 if ok == len(rows) else 1
 
 

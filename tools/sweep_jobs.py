@@ -31,9 +31,11 @@ BOUNDED_NODES = 8
 BOUNDED_KIB = [4, 16, 64, 256, 1024, 4096, 16384]
 BOUNDED_WAYS = [1, 4, 8]
 BOUNDED_POLICIES = ["none", "lru"]
-# The estimator RESULTS.md's grids were rendered with (light sampling alone, independent
-# samples), pinned so that they reproduce; hrpp render's defaults are MIS and Sobol samples.
+# The estimator RESULTS.md's HRPP grids were rendered with (light sampling alone, independent
+# samples), pinned so that they reproduce. The error-against-time grid renders with hrpp
+# render's own (MIS, Sobol samples: DEFAULT_ESTIMATOR), which its images' error depends on.
 ESTIMATOR = ["--light-sampling", "light", "--sampler", "independent"]
+DEFAULT_ESTIMATOR = []
 HASHES = ["hrpp", "grid-spherical", "two-point"]
 
 MODES = {
@@ -66,7 +68,7 @@ class Jobs:
         self.rows = []
         self.ids = set()
 
-    def add(self, grid, scene, size, spp, flags, seed=0, **meta):
+    def add(self, grid, scene, size, spp, flags, seed=0, estimator=None, **meta):
         parts = [grid, scene, f"{size}", f"s{spp}", f"seed{seed}"] + [
             f"{k}{v}" for k, v in sorted(meta.items())]
         jid = "-".join(str(p).replace("_", "").replace(" ", "").replace(":", "") for p in parts)
@@ -78,7 +80,7 @@ class Jobs:
         out = os.path.join(self.args.runs, jid)
         cmd = [self.args.hrpp, "render", scene_arg, "--size", f"{size}x{size}", "--spp", str(spp),
                "--seed", str(seed), "--out", out + ".exr", "--stats", out + ".json"] + \
-            ESTIMATOR + flags
+            (ESTIMATOR if estimator is None else estimator) + flags
         line = " ".join(shlex.quote(c) for c in cmd) + " > " + shlex.quote(out + ".log") + " 2>&1"
         row = dict(id=jid, grid=grid, scene=scene, size=size, spp=spp, seed=seed,
                    flags=" ".join(flags), cmd=" ".join(shlex.quote(c) for c in cmd), **meta)
@@ -155,17 +157,18 @@ def grid_errtime(J, m):
     for sc in m["escenes"]:
         s = m["esize"]
         # The reference: HRPP off, many spp, another seed (independent of the compared images).
-        J.add("errtime", sc, s, m["eref"], OFF, seed=1, variant="reference")
+        est = DEFAULT_ESTIMATOR
+        J.add("errtime", sc, s, m["eref"], OFF, seed=1, estimator=est, variant="reference")
         for n in m["espp"]:
-            J.add("errtime", sc, s, n, OFF, variant="off")
-            J.add("errtime", sc, s, n, hrpp_flags(count=False, preset="small"),
+            J.add("errtime", sc, s, n, OFF, estimator=est, variant="off")
+            J.add("errtime", sc, s, n, hrpp_flags(count=False, preset="small"), estimator=est,
                   variant="spec-small")
             J.add("errtime", sc, s, n, hrpp_flags(mode="exact", count=False, preset="small"),
-                  variant="exact-small")
+                  estimator=est, variant="exact-small")
             J.add("errtime", sc, s, n, hrpp_flags(count=False, preset="unbounded"),
-                  variant="spec-unbounded")
+                  estimator=est, variant="spec-unbounded")
             # What --hrpp on gives with no other flag: the tuned table, the adaptive predictor.
-            J.add("errtime", sc, s, n, ["--hrpp", "on"], variant="default")
+            J.add("errtime", sc, s, n, ["--hrpp", "on"], estimator=est, variant="default")
 
 
 def grid_test(J, m):
