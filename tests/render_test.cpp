@@ -256,10 +256,11 @@ TEST(Render, FurnaceWhiteBoxInEnvironment) {
   EXPECT_EQ(r.stats.shadow().counters.rays, 0u);  // no lights to sample
 }
 
-// A scene without lights (most glTF models) is lit by RenderConfig::default_environment. A
-// lightless diffuse plane of albedo a that fills the view then has radiance a · L exactly (every
-// bounce escapes into the environment), the view away from it L; with none, black.
-TEST(Render, LightlessSceneGetsTheDefaultEnvironment) {
+// A scene without lights (most glTF models) is lit by RenderConfig::default_lighting: a uniform
+// environment L and a sun of irradiance E. A lightless diffuse plane of albedo a that fills the
+// view then has radiance a L + (a / π) E cos θ exactly (every bounce escapes into the
+// environment, nothing shadows the sun), the view away from it L; with both none, black.
+TEST(Render, LightlessSceneGetsTheDefaultLighting) {
   Material grey;
   grey.base_color = glm::vec3(0.6f);
   Scene scene;
@@ -275,20 +276,24 @@ TEST(Render, LightlessSceneGetsTheDefaultEnvironment) {
   cam.forward = {0, 0, 1};
   scene.cameras.push_back(cam);
   const glm::vec3 env(0.5f, 1.0f, 2.0f);
+  const float sun = 1.5f;
+  const float cos_sun = -glm::normalize(DefaultLighting::kSunDirection).z;  // plane normal +z
   for (std::uint32_t camera : {0u, 1u}) {
     RenderConfig config = small(2, 3);
     config.camera = camera;
-    config.default_environment = env;
+    config.default_lighting = {env, sun};
     const RenderResult r = render(scene, config);
-    EXPECT_EQ(r.stats.lighting, Lighting::kDefaultEnvironment);
+    EXPECT_EQ(r.stats.lighting, Lighting::kDefault);
     EXPECT_EQ(r.stats.environment, env);
-    const glm::vec3 expected = camera == 0 ? 0.6f * env : env;
+    EXPECT_EQ(r.stats.default_sun, sun);
+    const glm::vec3 expected =
+        camera == 0 ? 0.6f * env + glm::vec3(0.6f / 3.14159265f * sun * cos_sun) : env;
     for (std::size_t i = 0; i < r.rgb.size(); ++i)
       ASSERT_NEAR(r.rgb[i], expected[static_cast<int>(i % 3)], 1e-5f)
           << "camera " << camera << " value " << i;
   }
   RenderConfig dark = small(1, 3);
-  dark.default_environment = glm::vec3(0.0f);
+  dark.default_lighting = {glm::vec3(0.0f), 0.0f};
   const RenderResult black = render(scene, dark);
   EXPECT_EQ(black.stats.lighting, Lighting::kNone);
   EXPECT_EQ(*std::max_element(black.rgb.begin(), black.rgb.end()), 0.0f);

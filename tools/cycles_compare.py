@@ -59,7 +59,7 @@ def hrpp(a, scene, flags, out):
 
 
 def compare_scene(a, scene, out_dir):
-    base = scene.replace(":", "_")
+    base = os.path.basename(scene).replace(":", "_")
     export = os.path.join(out_dir, f"{base}.json")
     run([a.hrpp, "scene", scene_arg(scene), "--export-json", export])
     ref = cycles(a, export, os.path.join(out_dir, f"{base}_cycles0.exr"), 0)

@@ -1,7 +1,7 @@
 """Renders an hrpp scene export with Blender's Cycles, set up to compute the integral hrpp render
 computes: the same triangles, vertex normals, camera and image size, Lambertian materials
 (Diffuse BSDF, roughness 0) with two-sided emission added, the same constant environment (the
-scene's, or hrpp's default environment for a scene without light), paths of the same length
+scene's, or for a scene without light hrpp's default environment and sun), paths of the same length
 (Cycles' max bounces = hrpp's --max-depth - 1: 0 means direct light only in both), a box pixel
 filter one pixel wide, no clamping, no glossy blur, no light threshold, no denoising, no
 adaptive sampling; the EXR holds linear radiance.
@@ -9,7 +9,7 @@ adaptive sampling; the EXR holds linear radiance.
 Run by Blender (Debian's blender package), not by python3:
   blender --background --factory-startup --python tools/cycles_reference.py -- \\
       --scene SCENE.json --out ref.exr [--size 64x64] [--spp 1024] [--max-depth 8] [--seed 0] \\
-      [--camera 0] [--default-environment 1]
+      [--camera 0] [--default-environment 0.5] [--default-sun 1.5]
 SCENE.json comes from `hrpp scene SCENE --export-json SCENE.json`. Scenes with metal, glass,
 textures or point, spot and directional lights are refused: their models differ between the two
 renderers. tools/cycles_compare.py runs this for you.
@@ -38,7 +38,8 @@ def parse_args():
     ap.add_argument("--max-depth", type=int, default=8)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--camera", type=int, default=0)
-    ap.add_argument("--default-environment", type=float, default=1.0)
+    ap.add_argument("--default-environment", type=float, default=0.5)
+    ap.add_argument("--default-sun", type=float, default=1.5)
     return ap.parse_args(argv)
 
 
@@ -137,14 +138,30 @@ def make_camera(c, aspect):
     bpy.context.scene.camera = cam
 
 
-def make_world(s, default_environment):
+# hrpp's DefaultLighting::kSunDirection (host/render/render_config.h): the way its light travels.
+SUN_DIRECTION = (-0.4, -1.0, -0.6)
+
+
+def make_sun(irradiance):
+    data = bpy.data.lights.new("sun", type="SUN")
+    data.energy = irradiance  # W/m^2: irradiance on a surface facing it
+    data.angle = 0.0
+    sun = bpy.data.objects.new("sun", data)
+    sun.rotation_mode = "QUATERNION"
+    sun.rotation_quaternion = mathutils.Vector(SUN_DIRECTION).normalized().to_track_quat("-Z", "Y")
+    bpy.context.scene.collection.objects.link(sun)
+
+
+def make_world(s, a):
     env = [0.0, 0.0, 0.0]
     for light in s["lights"]:
         if light["type"] == "environment":
-            env = [a + b for a, b in zip(env, light["color"])]
+            env = [x + y for x, y in zip(env, light["color"])]
     emits = any(max(m["emission"]) > 0.0 for m in s["materials"]) or max(env) > 0.0
-    if not emits:
-        env = [default_environment] * 3  # hrpp render's --default-environment
+    if not emits:  # hrpp render's --default-environment and --default-sun
+        env = [a.default_environment] * 3
+        if a.default_sun > 0.0:
+            make_sun(a.default_sun)
     world = bpy.data.worlds.new("world")
     world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
@@ -202,7 +219,7 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     make_mesh(s)
     make_camera(s["cameras"][a.camera], width / height)
-    make_world(s, a.default_environment)
+    make_world(s, a)
     set_render(a, width, height)
     bpy.ops.render.render(write_still=True)
     print(f"cycles_reference: wrote {a.out} ({a.size}, {a.spp} spp, seed {a.seed})")

@@ -35,14 +35,14 @@ EPS = 1e-2
 
 
 def scene_arg(name):
-    """builtin:cornell as it is; any other name: scenes/NAME.scene.json."""
-    if name.startswith("builtin:"):
+    """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json."""
+    if name.startswith("builtin:") or "/" in name or name.endswith((".glb", ".gltf", ".json")):
         return name
     return os.path.join(HERE, "..", "scenes", f"{name}.scene.json")
 
 
 def render(a, scene, spp, seed, strategy, sampler, out_dir, tag):
-    base = scene.replace(":", "_")
+    base = os.path.basename(scene).replace(":", "_")
     exr = os.path.join(out_dir, f"{base}_{tag}.exr")
     stats = os.path.join(out_dir, f"{base}_{tag}.json")
     cmd = [a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(spp), "--seed",

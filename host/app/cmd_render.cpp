@@ -42,7 +42,8 @@ struct RenderOptions {
   std::string size = "256x256";
   std::string out = "render.png";
   std::string stats;
-  std::string default_environment = "1";
+  std::string default_environment = "0.5";
+  std::string default_sun = "1.5";
   RenderConfig render;
   HrppOptions hrpp;
 };
@@ -59,18 +60,20 @@ void parse_size(const std::string& s, RenderConfig& c) {
   c.height = h;
 }
 
-// "none" → 0; "G" → (G, G, G); "R,G,B"; each finite and >= 0. One-line error otherwise.
-glm::vec3 parse_environment(const std::string& s) {
+// "none" → 0; "G" → (G, G, G); with `rgb` also "R,G,B"; each finite and >= 0. One-line error
+// naming `flag` otherwise.
+glm::vec3 parse_light(const std::string& s, const char* flag, bool rgb) {
   if (s == "none") return glm::vec3(0.0f);
   float c[3] = {0, 0, 0};
   char extra = 0;
   const int n = std::sscanf(s.c_str(), "%f,%f,%f%c", &c[0], &c[1], &c[2], &extra);
-  const bool ok = n == 1 ? std::sscanf(s.c_str(), "%f%c", &c[0], &extra) == 1 : n == 3;
+  const bool ok = n == 1 ? std::sscanf(s.c_str(), "%f%c", &c[0], &extra) == 1 : rgb && n == 3;
   if (n == 1) c[1] = c[2] = c[0];
   for (float v : c)
     if (!ok || !std::isfinite(v) || v < 0.0f || v > 1e30f)
-      throw Error("--default-environment \"" + s +
-                  "\": expected none, a radiance G or R,G,B (finite, >= 0), e.g. 1 or 0.8,0.9,1");
+      throw Error(std::string(flag) + " \"" + s + "\": expected none or " +
+                  (rgb ? "a value G or R,G,B, e.g. 0.5 or 0.4,0.45,0.5" : "a value, e.g. 1.5") +
+                  " (finite, >= 0)");
   return {c[0], c[1], c[2]};
 }
 
@@ -133,7 +136,9 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
 
 void run_render(RenderOptions& o) {
   parse_size(o.size, o.render);
-  o.render.default_environment = parse_environment(o.default_environment);
+  o.render.default_lighting.environment =
+      parse_light(o.default_environment, "--default-environment", true);
+  o.render.default_lighting.sun = parse_light(o.default_sun, "--default-sun", false).x;
   check_range("--spp", o.render.spp, 1, 1u << 20);
   check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
@@ -226,7 +231,11 @@ void add_render_command(CLI::App& app) {
       ->default_str(name_in(kSamplerNames, o->render.sampler));
   cmd->add_option("--default-environment", o->default_environment,
                   "Radiance of the uniform environment that lights a scene without any light "
-                  "(most glTF models): G or R,G,B, or none to render such a scene black")
+                  "(most glTF models): G or R,G,B, or none")
+      ->capture_default_str();
+  cmd->add_option("--default-sun", o->default_sun,
+                  "Irradiance of the sun (a directional light from above) that also lights "
+                  "such a scene, or none; both none: such a scene renders black")
       ->capture_default_str();
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_render(*o); });

@@ -96,7 +96,7 @@ struct PathTracer {
 CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
     : bvh_(bvh),
       cfg_((check_render_config(config, scene), config)),
-      rs_(make_render_scene(scene, config.default_environment)),
+      rs_(make_render_scene(scene, config.default_lighting)),
       params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {}
 
 int CpuRenderer::threads() { return resolve_threads(0); }

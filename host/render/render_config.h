@@ -24,13 +24,21 @@
 namespace hrpp {
 
 // What lit a render: the scene's own lights (emissive triangles, point, spot and directional
-// lights, environments), or, for a scene without any, RenderConfig::default_environment, or
+// lights, environments), or, for a scene without any, RenderConfig::default_lighting, or
 // nothing (the image is black).
-enum class Lighting : std::uint8_t { kScene, kDefaultEnvironment, kNone };
-inline constexpr NameTable<Lighting, 3> kLightingNames = {{{Lighting::kScene, "scene"},
-                                                           {Lighting::kDefaultEnvironment,
-                                                            "default environment"},
-                                                           {Lighting::kNone, "none"}}};
+enum class Lighting : std::uint8_t { kScene, kDefault, kNone };
+inline constexpr NameTable<Lighting, 3> kLightingNames = {
+    {{Lighting::kScene, "scene"}, {Lighting::kDefault, "default"}, {Lighting::kNone, "none"}}};
+
+// The light of a scene without any (most glTF models): a uniform environment, which alone would
+// leave a white object invisible (a white furnace), and a sun from above that shades it.
+struct DefaultLighting {
+  // The direction the sun's light travels: down, from the +x +z side (glTF: +y is up, a model
+  // faces +z).
+  static constexpr glm::vec3 kSunDirection{-0.4f, -1.0f, -0.6f};  // normalised where used
+  glm::vec3 environment{0.5f};  // radiance (--default-environment)
+  float sun = 1.5f;             // irradiance (--default-sun); 0: none
+};
 
 // How emissive triangles light a path vertex (--light-sampling; HRPP_LIGHTS_*,
 // shaders/shared/path_vertex.h): MIS of light and BSDF sampling, or one of them alone (kept for
@@ -75,9 +83,9 @@ struct RenderConfig {
   // sort's order (no ray, hit or path state moves); the image is the same bit for bit, only the
   // trace's coherence changes. Not applied to a bounce that HRPP predicts.
   RayOrder reorder = RayOrder::kOff;
-  // Radiance of the uniform environment that lights a scene without any light, as glTF viewers
-  // light such a model (--default-environment); zero: none, and such a scene renders black.
-  glm::vec3 default_environment{1.0f};
+  // What lights a scene without any light (--default-environment, --default-sun); both zero:
+  // nothing, and such a scene renders black.
+  DefaultLighting default_lighting;
   LightSampling light_sampling = LightSampling::kMis;
   Sampler sampler = Sampler::kSobol;
   GpuTracerConfig tracer;
@@ -126,6 +134,7 @@ struct RenderStats : FrameStats {
   std::size_t delta_lights = 0;
   Lighting lighting = Lighting::kScene;
   glm::vec3 environment{0.0f};  // the constant environment's radiance (the default's included)
+  float default_sun = 0.0f;     // Lighting::kDefault: the sun's irradiance
   std::size_t textures = 0;
   std::size_t texel_bytes = 0;
   int texture_halvings = 0;

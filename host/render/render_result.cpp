@@ -15,6 +15,7 @@ RenderResult make_render_result(const RenderConfig& config, const RenderScene& r
   stats.delta_lights = rs.delta_lights;
   stats.lighting = rs.lighting;
   stats.environment = rs.environment;
+  stats.default_sun = rs.default_sun;
   stats.textures = rs.features.on[HRPP_FEATURE_TEXTURES] ? rs.textures.size() : 0;
   stats.texel_bytes = stats.textures ? rs.texels.size() * sizeof(std::uint32_t) : 0;
   stats.texture_halvings = rs.texture_halvings;

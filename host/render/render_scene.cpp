@@ -216,9 +216,26 @@ void make_light_cdf(const std::vector<float>& power, RenderScene& out) {
   }
 }
 
+// A scene without light: the default environment and sun (a directional light, picked always).
+void add_default_lighting(const DefaultLighting& d, RenderScene& out) {
+  const bool sun = d.sun > 0.0f;
+  out.lighting = emits(d.environment) || sun ? Lighting::kDefault : Lighting::kNone;
+  out.environment = d.environment;
+  if (!sun) return;
+  gpu::GpuLight l{};
+  l.type = HRPP_LIGHT_DIRECTIONAL;
+  l.color = glm::vec3(d.sun);
+  l.dir = glm::normalize(DefaultLighting::kSunDirection);
+  l.cdf = 1.0f;
+  out.lights.push_back(l);
+  out.default_sun = d.sun;
+  ++out.delta_lights;
+  out.features.on[HRPP_FEATURE_DIRECTIONAL_LIGHTS] = true;
+}
+
 }  // namespace
 
-RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
+RenderScene make_render_scene(const Scene& scene, const DefaultLighting& lighting,
                               std::size_t texel_budget_bytes) {
   RenderScene out;
   add_materials(scene, out);
@@ -234,11 +251,7 @@ RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
   make_light_cdf(power, out);
   if (out.lights.empty())
     for (gpu::ShadeTriangle& t : out.triangles) t.light = 0;  // no light with power
-  if (out.lights.empty() && !emits(out.environment)) {
-    const bool lit = emits(default_environment);
-    out.lighting = lit ? Lighting::kDefaultEnvironment : Lighting::kNone;
-    if (lit) out.environment = default_environment;
-  }
+  if (out.lights.empty() && !emits(out.environment)) add_default_lighting(lighting, out);
   out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
   return out;
 }

@@ -34,6 +34,7 @@ struct RenderScene {
   std::vector<std::uint32_t> texels;  // RGBA8, R in the low byte
   glm::vec3 environment{0.0f};        // sum of the constant environment lights
   Lighting lighting = Lighting::kScene;
+  float default_sun = 0.0f;  // Lighting::kDefault: the sun's irradiance
   RenderFeatures features;
   int texture_halvings = 0;  // times every texture was halved to fit the texel budget
   std::size_t emissive_triangles = 0;
@@ -41,11 +42,11 @@ struct RenderScene {
 };
 
 // Area-quad lights are sampled through their emissive triangles (every loader adds the quad as
-// emissive geometry). Lights are chosen by power. A scene with no light that emits is lit by a
-// uniform environment of radiance `default_environment` (Lighting::kDefaultEnvironment), or by
-// nothing when that is zero (kNone). Textures whose RGBA8 texels exceed `texel_budget_bytes`
-// are halved (box filter) until they fit.
-RenderScene make_render_scene(const Scene& scene, glm::vec3 default_environment,
+// emissive geometry). Lights are chosen by power. A scene with no light that emits is lit by
+// `lighting` (Lighting::kDefault: its environment and sun, a directional light), or by nothing
+// when both are zero (kNone). Textures whose RGBA8 texels exceed `texel_budget_bytes` are
+// halved (box filter) until they fit.
+RenderScene make_render_scene(const Scene& scene, const DefaultLighting& lighting,
                               std::size_t texel_budget_bytes = 64u << 20);
 
 }  // namespace hrpp

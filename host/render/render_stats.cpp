@@ -101,6 +101,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                 {"delta_lights", s.delta_lights},
                 {"lighting", name_in(kLightingNames, s.lighting)},
                 {"environment", {s.environment.r, s.environment.g, s.environment.b}},
+                {"default_sun", s.default_sun},
                 {"textures", s.textures},
                 {"texel_bytes", s.texel_bytes},
                 {"texture_halvings", s.texture_halvings}};
@@ -124,12 +125,14 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
   if (s.lighting != Lighting::kScene) {
     if (s.lighting == Lighting::kNone)
       std::snprintf(line, sizeof line, "lighting    none: the scene has no light and "
-                                       "--default-environment is none, so the image is black\n");
+                                       "--default-environment and --default-sun are none, so "
+                                       "the image is black\n");
     else
       std::snprintf(line, sizeof line,
                     "lighting    the scene has no light: a uniform environment of radiance "
-                    "(%g, %g, %g) lights it (--default-environment)\n",
-                    s.environment.r, s.environment.g, s.environment.b);
+                    "(%g, %g, %g) and a sun of irradiance %g from above light it "
+                    "(--default-environment, --default-sun)\n",
+                    s.environment.r, s.environment.g, s.environment.b, s.default_sun);
     out += line;
   }
   double total = 0.0;

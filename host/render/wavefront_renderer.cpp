@@ -165,7 +165,7 @@ struct WavefrontRenderer::State {
   State(VulkanContext& c, const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
       : ctx(c),
         cfg((check_render_config(config, scene), config)),
-        rs(make_render_scene(scene, config.default_environment)),
+        rs(make_render_scene(scene, config.default_lighting)),
         wave(wavefront_paths(c, config)),
         needs(check_render_fits(c, scene, bvh, config, wave, RenderBufferNeeds(rs, config, wave))),
         device(make_tracer(c, bvh, config)),
