@@ -1,11 +1,12 @@
 // render_shade: one path vertex per item of the wavefront. Misses add the environment; hits add
 // emission with its multiple importance sampling weight (emission_weight), sample one light for
 // a shadow ray (render_accumulate adds its payload, MIS-weighted, when trace_any finds it
-// unoccluded), and sample the material for the continuation ray, with Russian roulette. The decisions are shaders/shared/path_vertex.h, which the CPU reference
-// renderer runs too; this kernel reads the scene's arrays and fills the queues. Outputs are
-// compacted with atomicAdd; every path owns its random stream, so the order in the queues does
-// not change the image. The shadow queue's size also becomes the indirect dispatch arguments of
-// trace_any and render_accumulate here (queue_dispatch_args), so no kernel runs between them.
+// unoccluded), and sample the material for the continuation ray, with Russian roulette. The
+// decisions are shaders/shared/path_vertex.h, which the CPU reference renderer runs too; this
+// kernel reads the scene's arrays and fills the queues. Outputs are compacted with atomicAdd;
+// every path owns its random stream, so the order in the queues does not change the image. The
+// shadow queue's size also becomes the indirect dispatch arguments of trace_any and
+// render_accumulate here (queue_dispatch_args), so no kernel runs between them.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -73,8 +74,6 @@ void queue_continuation(PathState path, Lobe lobe, GpuMaterial m, SurfaceHit s, 
   next_paths[slot] = continuation_path(path, throughput, lobe, b);
 }
 
-// A path vertex at a hit: queues its shadow and continuation rays, returns the emission it
-// sees; shadow_end as queue_shadow_ray returns it.
 // The emission the path's ray finds on triangle t, MIS-weighted.
 vec3 hit_emission(Ray ray, Hit hit, PathState path, ShadeTriangle t, vec3 emission) {
   if (!kEmissiveTriangles || emission == vec3(0.0)) return vec3(0.0);
@@ -83,6 +82,8 @@ vec3 hit_emission(Ray ray, Hit hit, PathState path, ShadeTriangle t, vec3 emissi
   return path.throughput * emission * emission_weight(params.light_strategy, path, light_pdf);
 }
 
+// A path vertex at a hit: queues its shadow and continuation rays, returns the emission it
+// sees; shadow_end as queue_shadow_ray returns it.
 vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   const ShadeTriangle t = load_shade_triangle(uint(hit.prim));
   const SurfaceHit s = make_surface_hit(t, hit, ray.dir);

@@ -162,52 +162,52 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const std::uint32_t go_up : {0u, 2u})
       for (const TableConfig& table :
-           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru}, TableConfig{4, 2, 2, TablePolicy::kFifo},
-            TableConfig{4, 2, 2, TablePolicy::kNone}})
-      for (const Case& c : cases()) {
-        if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact)
-          continue;                                           // hit-any has one mode
-        if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
-        PredictorConfig p = config(mode, table);
-        p.go_up = go_up;
-        p.hash.bits = c.bits;
-        p.batch = 64;
-        p.serial = true;
-        p.count_baseline = true;
-        const std::string what = std::string(c.name) + " " + predictor_mode_name(mode) +
-                                 " go-up " + std::to_string(go_up) + " table " +
-                                 std::to_string(table.sets) + "x" + std::to_string(table.ways) +
-                                 "x" + std::to_string(table.nodes) + " " +
-                                 table_policy_name(table.policy);
-        GpuTracer* tracer = nullptr;
-        const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
-        ReferencePredictor cpu_predictor(bunny().bvh, p);
-        const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
-        expect_same_hits(gpu.hits, cpu.hits, what);
-        for (int k = 0; k < HRPP_PC_COUNT; ++k)
-          EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
-        EXPECT_EQ(gpu.counters.interior_visited, cpu.counters.interior_visited) << what;
-        EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
-        EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
-        EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
-        const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
-        EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
-        EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
-        expect_counters_add_up(gpu.predictor, c.rays->size(), what);
-        if (table.sets == roomy.sets) {
-          EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
-        } else {
-          const int full =
-              table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
-          EXPECT_GT(cpu.predictor.c[full], 0u) << what;
+           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru},
+            TableConfig{4, 2, 2, TablePolicy::kFifo}, TableConfig{4, 2, 2, TablePolicy::kNone}})
+        for (const Case& c : cases()) {
+          if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact)
+            continue;                                           // hit-any has one mode
+          if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
+          PredictorConfig p = config(mode, table);
+          p.go_up = go_up;
+          p.hash.bits = c.bits;
+          p.batch = 64;
+          p.serial = true;
+          p.count_baseline = true;
+          const std::string what = std::string(c.name) + " " + predictor_mode_name(mode) +
+                                   " go-up " + std::to_string(go_up) + " table " +
+                                   std::to_string(table.sets) + "x" + std::to_string(table.ways) +
+                                   "x" + std::to_string(table.nodes) + " " +
+                                   table_policy_name(table.policy);
+          GpuTracer* tracer = nullptr;
+          const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
+          ReferencePredictor cpu_predictor(bunny().bvh, p);
+          const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
+          expect_same_hits(gpu.hits, cpu.hits, what);
+          for (int k = 0; k < HRPP_PC_COUNT; ++k)
+            EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
+          EXPECT_EQ(gpu.counters.interior_visited, cpu.counters.interior_visited) << what;
+          EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
+          EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
+          EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
+          const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
+          EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
+          EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
+          expect_counters_add_up(gpu.predictor, c.rays->size(), what);
+          if (table.sets == roomy.sets) {
+            EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+          } else {
+            const int full =
+                table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
+            EXPECT_GT(cpu.predictor.c[full], 0u) << what;
+          }
+          std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
+                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
+                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
+                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
+                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
+                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
         }
-        std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
-                    static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
-                    static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
-                    static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
-                    static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
-                    static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
-      }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

@@ -29,8 +29,8 @@ TEST(Mis, WeightsOfTheTwoStrategiesSumToOne) {
     for (std::uint32_t s : {HRPP_LIGHTS_MIS, HRPP_LIGHTS_NEE, HRPP_LIGHTS_BSDF}) {
       const float nee = gpu::nee_weight(s, false, light, bsdf);
       const float hit = gpu::emission_weight(s, bounce_path(bsdf, false), light);
-      ASSERT_NEAR(nee + hit, 1.0f, 1e-6f) << "strategy " << s << " light " << light << " bsdf "
-                                          << bsdf;
+      ASSERT_NEAR(nee + hit, 1.0f, 1e-6f)
+          << "strategy " << s << " light " << light << " bsdf " << bsdf;
       EXPECT_GE(nee, 0.0f);
       EXPECT_GE(hit, 0.0f);
     }
@@ -42,8 +42,8 @@ TEST(Mis, WeightsOfTheTwoStrategiesSumToOne) {
 
 TEST(Mis, EmissionOnlyLightSamplingCannotFindCountsWhole) {
   for (std::uint32_t s : {HRPP_LIGHTS_MIS, HRPP_LIGHTS_NEE, HRPP_LIGHTS_BSDF}) {
-    EXPECT_EQ(gpu::emission_weight(s, gpu::camera_path(0, 0), 3.0f), 1.0f);   // camera ray
-    EXPECT_EQ(gpu::emission_weight(s, bounce_path(0.0f, true), 3.0f), 1.0f);  // after a mirror
+    EXPECT_EQ(gpu::emission_weight(s, gpu::camera_path(0, 0), 3.0f), 1.0f);    // camera ray
+    EXPECT_EQ(gpu::emission_weight(s, bounce_path(0.0f, true), 3.0f), 1.0f);   // after a mirror
     EXPECT_EQ(gpu::emission_weight(s, bounce_path(2.0f, false), 0.0f), 1.0f);  // not a light
     // The last vertex takes no BSDF sample: light sampling carries it whole.
     EXPECT_EQ(gpu::nee_weight(s, true, 1.0f, 5.0f), 1.0f);
@@ -111,15 +111,16 @@ TEST(Mis, LobePdfsAreTheSamplingDensities) {
       const float z = (static_cast<float>(iz) + 0.5f) / static_cast<float>(grid);
       const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
       for (int ip = 0; ip < grid; ++ip) {
-        const float phi = 2.0f * gpu::kPi * (static_cast<float>(ip) + 0.5f) / static_cast<float>(grid);
+        const float phi =
+            2.0f * gpu::kPi * (static_cast<float>(ip) + 0.5f) / static_cast<float>(grid);
         integral += gpu::lobe_pdf(lobe, s, wo, vec3(r * std::cos(phi), r * std::sin(phi), z));
       }
     }
     integral *= 2.0 * gpu::kPi / (static_cast<double>(grid) * grid);
     const double share = static_cast<double>(above) / n_samples;
     EXPECT_NEAR(integral, share, 0.005) << "roughness " << roughness;
-    std::printf("roughness %.1f: integral of pdf %.4f, samples above %.4f\n", roughness,
-                integral, share);
+    std::printf("roughness %.1f: integral of pdf %.4f, samples above %.4f\n", roughness, integral,
+                share);
   }
 }
 

@@ -197,8 +197,8 @@ TEST(Render, FurnaceClosedEmissiveBox) {
     EXPECT_NEAR(m, expected, std::max(4.0 * se, 1e-3 * expected))
         << name << ": mean " << m << ", standard error " << se;
     EXPECT_LT(se, 0.015 * expected) << name;  // the test can see a 6% bias
-    std::printf("furnace box, %s: mean %.4f expected %.4f standard error %.4f\n", name, m,
-                expected, se);
+    std::printf("furnace box, %s: mean %.4f expected %.4f standard error %.4f\n", name, m, expected,
+                se);
     EXPECT_EQ(r.stats.closest().counters.hits, r.stats.closest().counters.rays);  // no misses
   }
 }

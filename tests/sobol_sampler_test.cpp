@@ -47,8 +47,8 @@ TEST(SobolSampler, EachPixelsPairsAreZeroKTwoNets) {
             cells.insert({static_cast<std::uint32_t>(p.x * static_cast<float>(1u << a)),
                           static_cast<std::uint32_t>(p.y * static_cast<float>(1u << (k - a)))});
           }
-          EXPECT_EQ(cells.size(), n) << "pixel " << pixel << " pair " << pair << " k " << k
-                                     << " a " << a;
+          EXPECT_EQ(cells.size(), n)
+              << "pixel " << pixel << " pair " << pair << " k " << k << " a " << a;
         }
       }
 }
@@ -59,7 +59,8 @@ TEST(SobolSampler, PixelsAndPairsAreDecorrelated) {
   double sum = 0.0;
   const int pixels = 4096;
   for (int p = 0; p < pixels; ++p) {
-    const glm::vec2 s = gpu::sobol_pair(0, gpu::sobol_stream(static_cast<std::uint32_t>(p), 0, 0, 1));
+    const glm::vec2 s =
+        gpu::sobol_pair(0, gpu::sobol_stream(static_cast<std::uint32_t>(p), 0, 0, 1));
     firsts.insert(s.x);
     sum += s.x;
   }

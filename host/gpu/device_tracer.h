@@ -24,16 +24,16 @@ class TexelView;
 
 // What one trace of a ray class did, read back after its submit.
 struct GpuTraceResult {
-  std::vector<gpu::Hit> hits;   // GpuTracer::trace only: one per ray; any-hit: prim 0
-                                // occluded, -1 free (t, u, v = 0)
-  TraversalCounters counters;   // summed over the ray chunks of the call
-  double kernel_ms = 0.0;       // device timestamps around the trace's dispatches (0 when
-                                // HRPP runs in batches: many small dispatches)
-  double sort_ms = 0.0;         // of kernel_ms, the sort's dispatches (trace() with a sorter)
-  bool predicted = false;       // the HRPP stage ran (the class probes)
-  std::uint64_t traced = 0;     // rays the trace kernel traced (HRPP: the queue)
+  std::vector<gpu::Hit> hits;  // GpuTracer::trace only: one per ray; any-hit: prim 0
+                               // occluded, -1 free (t, u, v = 0)
+  TraversalCounters counters;  // summed over the ray chunks of the call
+  double kernel_ms = 0.0;      // device timestamps around the trace's dispatches (0 when
+                               // HRPP runs in batches: many small dispatches)
+  double sort_ms = 0.0;        // of kernel_ms, the sort's dispatches (trace() with a sorter)
+  bool predicted = false;      // the HRPP stage ran (the class probes)
+  std::uint64_t traced = 0;    // rays the trace kernel traced (HRPP: the queue)
   gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
-  std::uint64_t sampled = 0;    // HRPP sample (Probe::kSample): rays that ran the stage
+  std::uint64_t sampled = 0;           // HRPP sample (Probe::kSample): rays that ran the stage
 };
 
 class DeviceTracer {

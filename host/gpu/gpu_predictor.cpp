@@ -444,7 +444,8 @@ void GpuPredictor::State::start_queue(VkCommandBuffer cmd, RayClass c,
   transfer_compute_barrier(cmd);
 }
 
-void GpuPredictor::State::record_rounds(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+void GpuPredictor::State::record_rounds(VkCommandBuffer cmd, RayClass c,
+                                        const RayCountSource& count,
                                         const gpu::TracePushConstants& trace_pc,
                                         KernelTimer* timer) {
   start_queue(cmd, c, count);
@@ -454,12 +455,12 @@ void GpuPredictor::State::record_rounds(VkCommandBuffer cmd, RayClass c, const R
   record_pass(cmd, c, count, trace_pc, HRPP_PASS_OTHERS, timer);
 }
 
-void GpuPredictor::State::record_sample(VkCommandBuffer cmd, RayClass c, const RayCountSource& count,
+void GpuPredictor::State::record_sample(VkCommandBuffer cmd, RayClass c,
+                                        const RayCountSource& count,
                                         const gpu::TracePushConstants& trace_pc,
                                         KernelTimer* timer) {
   start_queue(cmd, c, count);
-  record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, config.sample,
-                  Phase::kSample);
+  record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, config.sample, Phase::kSample);
   const gpu::StagePushConstants none = stage_push(trace_pc, HRPP_PASS_NONE);
   record_dispatch(cmd, table(c).predict(), &none, 1, timer,
                   TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty, c});

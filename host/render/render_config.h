@@ -49,7 +49,9 @@ enum class LightSampling : std::uint32_t {
   kBsdf = HRPP_LIGHTS_BSDF,
 };
 inline constexpr NameTable<LightSampling, 3> kLightSamplingNames = {
-    {{LightSampling::kMis, "mis"}, {LightSampling::kLight, "light"}, {LightSampling::kBsdf, "bsdf"}}};
+    {{LightSampling::kMis, "mis"},
+     {LightSampling::kLight, "light"},
+     {LightSampling::kBsdf, "bsdf"}}};
 
 // Where a path's random numbers come from (--sampler; HRPP_SAMPLER_*,
 // shaders/shared/sobol_sampler.h): Owen-scrambled Sobol pairs, or independent PCG streams.

@@ -88,8 +88,9 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"light_sampling", name_in(kLightSamplingNames, config.light_sampling)},
                  {"sampler", name_in(kSamplerNames, config.sampler)},
                  {"hrpp", hrpp_on ? "on" : "off"},
-                 {"frame", "one sample pass over every pixel; the top level sums the frames, "
-                           "\"frames\" lists each"}};
+                 {"frame",
+                  "one sample pass over every pixel; the top level sums the frames, "
+                  "\"frames\" lists each"}};
   j["device"] = {{"name", device.name},
                  {"type", device.type_name()},
                  {"driver", device.driver},
@@ -124,9 +125,10 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
   out += line;
   if (s.lighting != Lighting::kScene) {
     if (s.lighting == Lighting::kNone)
-      std::snprintf(line, sizeof line, "lighting    none: the scene has no light and "
-                                       "--default-environment and --default-sun are none, so "
-                                       "the image is black\n");
+      std::snprintf(line, sizeof line,
+                    "lighting    none: the scene has no light and "
+                    "--default-environment and --default-sun are none, so "
+                    "the image is black\n");
     else
       std::snprintf(line, sizeof line,
                     "lighting    the scene has no light: a uniform environment of radiance "

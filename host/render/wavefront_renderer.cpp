@@ -395,8 +395,7 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     frame.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
     for (RayClass c : kRayClasses)
-      frame.decisions[c] =
-          s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
+      frame.decisions[c] = s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
     stats += frame;
     stats.frames.push_back(std::move(frame));
     if (progress) progress(sample + 1);

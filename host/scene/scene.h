@@ -46,11 +46,12 @@ struct Texture {
 };
 
 enum class LightType { kPoint, kSpot, kDirectional, kAreaQuad, kEnvironment };
-inline constexpr NameTable<LightType, 5> kLightTypeNames = {{{LightType::kPoint, "point"},
-                                                             {LightType::kSpot, "spot"},
-                                                             {LightType::kDirectional, "directional"},
-                                                             {LightType::kAreaQuad, "area"},
-                                                             {LightType::kEnvironment, "environment"}}};
+inline constexpr NameTable<LightType, 5> kLightTypeNames = {
+    {{LightType::kPoint, "point"},
+     {LightType::kSpot, "spot"},
+     {LightType::kDirectional, "directional"},
+     {LightType::kAreaQuad, "area"},
+     {LightType::kEnvironment, "environment"}}};
 
 struct Light {
   LightType type = LightType::kPoint;

@@ -52,7 +52,8 @@ std::string scene_json(const Scene& scene) {
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
     const TriangleShading& s = scene.shading[i];
-    for (const glm::vec3& v : {t.v0, t.v1, t.v2}) positions.insert(positions.end(), {v.x, v.y, v.z});
+    for (const glm::vec3& v : {t.v0, t.v1, t.v2})
+      positions.insert(positions.end(), {v.x, v.y, v.z});
     for (const glm::vec3& n : {s.n0, s.n1, s.n2}) normals.insert(normals.end(), {n.x, n.y, n.z});
     material_of.push_back(s.material);
   }
