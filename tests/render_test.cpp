@@ -431,6 +431,13 @@ TEST(RenderCli, ErrorsAndOutputs) {
   EXPECT_EQ(run("render --max-depth 0", &err), 1);
   EXPECT_NE(err.find("--max-depth"), std::string::npos) << err;
   EXPECT_NE(run("render --spp -3"), 0);  // CLI11: not a number of samples
+  for (const char* flags : {"--default-environment 1,x", "--default-environment -1",
+                            "--default-sun 1,2,3", "--default-sun nan", "--light-sampling nee",
+                            "--sampler halton"}) {
+    EXPECT_EQ(run(std::string("render --size 8x8 ") + flags, &err), 1) << flags;
+    const std::string flag = std::string(flags).substr(0, std::string(flags).find(' '));
+    EXPECT_NE(err.find(flag), std::string::npos) << flags << ": " << err;
+  }
 
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("hrpp_render_cli_" + std::to_string(getpid()));
