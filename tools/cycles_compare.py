@@ -67,7 +67,8 @@ def compare_scene(a, scene, out_dir):
     floor, _, floor_mean = errors(other, ref)
     rows = {"cycles seed 1": {"relmse": floor, "mean_ratio": floor_mean}}
     for name, flags in HRPP_CONFIGS.items():
-        img = hrpp(a, scene, flags, os.path.join(out_dir, f"{base}_{name.split()[1].replace('/', '_')}.exr"))
+        tag = name.split()[1].replace("/", "_")
+        img = hrpp(a, scene, flags, os.path.join(out_dir, f"{base}_{tag}.exr"))
         rel, worst, mean_ratio = errors(img, ref)
         rows[name] = {"relmse": rel, "worst_1pct_share": worst, "mean_ratio": mean_ratio}
     for r in rows.values():

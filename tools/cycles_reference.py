@@ -1,8 +1,8 @@
 """Renders an hrpp scene export with Blender's Cycles, set up to compute the integral hrpp render
 computes: the same triangles, vertex normals, camera and image size, Lambertian materials
 (Diffuse BSDF, roughness 0) with two-sided emission added, the same constant environment (the
-scene's, or for a scene without light hrpp's default environment and sun), paths of the same length
-(Cycles' max bounces = hrpp's --max-depth - 1: 0 means direct light only in both), a box pixel
+scene's, or for a scene without light hrpp's default environment and sun), paths of the same
+length (Cycles' max bounces = hrpp's --max-depth - 1: 0 means direct light only in both), a box pixel
 filter one pixel wide, no clamping, no glossy blur, no light threshold, no denoising, no
 adaptive sampling; the EXR holds linear radiance.
 

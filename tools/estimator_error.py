@@ -13,8 +13,9 @@ time). The reference is hrpp's own, so this measures convergence, not correctnes
 independent witnesses are the furnace tests (tests/render_test.cpp) and a Blender Cycles render.
 
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
-Usage: tools/estimator_error.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64] [--spp 64]
-                                [--ref-spp 4096] [--hrpp BIN] [--json FILE] [--images DIR]
+Usage: tools/estimator_error.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64]
+                                [--spp 64] [--ref-spp 4096] [--hrpp BIN] [--json FILE]
+                                [--images DIR]
 """
 import argparse
 import json
