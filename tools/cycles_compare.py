@@ -19,17 +19,15 @@ Usage: tools/cycles_compare.py [--scenes builtin:cornell,cornell,bunny,teapot] [
                                [--json FILE] [--images DIR]
 """
 import argparse
-import json
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from hrpp_bench import read_exr  # noqa: E402
-from estimator_error import errors, scene_arg  # noqa: E402
+from estimator_error import (errors, mean_text, output_dir, run,  # noqa: E402
+                             scene_arg, write_json)
 
 DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
 HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobol"],
@@ -37,31 +35,24 @@ HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobo
                                            "independent"]}
 
 
-def run(cmd):
-    print(f"  {' '.join(cmd)}", file=sys.stderr, flush=True)
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"cycles_compare: {' '.join(cmd)} failed:\n{(r.stderr or r.stdout).strip()}")
-
-
 def cycles(a, export, out, seed):
     run([a.blender, "--background", "--factory-startup", "--python",
          os.path.join(HERE, "cycles_reference.py"), "--", "--scene", export, "--out", out,
          "--size", a.size, "--spp", str(a.spp), "--max-depth", str(a.max_depth), "--seed",
-         str(seed)])
+         str(seed)], "cycles_compare")
     return read_exr(out)
 
 
 def hrpp(a, scene, flags, out):
     run([a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(a.spp), "--max-depth",
-         str(a.max_depth), "--seed", "1", "--out", out] + flags)
+         str(a.max_depth), "--seed", "1", "--out", out] + flags, "cycles_compare")
     return read_exr(out)
 
 
 def compare_scene(a, scene, out_dir):
     base = os.path.basename(scene).replace(":", "_")
     export = os.path.join(out_dir, f"{base}.json")
-    run([a.hrpp, "scene", scene_arg(scene), "--export-json", export])
+    run([a.hrpp, "scene", scene_arg(scene), "--export-json", export], "cycles_compare")
     ref = cycles(a, export, os.path.join(out_dir, f"{base}_cycles0.exr"), 0)
     other = cycles(a, export, os.path.join(out_dir, f"{base}_cycles1.exr"), 1)
     floor, _, floor_mean = errors(other, ref)
@@ -90,12 +81,9 @@ def main():
     ap.add_argument("--json", help="write every figure here")
     ap.add_argument("--images", help="keep the renders and exports here")
     a = ap.parse_args()
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"cycles_compare: --hrpp {a.hrpp}: not an executable (build first)")
     if shutil.which(a.blender) is None:
         sys.exit(f"cycles_compare: --blender {a.blender}: not found (apt-get install blender)")
-    out_dir = a.images or tempfile.mkdtemp(prefix="hrpp_cycles_")
-    os.makedirs(out_dir, exist_ok=True)
+    out_dir = output_dir(a, "cycles_compare", "hrpp_cycles_")
     report = {"size": a.size, "spp": a.spp, "max_depth": a.max_depth, "scenes": {}}
     for scene in a.scenes.split(","):
         print(f"{scene}:", file=sys.stderr, flush=True)
@@ -105,14 +93,11 @@ def main():
         print(f"  {'render':<24} {'relMSE':>9} {'/floor':>7} {'var/Cycles':>10} "
               f"{'mean ratio r g b':>22}  verdict")
         for name, r in rows.items():
-            mr = " ".join(f"{x:.4f}" for x in r["mean_ratio"])
             print(f"  {name:<24} {r['relmse']:9.5f} {r['floor_ratio']:7.2f} "
-                  f"{r['variance_ratio']:10.2f} {mr:>22}  "
+                  f"{r['variance_ratio']:10.2f} {mean_text(r['mean_ratio']):>22}  "
                   f"{'agrees' if r['agrees'] else 'DIFFERS'}")
         report["scenes"][scene] = {"floor": floor, "renders": rows}
-    if a.json:
-        with open(a.json, "w") as f:
-            json.dump(report, f, indent=2)
+    write_json(a.json, report)
 
 
 if __name__ == "__main__":

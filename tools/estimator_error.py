@@ -42,6 +42,33 @@ def scene_arg(name):
     return os.path.join(HERE, "..", "scenes", f"{name}.scene.json")
 
 
+def run(cmd, who):
+    """Runs cmd, echoed to stderr; exits naming `who` and the command when it fails."""
+    print(f"  {' '.join(cmd)}", file=sys.stderr, flush=True)
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"{who}: {' '.join(cmd)} failed:\n{(r.stderr or r.stdout).strip()}")
+
+
+def output_dir(a, who, prefix):
+    """Checks --hrpp and returns the directory the renders go to (--images, else a new one)."""
+    if not os.access(a.hrpp, os.X_OK):
+        sys.exit(f"{who}: --hrpp {a.hrpp}: not an executable (build first)")
+    out_dir = a.images or tempfile.mkdtemp(prefix=prefix)
+    os.makedirs(out_dir, exist_ok=True)
+    return out_dir
+
+
+def mean_text(ratios):
+    return " ".join(f"{x:.4f}" for x in ratios)
+
+
+def write_json(path, report):
+    if path:
+        with open(path, "w") as f:
+            json.dump(report, f, indent=2)
+
+
 def render(a, scene, spp, seed, strategy, sampler, out_dir, tag):
     base = os.path.basename(scene).replace(":", "_")
     exr = os.path.join(out_dir, f"{base}_{tag}.exr")
@@ -49,10 +76,7 @@ def render(a, scene, spp, seed, strategy, sampler, out_dir, tag):
     cmd = [a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(spp), "--seed",
            str(seed), "--light-sampling", strategy, "--sampler", sampler, "--out", exr,
            "--stats", stats]
-    print(f"  {' '.join(cmd[1:])}", file=sys.stderr, flush=True)
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"estimator_error: {' '.join(cmd)} failed:\n{r.stderr.strip()}")
+    run(cmd, "estimator_error")
     with open(stats) as f:
         return read_exr(exr), json.load(f)["wall_s"]
 
@@ -78,10 +102,7 @@ def main():
     ap.add_argument("--json", help="write every figure here")
     ap.add_argument("--images", help="keep the renders here")
     a = ap.parse_args()
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"estimator_error: --hrpp {a.hrpp}: not an executable (build first)")
-    out_dir = a.images or tempfile.mkdtemp(prefix="hrpp_estimator_")
-    os.makedirs(out_dir, exist_ok=True)
+    out_dir = output_dir(a, "estimator_error", "hrpp_estimator_")
     report = {"size": a.size, "spp": a.spp, "ref_spp": a.ref_spp, "scenes": {}}
     for scene in a.scenes.split(","):
         print(f"{scene}: reference, {a.ref_spp} spp", file=sys.stderr, flush=True)
@@ -101,14 +122,12 @@ def main():
         for name, r in rows.items():
             r["relmse_ratio"] = r["relmse"] / base["relmse"]
             r["work_ratio"] = r["relmse"] * r["wall_s"] / (base["relmse"] * base["wall_s"])
-            mr = " ".join(f"{x:.4f}" for x in r["mean_ratio"])
             print(f"  {name:<20} {r['relmse']:9.5f} {r['relmse_ratio']:6.2f} "
-                  f"{r['worst_1pct_share']:8.2f} {mr:>22} {r['wall_s']:7.2f} "
+                  f"{r['worst_1pct_share']:8.2f} {mean_text(r['mean_ratio']):>22} "
+                  f"{r['wall_s']:7.2f} "
                   f"{r['work_ratio']:14.2f}")
         report["scenes"][scene] = {"reference_wall_s": ref_s, "configs": rows}
-    if a.json:
-        with open(a.json, "w") as f:
-            json.dump(report, f, indent=2)
+    write_json(a.json, report)
 
 
 if __name__ == "__main__":

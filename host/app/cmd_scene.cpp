@@ -29,8 +29,6 @@ struct SceneOptions {
 
 nlohmann::json vec_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
-const char* light_name(LightType t) { return name_in(kLightTypeNames, t); }
-
 void run_scene(const SceneOptions& o) {
   check_output_path(o.dump_triangles, "--dump-triangles");
   check_output_path(o.export_json, "--export-json");
@@ -48,7 +46,10 @@ void run_scene(const SceneOptions& o) {
     emissive += (m.emission.x > 0.0f || m.emission.y > 0.0f || m.emission.z > 0.0f);
   }
   nlohmann::json lights = nlohmann::json::object();
-  for (const Light& l : scene.lights) lights[light_name(l.type)] = lights.value(light_name(l.type), 0) + 1;
+  for (const Light& l : scene.lights) {
+    const char* name = name_in(kLightTypeNames, l.type);
+    lights[name] = lights.value(name, 0) + 1;
+  }
 
   nlohmann::json j = {
       {"scene", scene.name},
