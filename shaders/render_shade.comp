@@ -53,9 +53,7 @@ uint queue_shadow_ray(PathState path, Lobe lobe, SurfaceHit s, vec3 wo, VertexSa
   float prob;
   const GpuLight light = load_light(pick_light(u.light, prob));
   const LightSample ls = sample_light(light, s, u.light_u1, u.light_u2);
-  const bool last = path.depth + 1u >= params.max_depth;
-  const vec3 contribution =
-      light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy, last);
+  const vec3 contribution = light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy);
   if (!traces_shadow_ray(contribution, ls)) return 0u;
   const uint slot = atomicAdd(queues.shadow_rays, 1u);
   shadow_rays[slot] = ls.shadow;
@@ -65,7 +63,6 @@ uint queue_shadow_ray(PathState path, Lobe lobe, SurfaceHit s, vec3 wo, VertexSa
 
 void queue_continuation(PathState path, Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo,
                         VertexSamples u) {
-  if (path.depth + 1u >= params.max_depth) return;
   const Bounce b = sample_bounce(lobe, m, s, wo, u.u1, u.u2);
   vec3 throughput = path.throughput * b.weight;
   if (!survives(throughput, path.depth + 1u, params.rr_depth, u.rr)) return;
@@ -79,7 +76,9 @@ vec3 hit_emission(Ray ray, Hit hit, PathState path, ShadeTriangle t, vec3 emissi
   if (!kEmissiveTriangles || emission == vec3(0.0)) return vec3(0.0);
   const float pick = t.light > 0u ? light_pick_prob(t.light - 1u) : 0.0;
   const float light_pdf = hit_light_pdf(t, pick, ray.dir, hit.t);
-  return path.throughput * emission * emission_weight(params.light_strategy, path, light_pdf);
+  const bool bsdf_sees = bsdf_sees_light_at(ray.origin, hit.t);
+  return path.throughput * emission *
+         emission_weight(params.light_strategy, path, bsdf_sees, light_pdf);
 }
 
 // A path vertex at a hit: queues its shadow and continuation rays, returns the emission it
@@ -90,6 +89,8 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   const GpuMaterial m = load_material(s.material);
   const vec3 wo = -ray.dir;
   vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
+  shadow_end = 0u;
+  if (closes_path(path, params.max_depth)) return radiance;
   vec3 albedo = m.base_color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
   const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);

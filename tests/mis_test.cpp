@@ -26,27 +26,30 @@ TEST(Mis, WeightsOfTheTwoStrategiesSumToOne) {
   for (int i = 0; i < 10000; ++i) {
     const float light = std::exp2(exponent(rng)), bsdf = std::exp2(exponent(rng));
     EXPECT_NEAR(gpu::mis_power(light, bsdf) + gpu::mis_power(bsdf, light), 1.0f, 1e-6f);
-    for (std::uint32_t s : {HRPP_LIGHTS_MIS, HRPP_LIGHTS_NEE, HRPP_LIGHTS_BSDF}) {
-      const float nee = gpu::nee_weight(s, false, light, bsdf);
-      const float hit = gpu::emission_weight(s, bounce_path(bsdf, false), light);
-      ASSERT_NEAR(nee + hit, 1.0f, 1e-6f)
-          << "strategy " << s << " light " << light << " bsdf " << bsdf;
-      EXPECT_GE(nee, 0.0f);
-      EXPECT_GE(hit, 0.0f);
-    }
+    for (std::uint32_t s : {HRPP_LIGHTS_MIS, HRPP_LIGHTS_NEE, HRPP_LIGHTS_BSDF})
+      for (bool sees : {true, false}) {
+        const float nee = gpu::nee_weight(s, sees, light, bsdf);
+        const float hit = gpu::emission_weight(s, bounce_path(bsdf, false), sees, light);
+        ASSERT_NEAR(nee + hit, 1.0f, 1e-6f)
+            << "strategy " << s << " sees " << sees << " light " << light << " bsdf " << bsdf;
+        EXPECT_GE(nee, 0.0f);
+        EXPECT_GE(hit, 0.0f);
+        if (!sees) {
+          EXPECT_EQ(nee, 1.0f);  // too near for the BSDF ray: light sampling alone
+        }
+      }
   }
   // MIS: the strategy with the larger pdf takes most of the weight.
-  EXPECT_GT(gpu::nee_weight(HRPP_LIGHTS_MIS, false, 10.0f, 1.0f), 0.99f);
-  EXPECT_LT(gpu::nee_weight(HRPP_LIGHTS_MIS, false, 1.0f, 10.0f), 0.01f);
+  EXPECT_GT(gpu::nee_weight(HRPP_LIGHTS_MIS, true, 10.0f, 1.0f), 0.99f);
+  EXPECT_LT(gpu::nee_weight(HRPP_LIGHTS_MIS, true, 1.0f, 10.0f), 0.01f);
 }
 
 TEST(Mis, EmissionOnlyLightSamplingCannotFindCountsWhole) {
   for (std::uint32_t s : {HRPP_LIGHTS_MIS, HRPP_LIGHTS_NEE, HRPP_LIGHTS_BSDF}) {
-    EXPECT_EQ(gpu::emission_weight(s, gpu::camera_path(0, 0), 3.0f), 1.0f);    // camera ray
-    EXPECT_EQ(gpu::emission_weight(s, bounce_path(0.0f, true), 3.0f), 1.0f);   // after a mirror
-    EXPECT_EQ(gpu::emission_weight(s, bounce_path(2.0f, false), 0.0f), 1.0f);  // not a light
-    // The last vertex takes no BSDF sample: light sampling carries it whole.
-    EXPECT_EQ(gpu::nee_weight(s, true, 1.0f, 5.0f), 1.0f);
+    EXPECT_EQ(gpu::emission_weight(s, gpu::camera_path(0, 0), true, 3.0f), 1.0f);  // camera ray
+    EXPECT_EQ(gpu::emission_weight(s, bounce_path(0.0f, true), true, 3.0f),
+              1.0f);  // after a mirror
+    EXPECT_EQ(gpu::emission_weight(s, bounce_path(2.0f, false), true, 0.0f), 1.0f);  // not a light
   }
   // Overflow-free: huge and zero pdfs give weights in [0, 1], never NaN.
   EXPECT_EQ(gpu::mis_power(0.0f, 1.0f), 0.0f);
@@ -55,8 +58,34 @@ TEST(Mis, EmissionOnlyLightSamplingCannotFindCountsWhole) {
   EXPECT_EQ(gpu::mis_power(INFINITY, 1.0f), 1.0f);
 }
 
+// The last vertex (depth max_depth - 1) takes its BSDF sample like every other, so its light
+// sample is MIS-weighted; the ray it leaves on closes the path, which adds only emission.
+TEST(Mis, TheRayLeavingTheLastVertexClosesThePath) {
+  const std::uint32_t max_depth = 3;
+  gpu::PathState path = gpu::camera_path(0, 0);
+  for (std::uint32_t depth = 0; depth < max_depth; ++depth) {
+    EXPECT_FALSE(gpu::closes_path(path, max_depth)) << depth;
+    path.depth += 1;
+  }
+  EXPECT_TRUE(gpu::closes_path(path, max_depth));
+  EXPECT_LT(gpu::nee_weight(HRPP_LIGHTS_MIS, true, 1.0f, 5.0f), 0.1f);
+}
+
+// A BSDF ray trusts what it finds from 64 offsets away: the offset scales with the
+// coordinates' magnitude (2^-15 of it, 2^-16 near the origin), and so does the distance.
+TEST(Mis, BsdfRaysLeaveLightsTooNearTheirOffsetToLightSampling) {
+  ASSERT_EQ(gpu::kBsdfOffsetRatio, 64.0f);
+  const vec3 origin(0.0f, 0.0f, 0.0f), far(0.0f, 1000.0f, 0.0f);
+  EXPECT_TRUE(gpu::bsdf_sees_light_at(origin, 64.0f / 65536.0f));
+  EXPECT_FALSE(gpu::bsdf_sees_light_at(origin, 63.0f / 65536.0f));
+  EXPECT_TRUE(gpu::bsdf_sees_light_at(far, 1000.0f * 64.0f / 32768.0f));
+  EXPECT_FALSE(gpu::bsdf_sees_light_at(far, 1.9f));
+  EXPECT_FALSE(gpu::bsdf_sees_light_at(vec3(0.0f, 0.0f, -1000.0f), 1.9f));
+}
+
 // The light pdf a BSDF ray computes at a hit equals the one light sampling used for the same
-// point: both are the pick probability times distance² / (|cos| × area).
+// point: both are the pick probability times distance² / (|cos| × area), measured from the
+// offset origin that the shadow ray and the BSDF ray share.
 TEST(Mis, HitLightPdfEqualsTheSamplePdf) {
   gpu::GpuLight l{};
   l.type = HRPP_LIGHT_TRIANGLE;
@@ -72,10 +101,13 @@ TEST(Mis, HitLightPdfEqualsTheSamplePdf) {
   s.p = vec3(0.3f, 0.0f, 0.2f);
   s.ng = s.ns = vec3(0, 1, 0);
   const gpu::LightSample ls = gpu::sample_light(l, s, 0.4f, 0.3f);
-  const vec3 q = s.p + ls.wi * 0.0f;  // the sampled point lies along wi
-  const float dist = (2.0f - q.y) / ls.wi.y;
-  EXPECT_NEAR(gpu::hit_light_pdf(t, 0.25f, ls.wi, dist) / (0.25f * ls.pdf), 1.0f, 1e-5f);
-  EXPECT_NEAR(ls.pdf, dist * dist / (ls.wi.y * 0.5f), 1e-4f * ls.pdf);
+  const float r = std::sqrt(0.4f);  // the point sample_triangle_light takes for (0.4, 0.3)
+  const vec3 q = l.position + r * 0.7f * l.dir + r * 0.3f * l.edge2;
+  const vec3 to = q - ls.shadow.origin;
+  const float dist = glm::length(to);
+  EXPECT_NEAR(ls.dist, dist, 1e-6f);
+  EXPECT_NEAR(gpu::hit_light_pdf(t, 0.25f, to / dist, dist) / (0.25f * ls.pdf), 1.0f, 1e-5f);
+  EXPECT_NEAR(ls.pdf, dist * dist / (to.y / dist * 0.5f), 1e-4f * ls.pdf);
 }
 
 // Each lobe's pdf is the density its sampling draws: a sampled direction's Bounce.pdf equals

@@ -9,14 +9,17 @@ Printed per scene: the noise floor, relMSE between the two Cycles renders (two i
 estimates of the same image: twice Cycles' variance, relatively); each hrpp render's relMSE
 against Cycles seed 0, its ratio to the floor, and the variance ratio it implies,
 var(hrpp) / var(Cycles) = 2 x relMSE / floor - 1 (1: as noisy as Cycles at equal spp; 1.5 at
-relMSE = 1.25 x floor); and the means' ratio per channel. Verdict "agrees" when relMSE is within
+relMSE = 1.25 x floor); and the means' ratio per channel. The default estimator also renders
+with seed 2: its relMSE against seed 1 over the floor is the same variance ratio measured again,
+without the noise of Cycles seed 0 in it. Verdict "agrees" when relMSE is within
 2x the floor and every channel's mean within 1%. relMSE = mean of (x - ref)^2 / (ref^2 + 0.01).
 
 Runs with Debian's python3 (numpy, python3-openimageio) and blender (tools/setup.sh installs
 neither blender nor this benchmark's needs beyond numpy: `apt-get install blender`).
-Usage: tools/cycles_compare.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64]
-                               [--spp 1024] [--max-depth 8] [--hrpp BIN] [--blender BIN]
-                               [--json FILE] [--images DIR]
+Usage: tools/cycles_compare.py
+                               [--scenes builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel]
+                               [--size 64x64] [--spp 1024] [--max-depth 8] [--hrpp BIN]
+                               [--blender BIN] [--json FILE] [--images DIR]
 """
 import argparse
 import os
@@ -26,7 +29,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from hrpp_bench import read_exr  # noqa: E402
-from estimator_error import (errors, mean_text, output_dir, run,  # noqa: E402
+from estimator_error import (EPS, errors, mean_text, output_dir, run,  # noqa: E402
                              scene_arg, write_json)
 
 DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
@@ -43,10 +46,16 @@ def cycles(a, export, out, seed):
     return read_exr(out)
 
 
-def hrpp(a, scene, flags, out):
+def hrpp(a, scene, flags, out, seed=1):
     run([a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(a.spp), "--max-depth",
-         str(a.max_depth), "--seed", "1", "--out", out] + flags, "cycles_compare")
+         str(a.max_depth), "--seed", str(seed), "--out", out] + flags, "cycles_compare")
     return read_exr(out)
+
+
+def pair_relmse(x, y, ref):
+    """relMSE between two renders, weighted by the reference as errors() weights: for two
+    independent estimates, twice their variance, comparable with the floor."""
+    return float(((x - y) ** 2 / (ref ** 2 + EPS)).mean())
 
 
 def compare_scene(a, scene, out_dir):
@@ -62,6 +71,11 @@ def compare_scene(a, scene, out_dir):
         img = hrpp(a, scene, flags, os.path.join(out_dir, f"{base}_{tag}.exr"))
         rel, worst, mean_ratio = errors(img, ref)
         rows[name] = {"relmse": rel, "worst_1pct_share": worst, "mean_ratio": mean_ratio}
+    first = "hrpp mis/sobol"
+    second = hrpp(a, scene, HRPP_CONFIGS[first],
+                  os.path.join(out_dir, f"{base}_mis_sobol_seed2.exr"), seed=2)
+    rows[first]["seeds_variance_ratio"] = pair_relmse(
+        read_exr(os.path.join(out_dir, f"{base}_mis_sobol.exr")), second, ref) / floor
     for r in rows.values():
         r["floor_ratio"] = r["relmse"] / floor
         r["variance_ratio"] = 2.0 * r["relmse"] / floor - 1.0
@@ -72,7 +86,8 @@ def compare_scene(a, scene, out_dir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes", default="builtin:cornell,cornell,bunny,teapot")
+    ap.add_argument("--scenes",
+                    default="builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel")
     ap.add_argument("--size", default="64x64")
     ap.add_argument("--spp", type=int, default=1024)
     ap.add_argument("--max-depth", type=int, default=8)
@@ -96,6 +111,8 @@ def main():
             print(f"  {name:<24} {r['relmse']:9.5f} {r['floor_ratio']:7.2f} "
                   f"{r['variance_ratio']:10.2f} {mean_text(r['mean_ratio']):>22}  "
                   f"{'agrees' if r['agrees'] else 'DIFFERS'}")
+        print(f"  hrpp mis/sobol seed 2 against seed 1: var/Cycles "
+              f"{rows['hrpp mis/sobol']['seeds_variance_ratio']:.2f}")
         report["scenes"][scene] = {"floor": floor, "renders": rows}
     write_json(a.json, report)
 

@@ -13,9 +13,9 @@ time). The reference is hrpp's own, so this measures convergence, not correctnes
 independent witnesses are the furnace tests (tests/render_test.cpp) and a Blender Cycles render.
 
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh).
-Usage: tools/estimator_error.py [--scenes builtin:cornell,cornell,bunny,teapot] [--size 64x64]
-                                [--spp 64] [--ref-spp 4096] [--hrpp BIN] [--json FILE]
-                                [--images DIR]
+Usage: tools/estimator_error.py
+         [--scenes builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel]
+         [--size 64x64] [--spp 64] [--ref-spp 4096] [--hrpp BIN] [--json FILE] [--images DIR]
 """
 import argparse
 import json
@@ -92,7 +92,8 @@ def errors(img, ref):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes", default="builtin:cornell,cornell,bunny,teapot",
+    ap.add_argument("--scenes",
+                    default="builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel",
                     help="builtin:cornell and names of scenes/NAME.scene.json (cornell: the "
                          "glTF Cornell box)")
     ap.add_argument("--size", default="64x64")

@@ -141,6 +141,7 @@ void run_render(RenderOptions& o) {
   o.render.default_lighting.sun = parse_light(o.default_sun, "--default-sun", false).x;
   check_range("--spp", o.render.spp, 1, 1u << 20);
   check_range("--max-depth", o.render.max_depth, 1, RenderConfig::kMaxDepth);
+  check_range("--rr-depth", o.render.rr_depth, 1, RenderConfig::kMaxDepth);
   check_range("--wavefront", o.render.wavefront_paths, 1, 1u << 24);
   check_image_format(o.out);
   check_output_path(o.out, "--out");
@@ -203,6 +204,10 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--max-depth", o->render.max_depth,
                   "Surface interactions per path (1: direct light only)")
+      ->capture_default_str();
+  cmd->add_option("--rr-depth", o->render.rr_depth,
+                  "Russian roulette from this many surface interactions on (at or above "
+                  "--max-depth: none)")
       ->capture_default_str();
   cmd->add_option("--seed", o->render.seed, "Random seed (same seed: same image, bit for bit)")
       ->capture_default_str();

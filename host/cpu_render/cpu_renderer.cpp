@@ -35,9 +35,8 @@ struct PathTracer {
     float prob = 0.0f;
     const gpu::GpuLight& light = rs.lights[pick_light(rs, u.light, prob)];
     const gpu::LightSample ls = gpu::sample_light(light, s, u.light_u1, u.light_u2);
-    const bool last = path.depth + 1u >= params.max_depth;
     const vec3 contribution =
-        gpu::light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy, last);
+        gpu::light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy);
     if (!gpu::traces_shadow_ray(contribution, ls)) return;
     if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow]))
       pixel += glm::vec4(contribution, 0.0f);
@@ -54,16 +53,17 @@ struct PathTracer {
     if (gpu::kEmissiveTriangles && m.emission != vec3(0.0f)) {
       const float pick = t.light > 0u ? pick_prob(rs, t.light - 1u) : 0.0f;
       const float light_pdf = gpu::hit_light_pdf(t, pick, ray.dir, hit.t);
+      const bool bsdf_sees = gpu::bsdf_sees_light_at(ray.origin, hit.t);
       radiance += path.throughput * m.emission *
-                  gpu::emission_weight(params.light_strategy, path, light_pdf);
+                  gpu::emission_weight(params.light_strategy, path, bsdf_sees, light_pdf);
     }
+    if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
+    if (gpu::closes_path(path, params.max_depth)) return false;
     vec3 albedo = m.base_color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
-    if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
     const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);
     const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, u.lobe);
     add_light(path, lobe, s, wo, u, pixel);
-    if (path.depth + 1u >= params.max_depth) return false;
     const gpu::Bounce b = gpu::sample_bounce(lobe, m, s, wo, u.u1, u.u2);
     vec3 throughput = path.throughput * b.weight;
     if (!gpu::survives(throughput, path.depth + 1u, params.rr_depth, u.rr)) return false;

@@ -69,10 +69,11 @@ struct RenderConfig {
   std::uint32_t width = 256;
   std::uint32_t height = 256;
   std::uint32_t spp = 8;
-  // Surface interactions per path; each also samples one light, so light reaches the camera
-  // over up to max_depth + 1 segments (1: direct light only).
+  // Surface interactions per path; each samples one light and the BSDF (the ray leaving the
+  // last one only finds emission), so light reaches the camera over up to max_depth + 1
+  // segments (1: direct light only).
   std::uint32_t max_depth = 8;
-  std::uint32_t rr_depth = 3;  // Russian roulette from this many interactions on
+  std::uint32_t rr_depth = 5;  // Russian roulette from this many interactions on
   std::uint32_t seed = 0;
   std::uint32_t camera = 0;                  // index into Scene::cameras
   std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)

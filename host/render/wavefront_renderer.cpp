@@ -317,7 +317,7 @@ struct WavefrontRenderer::State {
                        FrameStats& stats) {
     const bool indirect = tracer.records_indirect(RayClass::kShadow);
     for (std::uint32_t depth = 0; n > 0; ++depth) {
-      if (depth >= cfg.max_depth)
+      if (depth > cfg.max_depth)
         throw Error("render_shade: paths continued past the max depth (kernel bug)");
       const RayClass closest = depth == 0 ? RayClass::kCamera : RayClass::kBounce;
       tracer.begin(closest);

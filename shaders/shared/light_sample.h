@@ -32,6 +32,7 @@ struct LightSample {
   vec3 li;    // incident radiance × 1/pdf of the sample (zero: nothing to add)
   float pdf;  // area lights: the solid-angle pdf of wi (the light's pick not included); 0: a
               // delta light, which no BSDF sample can find
+  float dist;  // area lights: from the shadow ray's origin to the sampled point
   Ray shadow;  // from the surface point to the light, offset at both ends
 };
 
@@ -54,8 +55,11 @@ HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1
   ls.wi = to / sqrt(d2);
   const float cos_l = dot(c, ls.wi) / area2;  // > 0: s sees the side c points away from
   ls.li = l.color * (abs(cos_l) * 0.5f * area2 / d2);
-  ls.pdf = triangle_solid_angle_pdf(area2, cos_l, sqrt(d2));
   ls.shadow = shadow_ray_to(s.p, s.ng, q, (cos_l > 0.0f ? -c : c) / area2);
+  // The pdf as a BSDF ray would see q: from the offset origin that ray leaves (hit_light_pdf).
+  const vec3 from_origin = q - ls.shadow.origin;
+  ls.dist = length(from_origin);
+  ls.pdf = triangle_solid_angle_pdf(area2, dot(c, from_origin) / (ls.dist * area2), ls.dist);
   return ls;
 }
 
@@ -68,6 +72,7 @@ HRPP_INLINE LightSample sample_point_light(GpuLight l, SurfaceHit s) {
   ls.wi = to / sqrt(d2);
   ls.li = l.color / d2;
   ls.pdf = 0.0f;
+  ls.dist = 0.0f;
   if (l.type == HRPP_LIGHT_SPOT)
     ls.li *= smoothstep(l.cos_outer, l.cos_inner, dot(-ls.wi, l.dir));
   ls.shadow = shadow_ray_to(s.p, s.ng, l.position, vec3(0.0f));
@@ -85,6 +90,7 @@ HRPP_INLINE LightSample sample_light(GpuLight l, SurfaceHit s, float u1, float u
   ls.wi = -l.dir;
   ls.li = kDirectionalLights && l.type == HRPP_LIGHT_DIRECTIONAL ? l.color : vec3(0.0f);
   ls.pdf = 0.0f;
+  ls.dist = 0.0f;
   ls.shadow = ray_from(offset_ray_origin(s.p, s.ng), ls.wi, float(HRPP_RAY_TMAX_FAR));
   return ls;
 }

@@ -112,12 +112,28 @@ HRPP_INLINE float mis_power(float a, float b) {
   return 1.0f / (1.0f + r * r);
 }
 
+// A BSDF ray leaves from its vertex moved off the surface (offset_ray.glsl: up to 256 ULPs of
+// the coordinates, 2^-16 near 0), so it sees an emitter as a point nearer to it would: too
+// bright by about the offset's share of the distance (2% of it: +0.7% on the direct light of a
+// ceiling 10 cm above a light, 100 units from the origin). Where the offset exceeds
+// 1/kBsdfOffsetRatio of the distance to the light point, light sampling, which measures from the
+// vertex itself, takes the whole estimate: exact, at the cost of its noise near emitters (the
+// closed-form tests in light_transport_test.cpp). Both strategies decide from the same origin
+// (the shadow ray's is the BSDF ray's) and distance, so their weights still sum to one.
+const float kBsdfOffsetRatio = 64.0f;
+
+HRPP_INLINE bool bsdf_sees_light_at(vec3 origin, float dist) {
+  const float coordinate = max(abs(origin.x), max(abs(origin.y), abs(origin.z)));
+  const float offset = max(coordinate * (1.0f / 32768.0f), 1.0f / 65536.0f);
+  return dist >= kBsdfOffsetRatio * offset;
+}
+
 // The weight of a next-event sample of an area light (light_pdf: solid angle, its pick
-// included) against the BSDF's pdf of the same direction, under HRPP_LIGHTS_* `strategy`. At a
-// vertex that cannot continue (`last`: the max depth) no BSDF sample follows, so light sampling
-// carries the whole estimate.
-HRPP_INLINE float nee_weight(uint strategy, bool last, float light_pdf, float bsdf_pdf) {
-  if (last || strategy == HRPP_LIGHTS_NEE) return 1.0f;
+// included) against the BSDF's pdf of the same direction, under HRPP_LIGHTS_* `strategy`
+// (`bsdf_sees`: bsdf_sees_light_at). Every vertex, the last included, also traces its BSDF
+// sample (closes_path), so the two strategies always share the estimate.
+HRPP_INLINE float nee_weight(uint strategy, bool bsdf_sees, float light_pdf, float bsdf_pdf) {
+  if (strategy == HRPP_LIGHTS_NEE || !bsdf_sees) return 1.0f;
   if (strategy == HRPP_LIGHTS_BSDF) return 0.0f;
   return mis_power(light_pdf, bsdf_pdf);
 }
@@ -126,9 +142,9 @@ HRPP_INLINE float nee_weight(uint strategy, bool last, float light_pdf, float bs
 // `light_pdf` (solid angle, pick included; 0: the emitter is not a light, which only BSDF
 // samples find). Camera rays and rays after a delta bounce count it whole (no light sample
 // could have found it); the others are nee_weight's complement.
-HRPP_INLINE float emission_weight(uint strategy, PathState path, float light_pdf) {
+HRPP_INLINE float emission_weight(uint strategy, PathState path, bool bsdf_sees, float light_pdf) {
   if (path.depth == 0u || path.specular != 0u || !(light_pdf > 0.0f)) return 1.0f;
-  if (strategy == HRPP_LIGHTS_NEE) return 0.0f;
+  if (strategy == HRPP_LIGHTS_NEE || !bsdf_sees) return 0.0f;
   if (strategy == HRPP_LIGHTS_BSDF) return 1.0f;
   return mis_power(path.pdf, light_pdf);
 }
@@ -181,12 +197,13 @@ HRPP_INLINE float lobe_pdf(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
 
 // Next-event estimation: what light sample ls (of a light picked with probability prob) adds
 // through the path's vertex at s when its shadow ray is unoccluded, with its MIS weight
-// (nee_weight; delta lights: 1). `last`: the vertex cannot continue.
+// (nee_weight; delta lights: 1).
 HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec3 wo,
-                                    LightSample ls, float prob, uint strategy, bool last) {
-  const float w = ls.pdf > 0.0f
-                      ? nee_weight(strategy, last, prob * ls.pdf, lobe_pdf(lobe, s, wo, ls.wi))
-                      : 1.0f;
+                                    LightSample ls, float prob, uint strategy) {
+  const bool bsdf_sees = bsdf_sees_light_at(ls.shadow.origin, ls.dist);
+  const float w = ls.pdf > 0.0f ? nee_weight(strategy, bsdf_sees, prob * ls.pdf,
+                                             lobe_pdf(lobe, s, wo, ls.wi))
+                                : 1.0f;
   return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li * (w / prob);
 }
 
@@ -244,12 +261,20 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   return b;
 }
 
+// A path whose ray left its last interaction (the max depth): that ray was the BSDF sample of
+// the last vertex, so its hit adds the emission it finds (MIS-weighted against that vertex's
+// light sample, as at every depth) and the environment on a miss, and the path ends there.
+HRPP_INLINE bool closes_path(PathState path, uint max_depth) { return path.depth >= max_depth; }
+
 // The throughput after the bounce, divided by the survival probability q when Russian
-// roulette applies (from rr_depth interactions on); false: the path ends here.
+// roulette applies (from rr_depth interactions on); false: the path ends here. q is the square
+// root of the throughput's largest channel, as in Cycles: a dim path lives longer than with q =
+// the channel itself, at 0.7x that choice's variance per sample on the Cornell boxes
+// (bench/README.md, "Russian roulette").
 HRPP_INLINE bool survives(HRPP_INOUT(vec3) throughput, uint next_depth, uint rr_depth, float u_rr) {
   bool alive = max(throughput.r, max(throughput.g, throughput.b)) > 0.0f;
   if (alive && next_depth >= rr_depth) {
-    const float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95f);
+    const float q = min(sqrt(max(throughput.r, max(throughput.g, throughput.b))), 1.0f);
     alive = u_rr < q;
     throughput /= q;
   }
