@@ -62,9 +62,8 @@ const std::map<std::string, std::string>& expected_errors() {
       {"gltf/huge_texture.gltf", "image 0: PNG of 100000 x 100000 pixels, larger than 16384"},
       {"gltf/huge_jpeg_texture.gltf", "image 0: JPEG of 60000 x 40000 pixels, larger than 16384"},
       // primitives and values
-      {"gltf/mode_points.gltf", "mode 0 (POINTS) is not supported"},
-      {"gltf/mode_lines.gltf", "mode 1 (LINES) is not supported"},
-      {"gltf/mode_triangle_strip.gltf", "mode 5 (TRIANGLE_STRIP) is not supported"},
+      {"gltf/mode_points.gltf", "no triangles: only 1 points/lines primitive (not surfaces)"},
+      {"gltf/mode_lines.gltf", "no triangles: only 1 points/lines primitive (not surfaces)"},
       {"gltf/mode_invalid.gltf", "mode 9 (unknown) is not supported"},
       {"gltf/nan_vertex.gltf", "non-finite value (NaN or Inf) at element 1"},
       {"gltf/inf_vertex.gltf", "non-finite value (NaN or Inf) at element 2"},

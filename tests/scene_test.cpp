@@ -1,5 +1,6 @@
 // Scene stage: glTF loader, manifests, builtin Cornell box, load_scene dispatch, triangle dump.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -494,16 +495,91 @@ TEST_F(SceneTest, ErrorNonFinitePositions) {
   }
 }
 
-TEST_F(SceneTest, ErrorNonTriangleModes) {
-  for (int mode : {hrpp::test::kModePoints, hrpp::test::kModeLines,
-                   hrpp::test::kModeTriangleStrip, 6}) {
-    GltfWriter w;
-    const int pos = w.add_vec3(kTri);
-    w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, -1, -1, -1, mode)}))});
-    w.write(dir_ / "mode.glb");
-    expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
-                 "mode " + std::to_string(mode));
+// A primitive of `positions` in `mode`, indexed when `indices` is not empty.
+GltfWriter one_primitive(const std::vector<glm::vec3>& positions, int mode,
+                         const std::vector<std::uint32_t>& indices = {}) {
+  GltfWriter w;
+  const int pos = w.add_vec3(positions);
+  const int idx = indices.empty() ? -1 : w.add_indices(indices, hrpp::test::kUnsignedShort);
+  w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, idx, -1, -1, -1, mode)}))});
+  return w;
+}
+
+// Expects the scene's triangles to be exactly these vertices of `p`, in order.
+void expect_triangles(const Scene& s, const std::vector<glm::vec3>& p,
+                      const std::vector<std::array<int, 3>>& want) {
+  ASSERT_EQ(s.triangles.size(), want.size());
+  for (std::size_t t = 0; t < want.size(); ++t) {
+    SCOPED_TRACE("triangle " + std::to_string(t));
+    expect_near(s.triangles[t].v0, p[want[t][0]], 0.0f);
+    expect_near(s.triangles[t].v1, p[want[t][1]], 0.0f);
+    expect_near(s.triangles[t].v2, p[want[t][2]], 0.0f);
   }
+}
+
+// A zigzag in z = 0: a strip or a fan over it winds every triangle the same way.
+const std::vector<glm::vec3> kZigzag = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+
+TEST_F(SceneTest, TriangleStripUsesTheSpecWinding) {
+  const Scene s = load(one_primitive(kZigzag, hrpp::test::kModeTriangleStrip));
+  expect_triangles(s, kZigzag, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}});
+  for (const hrpp::Triangle& t : s.triangles) {
+    EXPECT_LT(glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
+  }
+  // Indexed: the strip runs over the index sequence.
+  const Scene r = load(one_primitive(kZigzag, hrpp::test::kModeTriangleStrip, {4, 3, 2, 1}));
+  expect_triangles(r, kZigzag, {{4, 3, 2}, {3, 1, 2}});
+}
+
+TEST_F(SceneTest, TriangleFanUsesTheSpecWinding) {
+  const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}};
+  const Scene s = load(one_primitive(p, hrpp::test::kModeTriangleFan));
+  expect_triangles(s, p, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}});
+  for (const hrpp::Triangle& t : s.triangles) {
+    EXPECT_GT(glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
+  }
+  const Scene r = load(one_primitive(p, hrpp::test::kModeTriangleFan, {0, 1, 2, 3}));
+  expect_triangles(r, p, {{1, 2, 0}, {2, 3, 0}});
+}
+
+TEST_F(SceneTest, ShortStripsAndFansHaveNoTriangles) {
+  for (int mode : {hrpp::test::kModeTriangleStrip, hrpp::test::kModeTriangleFan}) {
+    GltfWriter w;
+    const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}});
+    w.add_scene({w.add_node(w.add_triangles(kTri)),
+                 w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, -1, -1, -1, mode)}))});
+    EXPECT_EQ(load(w).triangles.size(), 1u) << "mode " << mode;
+  }
+}
+
+// Points and lines are skipped with one warning that counts them; the triangles stay.
+TEST_F(SceneTest, PointsAndLinesAreSkippedWithOneWarning) {
+  GltfWriter w;
+  const int pos = w.add_vec3(kTri);
+  std::vector<json> prims;
+  for (int mode : {0, 1, 2, 3}) prims.push_back(GltfWriter::primitive(pos, -1, -1, -1, -1, mode));
+  prims.push_back(GltfWriter::primitive(pos));
+  const int mesh = w.add_mesh(prims);
+  w.add_scene({w.add_node(mesh), w.add_node(mesh)});  // instanced twice: still 4 primitives
+  const Scene s = load(w, "mixed.glb");
+  EXPECT_EQ(s.triangles.size(), 2u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0],
+            path("mixed.glb") + ": 4 points/lines primitives skipped (not surfaces)");
+}
+
+TEST_F(SceneTest, ErrorOnlyPointsAndLines) {
+  for (int mode : {hrpp::test::kModePoints, hrpp::test::kModeLines}) {
+    one_primitive(kTri, mode).write(dir_ / "mode.glb");
+    expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
+                 "no triangles: only 1 points/lines primitive (not surfaces)");
+  }
+}
+
+TEST_F(SceneTest, ErrorUnknownMode) {
+  one_primitive(kTri, 7).write(dir_ / "mode.glb");
+  expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
+               "mode 7 (unknown) is not supported");
 }
 
 TEST_F(SceneTest, ErrorZeroTriangles) {

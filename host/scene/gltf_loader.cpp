@@ -23,6 +23,7 @@
 #include <tiny_gltf.h>
 
 #include "common/error.h"
+#include "scene/gltf_topology.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
 
@@ -119,18 +120,6 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   if (problem.empty()) return true;
   if (err != nullptr) *err += "file " + path + " " + problem;
   return false;
-}
-
-const char* mode_name(int mode) {
-  switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
-    case TINYGLTF_MODE_TRIANGLE_STRIP: return "TRIANGLE_STRIP";
-    case TINYGLTF_MODE_TRIANGLE_FAN: return "TRIANGLE_FAN";
-    default: return "unknown";
-  }
 }
 
 int component_size(int component_type) {
@@ -263,6 +252,19 @@ class GltfLoader {
     texture_of_image_.assign(m_.images.size(), -1);
     state_.assign(m_.nodes.size(), 0);
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
+    report_skipped();
+  }
+
+  void warn(const std::string& what) { scene_.warnings.push_back(one_line(file_ + ": " + what)); }
+
+  // Points and lines are valid glTF but no surface: skipped with one warning, or refused when
+  // nothing else is left.
+  void report_skipped() {
+    if (skipped_.empty()) return;
+    const std::string what = std::to_string(skipped_.size()) + " points/lines primitive" +
+                             (skipped_.size() == 1 ? "" : "s");
+    if (scene_.triangles.empty()) fail("no triangles: only " + what + " (not surfaces)");
+    warn(what + " skipped (not surfaces)");
   }
 
  private:
@@ -641,10 +643,14 @@ class GltfLoader {
     const tinygltf::Primitive& prim = m_.meshes[mesh_index].primitives[p];
     const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " +
                               std::to_string(p);
-    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
-      fail(where + ": mode " + std::to_string(mode) + " (" + mode_name(mode) +
-           ") is not supported, only TRIANGLES (4)");
+    const int mode = prim.mode < 0 ? kGltfTriangles : prim.mode;
+    if (is_point_or_line_mode(mode)) {
+      skipped_.insert({mesh_index, p});
+      return;
+    }
+    if (mode > kGltfTriangleFan) {
+      fail(where + ": mode " + std::to_string(mode) + " (" + gltf_mode_name(mode) +
+           ") is not supported, only TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6)");
     }
     auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
@@ -658,10 +664,13 @@ class GltfLoader {
     const std::optional<View> nrm = normal_view(prim, pos.count);
     const std::optional<View> tc = texcoord_view(prim, pos.count);
     const WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
-    View idx;
-    const std::size_t n_indices = index_count(prim, where, pos.count, idx);
+    std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
+    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
+      fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
+           std::to_string(sequence.size()) + " is not a multiple of 3");
+    }
     const std::uint32_t material = material_for(prim.material, mesh_index, p);
-    emit_triangles(prim, idx, n_indices, v, material);
+    emit_triangles(triangle_list(mode, std::move(sequence)), v, material);
   }
 
   std::optional<View> normal_view(const tinygltf::Primitive& prim, std::size_t vertices) {
@@ -738,55 +747,51 @@ class GltfLoader {
     return v;
   }
 
-  // The primitive's index count (its vertex count when it has no indices), a multiple of 3;
-  // `idx`: the indices accessor when there is one.
-  std::size_t index_count(const tinygltf::Primitive& prim, const std::string& where,
-                          std::size_t vertices, View& idx) {
-    std::size_t n_indices = vertices;
-    const bool indexed = prim.indices >= 0;
-    if (indexed) {
-      idx = view(prim.indices, "indices");
-      if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
-          (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-        fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
-             component_name(idx.component_type) + " " +
-             type_name(m_.accessors[prim.indices].type) +
-             ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
-      }
-      n_indices = idx.count;
-    } else if (prim.indices < -1) {
+  // The primitive's vertex sequence: its indices (each checked against the vertex count), or
+  // 0..vertices-1 when it has none.
+  std::vector<std::uint32_t> vertex_sequence(const tinygltf::Primitive& prim,
+                                             const std::string& where, std::size_t vertices) {
+    std::vector<std::uint32_t> sequence;
+    if (prim.indices < -1) {
       fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
     }
-    if (n_indices % 3 != 0) {
-      fail(where + ": " + (indexed ? "index" : "vertex") + " count " +
-           std::to_string(n_indices) + " is not a multiple of 3");
+    if (prim.indices < 0) {
+      sequence.resize(vertices);
+      for (std::size_t i = 0; i < vertices; ++i) sequence[i] = static_cast<std::uint32_t>(i);
+      return sequence;
     }
-    return n_indices;
+    const View idx = view(prim.indices, "indices");
+    if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
+        (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+         idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+         idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+      fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
+           component_name(idx.component_type) + " " + type_name(m_.accessors[prim.indices].type) +
+           ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
+    }
+    sequence.resize(idx.count);
+    for (std::size_t e = 0; e < idx.count; ++e) {
+      sequence[e] = idx.read_index(e);
+      if (sequence[e] >= vertices) {
+        fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
+             std::to_string(sequence[e]) + " at element " + std::to_string(e) +
+             " is out of range (vertex count " + std::to_string(vertices) + ")");
+      }
+    }
+    return sequence;
   }
 
-  void emit_triangles(const tinygltf::Primitive& prim, const View& idx, std::size_t n_indices,
-                      const WorldVertices& v, std::uint32_t material) {
-    const bool indexed = prim.indices >= 0;
-    const std::size_t nv = v.wp.size();
-    const std::size_t nt = n_indices / 3;
+  // Appends the triangles of a triangle list (indices checked by vertex_sequence).
+  void emit_triangles(const std::vector<std::uint32_t>& list, const WorldVertices& v,
+                      std::uint32_t material) {
+    const std::size_t nt = list.size() / 3;
     if (nt > kMaxTriangles - scene_.triangles.size()) {
       fail("more than " + std::to_string(kMaxTriangles) + " triangles");
     }
     // No reserve(size + nt) here: once per instance, it would defeat the vectors' geometric
     // growth and copy every triangle loaded so far (quadratic in the instance count).
     for (std::size_t t = 0; t < nt; ++t) {
-      std::uint32_t k[3];
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t e = 3 * t + c;
-        k[c] = indexed ? idx.read_index(e) : static_cast<std::uint32_t>(e);
-        if (k[c] >= nv) {
-          fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
-               std::to_string(k[c]) + " at element " + std::to_string(e) +
-               " is out of range (vertex count " + std::to_string(nv) + ")");
-        }
-      }
+      const std::uint32_t* k = &list[3 * t];
       scene_.triangles.push_back(Triangle{v.wp[k[0]], v.wp[k[1]], v.wp[k[2]]});
       TriangleShading s;
       if (!v.wn.empty()) {
@@ -813,6 +818,7 @@ class GltfLoader {
   std::vector<std::uint8_t> state_;     // per node: 1 while on the current path
   std::size_t instances_ = 0;           // nodes entered so far, over every path
   int default_material_ = -1;
+  std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
 };
 
 }  // namespace
@@ -876,6 +882,8 @@ Scene load_gltf(const std::filesystem::path& file) {
   Scene scene;
   scene.name = file.filename().string();
   GltfLoader(model, name, scene).load();
+  for (const std::string& w : scene.warnings)
+    std::fprintf(stderr, "hrpp: warning: %s\n", w.c_str());
   return scene;
 }
 

@@ -316,6 +316,7 @@ class ManifestLoader {
     }
     for (Light& l : part.lights) scene.lights.push_back(l);
     for (Camera& c : part.cameras) scene.cameras.push_back(std::move(c));
+    for (std::string& w : part.warnings) scene.warnings.push_back(std::move(w));
   }
 
   static void add_quad(Scene& s, glm::vec3 corner, glm::vec3 u, glm::vec3 v,

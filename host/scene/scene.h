@@ -82,6 +82,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Camera> cameras;            // never empty after load_scene (a default is added)
   bool default_camera = false;            // true when cameras[0] was made from the bounds
+  std::vector<std::string> warnings;      // one line each, naming the file (already printed)
 };
 
 }  // namespace hrpp

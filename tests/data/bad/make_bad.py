@@ -151,7 +151,6 @@ def main():
     # ---- primitives and values -------------------------------------------------------------
     put(G, "mode_points.gltf", js(doc(mode=0)))
     put(G, "mode_lines.gltf", js(doc(mode=1)))
-    put(G, "mode_triangle_strip.gltf", js(doc(mode=5)))
     put(G, "mode_invalid.gltf", js(doc(mode=9)))
     put(G, "nan_vertex.gltf", js(doc(positions=struct.pack("<9f", 0, 0, 0, float("nan"), 0, 0, 0, 1, 0))))
     put(G, "inf_vertex.gltf", js(doc(positions=struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, float("inf"), 0))))
