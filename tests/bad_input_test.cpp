@@ -49,7 +49,7 @@ const std::map<std::string, std::string>& expected_errors() {
       {"gltf/stride_too_small.gltf", "byteStride 4 is smaller than the element size 12"},
       {"gltf/position_vec2.gltf", "is FLOAT VEC2, expected FLOAT VEC3"},
       {"gltf/component_type_double.gltf", "invalid componentType 5130"},
-      {"gltf/sparse_accessor.gltf", "sparse accessors are not supported"},
+      {"gltf/sparse_count_too_large.gltf", "accessor 0 (POSITION): sparse count 4 is not in 1..3"},
       {"gltf/no_position.gltf", "has no POSITION attribute"},
       {"gltf/mesh_missing.gltf", "mesh 5 does not exist"},
       {"gltf/material_missing.gltf", "material 2 does not exist"},

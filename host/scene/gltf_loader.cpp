@@ -23,6 +23,7 @@
 #include <tiny_gltf.h>
 
 #include "common/error.h"
+#include "scene/gltf_accessor.h"
 #include "scene/gltf_topology.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
@@ -122,93 +123,6 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   return false;
 }
 
-int component_size(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
-  }
-}
-
-const char* component_name(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
-    case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
-    case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
-    default: return "invalid";
-  }
-}
-
-int type_components(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
-  }
-}
-
-const char* type_name(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-    case TINYGLTF_TYPE_VEC2: return "VEC2";
-    case TINYGLTF_TYPE_VEC3: return "VEC3";
-    case TINYGLTF_TYPE_VEC4: return "VEC4";
-    case TINYGLTF_TYPE_MAT2: return "MAT2";
-    case TINYGLTF_TYPE_MAT3: return "MAT3";
-    case TINYGLTF_TYPE_MAT4: return "MAT4";
-    default: return "invalid";
-  }
-}
-
-// A validated accessor: every element lies inside its buffer.
-struct View {
-  const std::uint8_t* base = nullptr;
-  std::size_t stride = 0;
-  std::size_t count = 0;
-  int component_type = 0;
-  int components = 0;
-  bool normalized = false;
-
-  template <typename T>
-  T load(std::size_t element, int component) const {
-    T v;
-    std::memcpy(&v, base + element * stride + component * sizeof(T), sizeof(T));
-    return v;
-  }
-  // Float value of a float or (normalised) unsigned integer component.
-  float read_float(std::size_t element, int component) const {
-    switch (component_type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(element, component);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return static_cast<float>(load<std::uint8_t>(element, component)) / 255.0f;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-        return static_cast<float>(load<std::uint16_t>(element, component)) / 65535.0f;
-      default: return 0.0f;
-    }
-  }
-  std::uint32_t read_index(std::size_t element) const {
-    switch (component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load<std::uint8_t>(element, 0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load<std::uint16_t>(element, 0);
-      default: return load<std::uint32_t>(element, 0);
-    }
-  }
-};
-
 glm::dmat4 node_local_matrix(const tinygltf::Node& node) {
   if (!node.matrix.empty()) return glm::make_mat4(node.matrix.data());  // column-major
   glm::dmat4 m(1.0);
@@ -242,6 +156,15 @@ class GltfLoader {
   }
 
   void load() {
+    try {
+      load_default_scene();
+    } catch (const GltfError& e) {
+      fail(e.what());
+    }
+  }
+
+ private:
+  void load_default_scene() {
     if (m_.scenes.empty()) fail("glTF has no scene");
     int scene_index = m_.defaultScene;
     if (scene_index < 0) scene_index = 0;
@@ -253,6 +176,8 @@ class GltfLoader {
     state_.assign(m_.nodes.size(), 0);
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
     report_skipped();
+    if (texcoord_override_) warn("KHR_texture_transform texCoord ignored (TEXCOORD_0 is used)");
+    if (colors_ignored_) warn("COLOR_0 vertex colours ignored (the renderer has none)");
   }
 
   void warn(const std::string& what) { scene_.warnings.push_back(one_line(file_ + ": " + what)); }
@@ -267,7 +192,6 @@ class GltfLoader {
     warn(what + " skipped (not surfaces)");
   }
 
- private:
   // ---- materials -----------------------------------------------------------------------------
   static double ext_number(const tinygltf::ExtensionMap& ext, const char* name, const char* key,
                            double fallback) {
@@ -303,7 +227,43 @@ class GltfLoader {
       scene_.materials.push_back(std::move(mat));
       // Texture decoding is deferred until first use (see walk), but resolved here for errors.
       base_texture_.push_back(pbr.baseColorTexture.index);
+      uv_transform_.push_back(texture_transform(pbr.baseColorTexture.extensions, i));
     }
+  }
+
+  // KHR_texture_transform of a material's base colour texture as the matrix the spec gives:
+  // translation(offset) * rotation(rotation) * scale(scale), applied to (u, v, 1).
+  std::optional<glm::mat3> texture_transform(const tinygltf::ExtensionMap& ext, std::size_t i) {
+    auto it = ext.find("KHR_texture_transform");
+    if (it == ext.end() || !it->second.IsObject()) return std::nullopt;
+    auto pair = [&](const char* key, float fallback) {
+      glm::vec2 v(fallback);
+      if (!it->second.Has(key)) return v;
+      const tinygltf::Value& a = it->second.Get(key);
+      for (int c = 0; c < 2; ++c) {
+        const bool ok = a.IsArray() && a.ArrayLen() == 2 && a.Get(c).IsNumber();
+        v[c] = ok ? static_cast<float>(a.Get(c).GetNumberAsDouble()) : NAN;
+      }
+      return v;
+    };
+    const glm::vec2 offset = pair("offset", 0.0f), scale = pair("scale", 1.0f);
+    const float r = static_cast<float>(ext_number(ext, "KHR_texture_transform", "rotation", 0.0));
+    if (!std::isfinite(offset.x + offset.y + scale.x + scale.y + r)) {
+      fail("material " + std::to_string(i) +
+           ": KHR_texture_transform has a non-numeric or "
+           "non-finite offset, rotation or scale");
+    }
+    if (it->second.Has("texCoord")) texcoord_override_ = true;
+    const float c = std::cos(r), s = std::sin(r);
+    // Columns (as the extension's GLSL, column-major): the images of u, v and 1.
+    return glm::mat3(glm::vec3(c * scale.x, s * scale.x, 0.0f),
+                     glm::vec3(-s * scale.y, c * scale.y, 0.0f), glm::vec3(offset, 1.0f));
+  }
+
+  void transform_texcoords(int material, std::vector<glm::vec2>& uv) const {
+    const std::optional<glm::mat3>& t = uv_transform_[material];
+    if (!t) return;
+    for (glm::vec2& p : uv) p = glm::vec2(*t * glm::vec3(p, 1.0f));
   }
 
   int texture_for(int material_index) {
@@ -329,14 +289,7 @@ class GltfLoader {
     const std::uint8_t* bytes = nullptr;
     std::size_t size = 0;
     if (gi.bufferView >= 0) {
-      const std::string where = "image " + std::to_string(img);
-      if (static_cast<std::size_t>(gi.bufferView) >= m_.bufferViews.size()) {
-        fail(where + ": bufferView " + std::to_string(gi.bufferView) + " does not exist");
-      }
-      const tinygltf::BufferView& bv = m_.bufferViews[gi.bufferView];
-      const std::vector<unsigned char>& buf = buffer_of(bv, gi.bufferView);
-      bytes = buf.data() + bv.byteOffset;
-      size = bv.byteLength;
+      bytes = reader_.view_bytes(gi.bufferView, size);
     } else if (gi.as_is) {
       bytes = gi.image.data();
       size = gi.image.size();
@@ -406,79 +359,6 @@ class GltfLoader {
       scene_.materials[index].base_color_texture = texture_for(index);
     }
     return static_cast<std::uint32_t>(index);
-  }
-
-  // ---- buffers and accessors -----------------------------------------------------------------
-  const std::vector<unsigned char>& buffer_of(const tinygltf::BufferView& bv, int bv_index) const {
-    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
-      fail("bufferView " + std::to_string(bv_index) + ": buffer " + std::to_string(bv.buffer) +
-           " does not exist");
-    }
-    const std::vector<unsigned char>& data = m_.buffers[bv.buffer].data;
-    std::size_t end = 0;
-    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &end) || end > data.size()) {
-      fail("bufferView " + std::to_string(bv_index) + " lies past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    return data;
-  }
-
-  View view(int index, const std::string& use) const {
-    const std::string where = "accessor " + std::to_string(index) + " (" + use + ")";
-    if (index < 0 || static_cast<std::size_t>(index) >= m_.accessors.size()) {
-      fail(use + ": accessor " + std::to_string(index) + " does not exist");
-    }
-    const tinygltf::Accessor& acc = m_.accessors[index];
-    if (acc.sparse.isSparse) fail(where + ": sparse accessors are not supported");
-    View v;
-    v.count = acc.count;
-    v.component_type = acc.componentType;
-    v.components = type_components(acc.type);
-    v.normalized = acc.normalized;
-    const int csize = component_size(acc.componentType);
-    if (csize == 0) fail(where + ": invalid componentType " + std::to_string(acc.componentType));
-    if (v.components == 0) fail(where + ": invalid type");
-    if (acc.bufferView < 0 || static_cast<std::size_t>(acc.bufferView) >= m_.bufferViews.size()) {
-      fail(where + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
-    }
-    const tinygltf::BufferView& bv = m_.bufferViews[acc.bufferView];
-    const std::size_t element = static_cast<std::size_t>(csize) * v.components;
-    v.stride = bv.byteStride != 0 ? bv.byteStride : element;
-    if (v.stride < element) {
-      fail(where + ": byteStride " + std::to_string(bv.byteStride) +
-           " is smaller than the element size " + std::to_string(element));
-    }
-    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
-      fail("bufferView " + std::to_string(acc.bufferView) + ": buffer " +
-           std::to_string(bv.buffer) + " does not exist");
-    }
-    const std::size_t buffer_size = m_.buffers[bv.buffer].data.size();
-    if (v.count == 0) {
-      v.base = m_.buffers[bv.buffer].data.data();
-      return v;
-    }
-    // Bytes the accessor reads, relative to the view: byteOffset + stride*(count-1) + element.
-    std::size_t span = 0, in_view_end = 0, abs_end = 0;
-    bool overflow = __builtin_mul_overflow(v.stride, v.count - 1, &span) ||
-                    __builtin_add_overflow(span, element, &span) ||
-                    __builtin_add_overflow(span, acc.byteOffset, &in_view_end) ||
-                    __builtin_add_overflow(in_view_end, bv.byteOffset, &abs_end);
-    if (overflow || abs_end > buffer_size) {
-      fail("accessor " + std::to_string(index) + " reads past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    std::size_t view_end = 0;
-    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) ||
-        view_end > buffer_size) {
-      fail("bufferView " + std::to_string(acc.bufferView) + " lies past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    if (in_view_end > bv.byteLength) {
-      fail("accessor " + std::to_string(index) + " reads past the end of bufferView " +
-           std::to_string(acc.bufferView));
-    }
-    v.base = m_.buffers[bv.buffer].data.data() + bv.byteOffset + acc.byteOffset;
-    return v;
   }
 
   // ---- node graph ----------------------------------------------------------------------------
@@ -654,72 +534,74 @@ class GltfLoader {
     }
     auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
-    const View pos = view(pos_it->second, "POSITION");
-    if (pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || pos.components != 3 ||
-        m_.accessors[pos_it->second].type != TINYGLTF_TYPE_VEC3) {
-      fail("accessor " + std::to_string(pos_it->second) + " (POSITION) is " +
-           component_name(pos.component_type) + " " +
-           type_name(m_.accessors[pos_it->second].type) + ", expected FLOAT VEC3");
-    }
-    const std::optional<View> nrm = normal_view(prim, pos.count);
-    const std::optional<View> tc = texcoord_view(prim, pos.count);
-    const WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
+    const AccessorView pos = attribute(pos_it->second, kPosition);
+    const std::optional<AccessorView> nrm = optional_attribute(prim, kNormal, pos.count);
+    const std::optional<AccessorView> tc = optional_attribute(prim, kTexcoord, pos.count);
+    colors_ignored_ = colors_ignored_ || prim.attributes.count("COLOR_0") != 0;
+    WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
     std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
     if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
       fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
            std::to_string(sequence.size()) + " is not a multiple of 3");
     }
     const std::uint32_t material = material_for(prim.material, mesh_index, p);
+    if (prim.material >= 0) transform_texcoords(prim.material, v.uv);
     emit_triangles(triangle_list(mode, std::move(sequence)), v, material);
   }
 
-  std::optional<View> normal_view(const tinygltf::Primitive& prim, std::size_t vertices) {
-    auto it = prim.attributes.find("NORMAL");
-    if (it == prim.attributes.end()) return std::nullopt;
-    View nrm = view(it->second, "NORMAL");
-    if (nrm.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-        m_.accessors[it->second].type != TINYGLTF_TYPE_VEC3) {
-      fail("accessor " + std::to_string(it->second) + " (NORMAL) is " +
-           component_name(nrm.component_type) + " " +
-           type_name(m_.accessors[it->second].type) + ", expected FLOAT VEC3");
+  // The formats a vertex attribute may have: FLOAT, or with KHR_mesh_quantization the small
+  // integer types in `integers` (bits: 1 << (componentType - BYTE)), normalized or not.
+  struct AttributeFormat {
+    const char* semantic;
+    int type;
+    unsigned integers;
+    bool normalized_only;
+    const char* expected;
+  };
+  static constexpr unsigned kSmallInts = 0b1111, kSignedInts = 0b0101;
+  static constexpr AttributeFormat kPosition = {
+      "POSITION", TINYGLTF_TYPE_VEC3, kSmallInts, false,
+      "FLOAT VEC3 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC3"};
+  static constexpr AttributeFormat kNormal = {"NORMAL", TINYGLTF_TYPE_VEC3, kSignedInts, true,
+                                              "FLOAT VEC3 or normalized BYTE/SHORT VEC3"};
+  static constexpr AttributeFormat kTexcoord = {
+      "TEXCOORD_0", TINYGLTF_TYPE_VEC2, kSmallInts, false,
+      "FLOAT VEC2 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC2"};
+
+  AccessorView attribute(int accessor, const AttributeFormat& f) {
+    const AccessorView v = reader_.view(accessor, f.semantic);
+    const int bit = v.component_type - TINYGLTF_COMPONENT_TYPE_BYTE;
+    const bool is_float = v.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT && !v.normalized;
+    const bool is_int = bit >= 0 && bit < 4 && ((f.integers >> bit) & 1u) != 0 &&
+                        (v.normalized || !f.normalized_only);
+    if (v.type != f.type || (!is_float && !is_int)) {
+      fail("accessor " + std::to_string(accessor) + " (" + f.semantic + ") is " + v.format() +
+           ", expected " + f.expected);
     }
-    if (nrm.count != vertices) {
-      fail("accessor " + std::to_string(it->second) + " (NORMAL) has " +
-           std::to_string(nrm.count) + " elements, POSITION has " + std::to_string(vertices));
-    }
-    return nrm;
+    return v;
   }
 
-  std::optional<View> texcoord_view(const tinygltf::Primitive& prim, std::size_t vertices) {
-    auto it = prim.attributes.find("TEXCOORD_0");
+  std::optional<AccessorView> optional_attribute(const tinygltf::Primitive& prim,
+                                                 const AttributeFormat& f, std::size_t vertices) {
+    auto it = prim.attributes.find(f.semantic);
     if (it == prim.attributes.end()) return std::nullopt;
-    View tc = view(it->second, "TEXCOORD_0");
-    const bool ok_type = m_.accessors[it->second].type == TINYGLTF_TYPE_VEC2;
-    const bool ok_comp =
-        tc.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-        (tc.normalized && (tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                           tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
-    if (!ok_type || !ok_comp) {
-      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) is " +
-           (tc.normalized ? "normalized " : "") + component_name(tc.component_type) + " " +
-           type_name(m_.accessors[it->second].type) +
-           ", expected FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC2");
+    const AccessorView v = attribute(it->second, f);
+    if (v.count != vertices) {
+      fail("accessor " + std::to_string(it->second) + " (" + f.semantic + ") has " +
+           std::to_string(v.count) + " elements, POSITION has " + std::to_string(vertices));
     }
-    if (tc.count != vertices) {
-      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) has " +
-           std::to_string(tc.count) + " elements, POSITION has " + std::to_string(vertices));
-    }
-    return tc;
+    return v;
   }
 
   // Transforms every vertex once.
-  WorldVertices world_vertices(const View& pos, int pos_accessor, const std::optional<View>& nrm,
-                               const std::optional<View>& tc, const glm::dmat4& world) {
+  WorldVertices world_vertices(const AccessorView& pos, int pos_accessor,
+                               const std::optional<AccessorView>& nrm,
+                               const std::optional<AccessorView>& tc, const glm::dmat4& world) {
     const std::size_t nv = pos.count;
     WorldVertices v;
     v.wp.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) {
-      const glm::dvec3 p(pos.load<float>(i, 0), pos.load<float>(i, 1), pos.load<float>(i, 2));
+      const glm::dvec3 p(pos.read_float(i, 0), pos.read_float(i, 1), pos.read_float(i, 2));
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
         fail("accessor " + std::to_string(pos_accessor) +
              " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
@@ -734,7 +616,7 @@ class GltfLoader {
       const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
       v.wn.resize(nv);
       for (std::size_t i = 0; i < nv; ++i) {
-        glm::dvec3 n(nrm->load<float>(i, 0), nrm->load<float>(i, 1), nrm->load<float>(i, 2));
+        glm::dvec3 n(nrm->read_float(i, 0), nrm->read_float(i, 1), nrm->read_float(i, 2));
         n = normal_matrix * n;
         const double len = glm::length(n);
         v.wn[i] = (len > 0.0 && std::isfinite(len)) ? glm::vec3(n / len) : glm::vec3(0.0f);
@@ -760,13 +642,12 @@ class GltfLoader {
       for (std::size_t i = 0; i < vertices; ++i) sequence[i] = static_cast<std::uint32_t>(i);
       return sequence;
     }
-    const View idx = view(prim.indices, "indices");
-    if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
+    const AccessorView idx = reader_.view(prim.indices, "indices");
+    if (idx.type != TINYGLTF_TYPE_SCALAR ||
         (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
          idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
          idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-      fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
-           component_name(idx.component_type) + " " + type_name(m_.accessors[prim.indices].type) +
+      fail("accessor " + std::to_string(prim.indices) + " (indices) is " + idx.format() +
            ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
     }
     sequence.resize(idx.count);
@@ -810,6 +691,7 @@ class GltfLoader {
   }
 
   const tinygltf::Model& m_;
+  AccessorReader reader_{m_};
   std::string file_;
   Scene& scene_;
   std::vector<int> base_texture_;       // per glTF material: baseColorTexture.index
@@ -818,6 +700,8 @@ class GltfLoader {
   std::vector<std::uint8_t> state_;     // per node: 1 while on the current path
   std::size_t instances_ = 0;           // nodes entered so far, over every path
   int default_material_ = -1;
+  std::vector<std::optional<glm::mat3>> uv_transform_;  // per glTF material: KHR_texture_transform
+  bool colors_ignored_ = false, texcoord_override_ = false;
   std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
 };
 

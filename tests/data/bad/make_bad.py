@@ -106,9 +106,10 @@ def main():
     put(G, "position_vec2.gltf", js(d))
     d = doc(); d["accessors"][0]["componentType"] = 5130
     put(G, "component_type_double.gltf", js(d))
-    d = doc(); d["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": 0, "componentType": 5125},
+    # Sparse accessors are read; this one substitutes more elements than the accessor has.
+    d = doc(); d["accessors"][0]["sparse"] = {"count": 4, "indices": {"bufferView": 0, "componentType": 5125},
                                               "values": {"bufferView": 0}}
-    put(G, "sparse_accessor.gltf", js(d))
+    put(G, "sparse_count_too_large.gltf", js(d))
     d = doc(); del d["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
     put(G, "no_position.gltf", js(d))
     d = doc(); d["nodes"][0]["mesh"] = 5

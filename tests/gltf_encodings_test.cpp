@@ -1,0 +1,284 @@
+// glTF encodings the loader reads besides plain FLOAT triangles: quantized attributes
+// (KHR_mesh_quantization, dequantized as the spec says), sparse accessors, KHR_texture_transform
+// on the base colour texture.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "gltf_writer.h"
+#include "scene/load_scene.h"
+
+namespace fs = std::filesystem;
+using hrpp::Scene;
+using hrpp::test::GltfWriter;
+using nlohmann::json;
+
+namespace {
+
+const std::array<std::uint8_t, 4> kZeros = {0, 0, 0, 0};
+constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123;
+
+// Runs f; expects an hrpp::Error, one line, starting with `file` and containing `fragment`.
+void expect_error(const std::function<void()>& f, const std::string& file,
+                  const std::string& fragment) {
+  try {
+    f();
+    ADD_FAILURE() << "no error thrown";
+  } catch (const hrpp::Error& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_EQ(msg.rfind(file, 0), 0u) << msg;
+    EXPECT_NE(msg.find(fragment), std::string::npos) << "missing '" << fragment << "': " << msg;
+  }
+}
+
+// Integer vectors of N components of type T, each element padded to 4 bytes (the vertex
+// attribute alignment), in a bufferView with that byteStride; returns the accessor.
+template <typename T, std::size_t N>
+int add_ints(GltfWriter& w, const std::vector<std::array<T, N>>& v, int component_type,
+             bool normalized) {
+  const std::size_t stride = (N * sizeof(T) + 3) / 4 * 4;
+  std::vector<std::uint8_t> bytes(v.size() * stride, 0xEE);  // padding: not zeros
+  for (std::size_t i = 0; i < v.size(); ++i)
+    std::memcpy(&bytes[i * stride], v[i].data(), N * sizeof(T));
+  const int bv = w.add_buffer_view(bytes.data(), bytes.size(), stride);
+  return w.add_accessor(bv, component_type, v.size(), N == 3 ? "VEC3" : "VEC2", 0, normalized);
+}
+
+class GltfEncodings : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = hrpp::test::make_temp_dir("gltf_encodings_test"); }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  Scene load(const GltfWriter& w, const std::string& name = "s.glb") {
+    w.write(dir_ / name);
+    return hrpp::load_gltf(dir_ / name);
+  }
+  // One non-indexed triangle primitive over these accessors (-1: none).
+  Scene load_triangle(GltfWriter& w, int pos, int nrm = -1, int uv = -1, int material = -1) {
+    w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, material, nrm, uv)}))});
+    return load(w);
+  }
+  std::string path(const std::string& name = "s.glb") const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// The three vertices of the scene's only triangle.
+std::array<glm::vec3, 3> vertices(const Scene& s) {
+  EXPECT_EQ(s.triangles.size(), 1u);
+  if (s.triangles.empty()) return {};
+  return {s.triangles[0].v0, s.triangles[0].v1, s.triangles[0].v2};
+}
+
+TEST_F(GltfEncodings, NormalizedSignedPositionsDequantizeAsTheSpecSays) {
+  {
+    GltfWriter w;
+    const int pos =
+        add_ints<std::int8_t, 3>(w, {{-128, -127, 0}, {127, 64, 1}, {-1, 0, 5}}, kByte, true);
+    const auto v = vertices(load_triangle(w, pos));
+    // max(c / 127, -1): -128 and -127 both give -1.
+    EXPECT_EQ(v[0], glm::vec3(-1.0f, -1.0f, 0.0f));
+    EXPECT_EQ(v[1], glm::vec3(1.0f, 64.0f / 127.0f, 1.0f / 127.0f));
+    EXPECT_EQ(v[2], glm::vec3(-1.0f / 127.0f, 0.0f, 5.0f / 127.0f));
+  }
+  {
+    GltfWriter w;
+    const int pos = add_ints<std::int16_t, 3>(
+        w, {{-32768, -32767, 0}, {32767, 1000, 1}, {-1, 0, 5}}, kShort, true);
+    const auto v = vertices(load_triangle(w, pos));
+    EXPECT_EQ(v[0], glm::vec3(-1.0f, -1.0f, 0.0f));
+    EXPECT_EQ(v[1], glm::vec3(1.0f, 1000.0f / 32767.0f, 1.0f / 32767.0f));
+    EXPECT_EQ(v[2], glm::vec3(-1.0f / 32767.0f, 0.0f, 5.0f / 32767.0f));
+  }
+}
+
+TEST_F(GltfEncodings, NormalizedUnsignedPositionsDequantizeAsTheSpecSays) {
+  {
+    GltfWriter w;
+    const int pos =
+        add_ints<std::uint8_t, 3>(w, {{0, 255, 1}, {128, 0, 0}, {0, 7, 0}}, kUnsignedByte, true);
+    const auto v = vertices(load_triangle(w, pos));
+    EXPECT_EQ(v[0], glm::vec3(0.0f, 1.0f, 1.0f / 255.0f));
+    EXPECT_EQ(v[1], glm::vec3(128.0f / 255.0f, 0.0f, 0.0f));
+    EXPECT_EQ(v[2], glm::vec3(0.0f, 7.0f / 255.0f, 0.0f));
+  }
+  {
+    GltfWriter w;
+    const int pos = add_ints<std::uint16_t, 3>(w, {{0, 65535, 1}, {40000, 0, 0}, {0, 7, 0}},
+                                               kUnsignedShort, true);
+    const auto v = vertices(load_triangle(w, pos));
+    EXPECT_EQ(v[0], glm::vec3(0.0f, 1.0f, 1.0f / 65535.0f));
+    EXPECT_EQ(v[1], glm::vec3(40000.0f / 65535.0f, 0.0f, 0.0f));
+  }
+}
+
+// Unnormalized integers are the numbers themselves; the node transform (gltfpack's and
+// glTF-Transform's dequantization scale and offset) applies after.
+TEST_F(GltfEncodings, UnnormalizedIntegerPositionsAreTheirValues) {
+  for (int type : {kByte, kUnsignedByte, kShort, kUnsignedShort}) {
+    GltfWriter w;
+    int pos = -1;
+    if (type == kByte)
+      pos = add_ints<std::int8_t, 3>(w, {{0, 0, 0}, {-3, 0, 0}, {0, 100, 0}}, type, false);
+    if (type == kUnsignedByte)
+      pos = add_ints<std::uint8_t, 3>(w, {{0, 0, 0}, {3, 0, 0}, {0, 200, 0}}, type, false);
+    if (type == kShort)
+      pos = add_ints<std::int16_t, 3>(w, {{0, 0, 0}, {-3, 0, 0}, {0, 30000, 0}}, type, false);
+    if (type == kUnsignedShort)
+      pos = add_ints<std::uint16_t, 3>(w, {{0, 0, 0}, {3, 0, 0}, {0, 60000, 0}}, type, false);
+    const int node = w.add_node(w.add_mesh({GltfWriter::primitive(pos)}));
+    w.doc["nodes"][node]["translation"] = {1, 2, 3};
+    w.doc["nodes"][node]["scale"] = {0.5, 0.25, 1};
+    w.add_scene({node});
+    const auto v = vertices(load(w));
+    const bool is_signed = type == kByte || type == kShort;
+    const float y = type == kByte           ? 100.0f
+                    : type == kUnsignedByte ? 200.0f
+                    : type == kShort        ? 30000.0f
+                                            : 60000.0f;
+    EXPECT_EQ(v[0], glm::vec3(1, 2, 3)) << type;
+    EXPECT_EQ(v[1], glm::vec3(1.0f + 0.5f * (is_signed ? -3.0f : 3.0f), 2, 3)) << type;
+    EXPECT_EQ(v[2], glm::vec3(1.0f, 2.0f + 0.25f * y, 3.0f)) << type;
+  }
+}
+
+TEST_F(GltfEncodings, QuantizedNormalsAndTexcoords) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int nrm =
+      add_ints<std::int8_t, 3>(w, {{0, 0, 127}, {0, -128, 0}, {127, 127, 0}}, kByte, true);
+  const int uv =
+      add_ints<std::uint16_t, 2>(w, {{0, 65535}, {32768, 0}, {65535, 65535}}, kUnsignedShort, true);
+  const Scene s = load_triangle(w, pos, nrm, uv);
+  ASSERT_EQ(s.shading.size(), 1u);
+  EXPECT_EQ(s.shading[0].n0, glm::vec3(0, 0, 1));
+  EXPECT_EQ(s.shading[0].n1, glm::vec3(0, -1, 0));
+  EXPECT_NEAR(s.shading[0].n2.x, std::sqrt(0.5f), 1e-6f);  // renormalised after dequantizing
+  EXPECT_EQ(s.shading[0].uv0, glm::vec2(0, 1));
+  EXPECT_EQ(s.shading[0].uv1, glm::vec2(32768.0f / 65535.0f, 0));
+
+  GltfWriter u;  // unnormalized SHORT texcoords: the numbers (a texture transform scales them)
+  const int upos = u.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int uuv = add_ints<std::int16_t, 2>(u, {{-2, 3}, {0, 0}, {1, 1}}, kShort, false);
+  EXPECT_EQ(load_triangle(u, upos, -1, uuv).shading[0].uv0, glm::vec2(-2, 3));
+}
+
+TEST_F(GltfEncodings, FormatsOutsideTheSpecAreRefusedNamingTheAccessor) {
+  {
+    GltfWriter w;  // NORMAL must be normalized and signed
+    const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    const int nrm =
+        add_ints<std::uint8_t, 3>(w, {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}, kUnsignedByte, true);
+    expect_error([&] { load_triangle(w, pos, nrm); }, path(),
+                 "accessor 1 (NORMAL) is normalized UNSIGNED_BYTE VEC3, expected FLOAT VEC3 or "
+                 "normalized BYTE/SHORT VEC3");
+  }
+  {
+    GltfWriter w;  // POSITION as UNSIGNED_INT is not in KHR_mesh_quantization
+    std::vector<std::uint32_t> p = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const int bv = w.add_buffer_view(p.data(), p.size() * 4);
+    const int pos = w.add_accessor(bv, 5125, 3, "VEC3");
+    expect_error([&] { load_triangle(w, pos); }, path(),
+                 "accessor 0 (POSITION) is UNSIGNED_INT VEC3, expected FLOAT VEC3 or");
+  }
+}
+
+// Accessor `acc` of `w` made sparse: `indices` (UNSIGNED_SHORT) replaced by `values` (FLOAT VEC3).
+void make_sparse(GltfWriter& w, int acc, const std::vector<std::uint16_t>& indices,
+                 const std::vector<glm::vec3>& values) {
+  const int ibv = w.add_buffer_view(indices.data(), indices.size() * 2);
+  const int vbv = w.add_buffer_view(values.data(), values.size() * sizeof(glm::vec3));
+  w.doc["accessors"][acc]["sparse"] = {
+      {"count", indices.size()},
+      {"indices", {{"bufferView", ibv}, {"componentType", kUnsignedShort}}},
+      {"values", {{"bufferView", vbv}}}};
+}
+
+TEST_F(GltfEncodings, SparseAccessorsSubstituteTheirElements) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  make_sparse(w, pos, {2}, {{0, 5, 0}});
+  const auto v = vertices(load_triangle(w, pos));
+  EXPECT_EQ(v[1], glm::vec3(1, 0, 0));
+  EXPECT_EQ(v[2], glm::vec3(0, 5, 0));
+
+  GltfWriter z;  // no bufferView: zeros, then the sparse elements
+  const int zbv = z.add_buffer_view(kZeros.data(), 4);
+  const int zpos = z.add_accessor(zbv, 5126, 3, "VEC3");
+  z.doc["accessors"][zpos].erase("bufferView");
+  make_sparse(z, zpos, {1, 2}, {{1, 0, 0}, {0, 1, 0}});
+  const auto zv = vertices(load_triangle(z, zpos));
+  EXPECT_EQ(zv[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(zv[1], glm::vec3(1, 0, 0));
+  EXPECT_EQ(zv[2], glm::vec3(0, 1, 0));
+}
+
+TEST_F(GltfEncodings, BadSparseAccessorsAreRefused) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  make_sparse(w, pos, {3}, {{0, 5, 0}});
+  expect_error([&] { load_triangle(w, pos); }, path(),
+               "accessor 0 (POSITION): sparse index 3 is out of range");
+
+  GltfWriter c;
+  const int cpos = c.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  make_sparse(c, cpos, {0}, {{0, 5, 0}});
+  c.doc["accessors"][cpos]["sparse"]["count"] = 2;  // values and indices are one element long
+  expect_error([&] { load_triangle(c, cpos); }, path(),
+               "sparse indices or values lie past the end of their bufferView");
+}
+
+TEST_F(GltfEncodings, TextureTransformAppliesTheSpecMatrixToTexcoords) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int uv = w.add_vec2({{0, 0}, {1, 0}, {0, 1}});
+  const int tex = w.add_png_texture(hrpp::test::make_png(1, 1, {255, 255, 255, 255}));
+  const float r = 0.5f;
+  const json transform = {{"offset", {0.25, -0.5}}, {"rotation", r}, {"scale", {2, 3}}};
+  const int mat = w.add_material(
+      {{"pbrMetallicRoughness",
+        {{"baseColorTexture",
+          {{"index", tex}, {"extensions", {{"KHR_texture_transform", transform}}}}}}}});
+  const Scene s = load_triangle(w, pos, -1, uv, mat);
+  ASSERT_EQ(s.shading.size(), 1u);
+  // translation(offset) * rotation * scale, the extension's GLSL (column-major mat3).
+  auto expected = [&](glm::vec2 p) {
+    const glm::vec2 q(2.0f * p.x, 3.0f * p.y);
+    return glm::vec2(std::cos(r) * q.x - std::sin(r) * q.y + 0.25f,
+                     std::sin(r) * q.x + std::cos(r) * q.y - 0.5f);
+  };
+  const glm::vec2 got[] = {s.shading[0].uv0, s.shading[0].uv1, s.shading[0].uv2};
+  const glm::vec2 in[] = {{0, 0}, {1, 0}, {0, 1}};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(got[i].x, expected(in[i]).x, 1e-6f) << i;
+    EXPECT_NEAR(got[i].y, expected(in[i]).y, 1e-6f) << i;
+  }
+}
+
+TEST_F(GltfEncodings, VertexColoursAreIgnoredWithOneWarning) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int col = w.add_vec3({{1, 0, 0}, {1, 0, 0}, {1, 0, 0}});
+  json prim = GltfWriter::primitive(pos);
+  prim["attributes"]["COLOR_0"] = col;
+  const int mesh = w.add_mesh({prim, prim});
+  w.add_scene({w.add_node(mesh)});
+  const Scene s = load(w);
+  EXPECT_EQ(s.triangles.size(), 2u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("COLOR_0"), std::string::npos) << s.warnings[0];
+}
+
+}  // namespace
