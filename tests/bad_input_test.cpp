@@ -69,6 +69,8 @@ const std::map<std::string, std::string>& expected_errors() {
       {"gltf/inf_vertex.gltf", "non-finite value (NaN or Inf) at element 2"},
       {"gltf/overflowing_transform.gltf", "out of float range after the node transform"},
       {"gltf/matrix_wrong_length.gltf", "matrix has 3 numbers, expected 16"},
+      {"gltf/required_extension.gltf",
+       "extension KHR_texture_basisu is required by the file but not supported"},
       // scenes and node graphs
       {"gltf/no_scene.gltf", "glTF has no scene"},
       {"gltf/empty_scene.gltf", "scene has no triangles"},
@@ -166,8 +168,9 @@ TEST_F(BadInputCli, CorpusFilesThroughTheBinary) {
        {"gltf/truncated.glb", "gltf/wrong_magic.glb", "gltf/json_syntax.gltf",
         "gltf/deep_extras.gltf", "gltf/huge_count.gltf", "gltf/index_out_of_range.gltf",
         "gltf/buffer_is_directory.gltf", "gltf/missing_texture.gltf", "gltf/mode_points.gltf",
-        "gltf/nan_vertex.gltf", "gltf/cyclic_nodes.gltf", "gltf/exponential_instances.gltf",
-        "manifest/missing_mesh.scene.json", "manifest/number_out_of_range.scene.json"}) {
+        "gltf/nan_vertex.gltf", "gltf/required_extension.gltf", "gltf/cyclic_nodes.gltf",
+        "gltf/exponential_instances.gltf", "manifest/missing_mesh.scene.json",
+        "manifest/number_out_of_range.scene.json"}) {
     const std::string& msg = expected_errors().at(f);
     const fs::path dump = dir_ / "t.bin";
     expect_error("scene " + (kBad / f).string() + " --dump-triangles " + dump.string(), msg);

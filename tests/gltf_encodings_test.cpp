@@ -282,3 +282,33 @@ TEST_F(GltfEncodings, VertexColoursAreIgnoredWithOneWarning) {
 }
 
 }  // namespace
+
+namespace {
+
+GltfWriter triangle_with_extensions(const json& used, const json& required) {
+  GltfWriter w;
+  w.add_scene({w.add_node(w.add_triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))});
+  if (!used.empty()) w.doc["extensionsUsed"] = used;
+  if (!required.empty()) w.doc["extensionsRequired"] = required;
+  return w;
+}
+
+TEST_F(GltfEncodings, RequiredExtensionsTheLoaderCannotHonourAreRefused) {
+  triangle_with_extensions({"KHR_mesh_quantization", "KHR_texture_basisu"},
+                           {"KHR_mesh_quantization", "KHR_texture_basisu"})
+      .write(dir_ / "basisu.gltf");
+  expect_error([&] { hrpp::load_gltf(dir_ / "basisu.gltf"); }, path("basisu.gltf"),
+               "extension KHR_texture_basisu is required by the file but not supported");
+}
+
+TEST_F(GltfEncodings, UnknownUsedExtensionsAreIgnoredWithOneWarning) {
+  const Scene s = load(triangle_with_extensions(
+      {"KHR_mesh_quantization", "KHR_materials_sheen", "EXT_lights_ies"},
+      {"KHR_mesh_quantization", "EXT_meshopt_compression", "KHR_draco_mesh_compression"}));
+  EXPECT_EQ(s.triangles.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0],
+            path() + ": extensions not supported, ignored: KHR_materials_sheen, EXT_lights_ies");
+}
+
+}  // namespace

@@ -24,6 +24,9 @@
 
 #include "common/error.h"
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_draco.h"
+#include "scene/gltf_meshopt.h"
+#include "scene/gltf_prepass.h"
 #include "scene/gltf_topology.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
@@ -705,6 +708,24 @@ class GltfLoader {
   std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
 };
 
+// Decodes the compressed data (meshopt views, Draco primitives), then flattens the model.
+Scene load_model(tinygltf::Model& model, const std::string& name, const GltfPrepass& pre) {
+  try {
+    decode_meshopt_views(model);
+    decode_draco_primitives(model, pre.draco_indices);
+  } catch (const GltfError& e) {
+    throw Error(one_line(name + ": " + e.what()));
+  }
+  Scene scene;
+  scene.name = std::filesystem::path(name).filename().string();
+  for (const std::string& w : pre.warnings) scene.warnings.push_back(name + ": " + w);
+  GltfLoader(model, name, scene).load();
+  for (const std::string& w : scene.warnings) {
+    std::fprintf(stderr, "hrpp: warning: %s\n", w.c_str());
+  }
+  return scene;
+}
+
 }  // namespace
 
 Scene load_gltf(const std::filesystem::path& file) {
@@ -747,6 +768,13 @@ Scene load_gltf(const std::filesystem::path& file) {
     throw Error(name + ": JSON nested " + std::to_string(depth) + " levels deep (at most " +
                 std::to_string(kMaxJsonDepth) + ")");
   }
+  GltfPrepass pre;
+  try {
+    pre = gltf_prepass(bytes.data() + json_begin, json_end - json_begin);
+  } catch (const GltfError& e) {
+    throw Error(one_line(name + ": " + e.what()));
+  }
+  if (pre.changed) bytes = replace_json(bytes, binary && magic, json_end, pre.json);
   const std::string base_dir = file.parent_path().string();
   tinygltf::Model model;
   const auto size = static_cast<unsigned int>(bytes.size());  // < 4 GiB: read_whole_file
@@ -763,12 +791,7 @@ Scene load_gltf(const std::filesystem::path& file) {
     }
     throw Error(one_line(name + ": " + err));
   }
-  Scene scene;
-  scene.name = file.filename().string();
-  GltfLoader(model, name, scene).load();
-  for (const std::string& w : scene.warnings)
-    std::fprintf(stderr, "hrpp: warning: %s\n", w.c_str());
-  return scene;
+  return load_model(model, name, pre);
 }
 
 }  // namespace hrpp

@@ -160,6 +160,9 @@ def main():
     d = doc(); d["nodes"][0]["matrix"] = [1, 0, 0]
     put(G, "matrix_wrong_length.gltf", js(d))
 
+    d = doc(); d["extensionsUsed"] = d["extensionsRequired"] = ["KHR_texture_basisu"]
+    put(G, "required_extension.gltf", js(d))
+
     # ---- scenes and node graphs ------------------------------------------------------------
     d = doc(); d["scenes"] = []; del d["scene"]
     put(G, "no_scene.gltf", js(d))
