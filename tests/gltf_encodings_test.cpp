@@ -1,11 +1,16 @@
 // glTF encodings the loader reads besides plain FLOAT triangles: quantized attributes
 // (KHR_mesh_quantization, dequantized as the spec says), sparse accessors, KHR_texture_transform
-// on the base colour texture.
+// on the base colour texture, the extensions it honours or refuses, and the corpus of one mesh
+// in each encoding (meshopt, Draco, quantized; tests/data/gltf_encodings).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,8 +19,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "bvh/binned_sah_builder.h"
+#include "bvh/gpu_layout.h"
 #include "common/error.h"
+#include "cpu_render/cpu_renderer.h"
 #include "gltf_writer.h"
+#include "scene/gltf_prepass.h"
 #include "scene/load_scene.h"
 
 namespace fs = std::filesystem;
@@ -309,6 +318,177 @@ TEST_F(GltfEncodings, UnknownUsedExtensionsAreIgnoredWithOneWarning) {
   ASSERT_EQ(s.warnings.size(), 1u);
   EXPECT_EQ(s.warnings[0],
             path() + ": extensions not supported, ignored: KHR_materials_sheen, EXT_lights_ies");
+}
+
+}  // namespace
+
+// ---- the corpus: one mesh in each encoding (tools/make_gltf_encodings.sh) ----------------------
+namespace {
+
+const fs::path kCorpus = fs::path(HRPP_TEST_DATA_DIR) / "gltf_encodings";
+
+// Every encoding of tests/data/gltf_encodings/ and its position quantization: the bits per
+// component over the mesh's extent (gltfpack's and glTF-Transform's default: 14; Draco's default in
+// glTF-Transform: 14; gltfpack's EXPONENTIAL filter keeps as many mantissa bits as the positions'
+// precision, so FLOAT meshopt data is 14-bit too).
+struct Encoded {
+  const char* file;
+  int position_bits;
+};
+constexpr Encoded kEncoded[] = {
+    {"quantized_gltfpack.glb", 14}, {"quantized_transform.glb", 14}, {"meshopt_gltfpack.glb", 14},
+    {"meshopt_float.glb", 14},      {"meshopt_transform.gltf", 14},  {"draco.glb", 14},
+};
+
+struct Bounds {
+  glm::vec3 lo{3e38f}, hi{-3e38f};
+};
+
+Bounds bounds_of(const Scene& s) {
+  Bounds b;
+  for (const hrpp::Triangle& t : s.triangles) {
+    for (const glm::vec3& v : {t.v0, t.v1, t.v2}) {
+      b.lo = glm::min(b.lo, v);
+      b.hi = glm::max(b.hi, v);
+    }
+  }
+  return b;
+}
+
+glm::vec3 centroid(const hrpp::Triangle& t) { return (t.v0 + t.v1 + t.v2) / 3.0f; }
+
+// The largest distance from a triangle of `s` to the nearest triangle (by centroid) of `ref`:
+// the optimisers reorder triangles and vertices, so triangles are matched by position.
+float farthest_match(const Scene& s, const Scene& ref) {
+  float worst = 0.0f;
+  for (const hrpp::Triangle& t : s.triangles) {
+    float best = 3e38f;
+    for (const hrpp::Triangle& r : ref.triangles) {
+      best = std::min(best, glm::length(centroid(t) - centroid(r)));
+    }
+    worst = std::max(worst, best);
+  }
+  return worst;
+}
+
+TEST(GltfCorpus, EveryEncodingFlattensToThePlainTriangles) {
+  const Scene plain = hrpp::load_gltf(kCorpus / "plain.glb");
+  ASSERT_EQ(plain.triangles.size(), 992u);
+  const Bounds pb = bounds_of(plain);
+  const glm::vec3 extent = pb.hi - pb.lo;
+  const float max_extent = std::max(extent.x, std::max(extent.y, extent.z));
+  for (const Encoded& e : kEncoded) {
+    SCOPED_TRACE(e.file);
+    const Scene s = hrpp::load_gltf(kCorpus / e.file);
+    EXPECT_TRUE(s.warnings.empty());
+    ASSERT_EQ(s.triangles.size(), plain.triangles.size());
+    // One quantization step: the extent over 2^bits - 1.
+    const float step = max_extent / static_cast<float>((1 << e.position_bits) - 1);
+    const Bounds b = bounds_of(s);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(b.lo[c], pb.lo[c], step) << "axis " << c;
+      EXPECT_NEAR(b.hi[c], pb.hi[c], step) << "axis " << c;
+    }
+    EXPECT_LE(farthest_match(s, plain), step);
+    for (const hrpp::TriangleShading& sh : s.shading) {  // every vertex has a unit normal
+      EXPECT_NEAR(glm::length(sh.n0), 1.0f, 1e-4f);
+    }
+  }
+}
+
+// The renderer sees the same surfaces: the CPU reference image of each encoding at the plain
+// file's camera and seed is the plain file's within relMSE 1e-4.
+TEST(GltfCorpus, EveryEncodingRendersThePlainImage) {
+  const Scene plain = hrpp::load_scene((kCorpus / "plain.glb").string());
+  hrpp::RenderConfig config;
+  config.width = config.height = 48;
+  config.spp = 4;
+  config.seed = 7;
+  auto render = [&](const Scene& s) {
+    const hrpp::GpuBvh bvh = hrpp::make_gpu_layout(hrpp::build_bvh(s), s);
+    return hrpp::CpuRenderer(s, bvh, config).render().rgb;
+  };
+  const std::vector<float> reference = render(plain);
+  for (const Encoded& e : kEncoded) {
+    Scene s = hrpp::load_scene((kCorpus / e.file).string());
+    s.cameras = plain.cameras;  // the default camera frames the (slightly different) bounds
+    const std::vector<float> image = render(s);
+    ASSERT_EQ(image.size(), reference.size());
+    double rel_mse = 0.0;
+    for (std::size_t i = 0; i < image.size(); ++i) {
+      const double d = image[i] - reference[i];
+      rel_mse += d * d / (static_cast<double>(reference[i]) * reference[i] + 1e-2);
+    }
+    rel_mse /= static_cast<double>(image.size());
+    EXPECT_LT(rel_mse, 1e-4) << e.file;
+    std::printf("%s: relMSE %.3g\n", e.file, rel_mse);
+  }
+}
+
+}  // namespace
+
+// ---- corrupt compressed data: one line naming the extension, never a crash -------------------
+namespace {
+
+std::vector<std::uint8_t> read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+// A corpus GLB with its JSON edited by `edit`, written to dir/name.
+fs::path edited_glb(const fs::path& dir, const std::string& name, const std::string& source,
+                    const std::function<void(json&)>& edit) {
+  const std::vector<std::uint8_t> bytes = read_bytes(kCorpus / source);
+  std::uint32_t json_size = 0;
+  std::memcpy(&json_size, bytes.data() + 12, 4);
+  json doc = json::parse(bytes.begin() + 20, bytes.begin() + 20 + json_size);
+  edit(doc);
+  hrpp::test::write_file(dir / name, hrpp::replace_json(bytes, true, 20 + json_size, doc.dump()));
+  return dir / name;
+}
+
+TEST_F(GltfEncodings, CorruptMeshoptDataIsRefusedNamingTheExtension) {
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& d) {
+         d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteLength"] = 40;
+       },
+       "bufferView 0 (EXT_meshopt_compression): corrupt ATTRIBUTES data"},
+      {[](json& d) {
+         d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["filter"] = "FOO";
+       },
+       "bufferView 0 (EXT_meshopt_compression): unknown filter \"FOO\""},
+      {[](json& d) {
+         d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteStride"] = 6;
+       },
+       "bufferView 0 (EXT_meshopt_compression): ATTRIBUTES byteStride"},
+      {[](json& d) { d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = 1e9; },
+       "cannot come from"},
+      {[](json& d) { d["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["buffer"] = 7; },
+       "bufferView 0 (EXT_meshopt_compression): buffer 7 does not exist"},
+  };
+  for (const auto& [edit, message] : cases) {
+    const fs::path f = edited_glb(dir_, "m.glb", "meshopt_gltfpack.glb", edit);
+    expect_error([&] { hrpp::load_gltf(f); }, f.string(), message);
+  }
+}
+
+TEST_F(GltfEncodings, CorruptDracoDataIsRefusedNamingTheExtension) {
+  const std::string where = "mesh 0 primitive 0 (KHR_draco_mesh_compression)";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& d) { d["bufferViews"][0]["byteLength"] = 64; }, where + ": "},
+      {[](json& d) { d["accessors"][0]["count"] = 3; }, where + ": accessor 0 has 3 indices"},
+      {[](json& d) { d["accessors"][1]["count"] = 4; }, where + " POSITION: accessor 1 has 4"},
+      {[](json& d) { d["accessors"][1]["type"] = "VEC2"; }, "does not match the Draco attribute"},
+      {[](json& d) {
+         d["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]
+          ["NORMAL"] = 9;
+       },
+       where + " NORMAL: Draco attribute 9 does not exist"},
+  };
+  for (const auto& [edit, message] : cases) {
+    const fs::path f = edited_glb(dir_, "d.glb", "draco.glb", edit);
+    expect_error([&] { hrpp::load_gltf(f); }, f.string(), message);
+  }
 }
 
 }  // namespace
