@@ -23,11 +23,11 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 out="$root/tests/data/gltf_encodings"
 tools="${NPM_TOOLS:-/tmp/hrpp-npm-tools}"
 mkdir -p "$tools" "$out"
-if [ ! -x "$tools/node_modules/.bin/gltfpack" ] || [ ! -x "$tools/node_modules/.bin/gltf-transform" ]; then
-  (cd "$tools" && npm install --no-save --silent gltfpack@1.3.0 @gltf-transform/cli@4.5.1)
-fi
 pack="$tools/node_modules/.bin/gltfpack"
 transform="$tools/node_modules/.bin/gltf-transform"
+if [ ! -x "$pack" ] || [ ! -x "$transform" ]; then
+  (cd "$tools" && npm install --no-save --silent gltfpack@1.3.0 @gltf-transform/cli@4.5.1)
+fi
 
 rm -f "$out"/*.glb "$out"/*.gltf "$out"/*.bin
 "$pack" -i "$root/scenes/meshes/utah_teapot.glb" -o "$out/plain.glb" -noq -gn 60 >/dev/null
