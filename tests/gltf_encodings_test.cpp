@@ -23,33 +23,20 @@
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
 #include "cpu_render/cpu_renderer.h"
+#include "gltf_file_test.h"
 #include "gltf_writer.h"
 #include "scene/gltf_prepass.h"
 #include "scene/load_scene.h"
 
+namespace hrpp::test {
+
 namespace fs = std::filesystem;
-using hrpp::Scene;
-using hrpp::test::GltfWriter;
 using nlohmann::json;
 
 namespace {
 
 const std::array<std::uint8_t, 4> kZeros = {0, 0, 0, 0};
-constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123;
-
-// Runs f; expects an hrpp::Error, one line, starting with `file` and containing `fragment`.
-void expect_error(const std::function<void()>& f, const std::string& file,
-                  const std::string& fragment) {
-  try {
-    f();
-    ADD_FAILURE() << "no error thrown";
-  } catch (const hrpp::Error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    EXPECT_EQ(msg.rfind(file, 0), 0u) << msg;
-    EXPECT_NE(msg.find(fragment), std::string::npos) << "missing '" << fragment << "': " << msg;
-  }
-}
+constexpr int kByte = 5120, kShort = 5122;  // kUnsignedByte, kUnsignedShort: gltf_writer.h
 
 // Integer vectors of N components of type T, each element padded to 4 bytes (the vertex
 // attribute alignment), in a bufferView with that byteStride; returns the accessor.
@@ -64,24 +51,13 @@ int add_ints(GltfWriter& w, const std::vector<std::array<T, N>>& v, int componen
   return w.add_accessor(bv, component_type, v.size(), N == 3 ? "VEC3" : "VEC2", 0, normalized);
 }
 
-class GltfEncodings : public ::testing::Test {
+class GltfEncodings : public hrpp::test::GltfFileTest {
  protected:
-  void SetUp() override { dir_ = hrpp::test::make_temp_dir("gltf_encodings_test"); }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  Scene load(const GltfWriter& w, const std::string& name = "s.glb") {
-    w.write(dir_ / name);
-    return hrpp::load_gltf(dir_ / name);
-  }
   // One non-indexed triangle primitive over these accessors (-1: none).
   Scene load_triangle(GltfWriter& w, int pos, int nrm = -1, int uv = -1, int material = -1) {
     w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, material, nrm, uv)}))});
     return load(w);
   }
-  std::string path(const std::string& name = "s.glb") const { return (dir_ / name).string(); }
-  fs::path dir_;
 };
 
 // The three vertices of the scene's only triangle.
@@ -492,3 +468,5 @@ TEST_F(GltfEncodings, CorruptDracoDataIsRefusedNamingTheExtension) {
 }
 
 }  // namespace
+
+}  // namespace hrpp::test

@@ -17,12 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "gltf_file_test.h"
 #include "gltf_writer.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
 
 namespace fs = std::filesystem;
 using hrpp::Scene;
+using hrpp::test::expect_error;
 using hrpp::test::GltfWriter;
 using nlohmann::json;
 
@@ -36,45 +38,11 @@ void expect_near(glm::vec3 a, glm::vec3 b, float eps = kEps) {
   EXPECT_NEAR(a.z, b.z, eps) << "z";
 }
 
-// Runs f, expects an hrpp::Error with a one-line message that starts with `file` (the path as
-// passed) and contains `fragment`; returns the message.
-std::string expect_error(const std::function<void()>& f, const std::string& file,
-                         const std::string& fragment = "") {
-  try {
-    f();
-  } catch (const hrpp::Error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    EXPECT_EQ(msg.rfind(file, 0), 0u) << "message does not start with " << file << ": " << msg;
-    EXPECT_NE(msg.find(fragment), std::string::npos) << "missing '" << fragment << "': " << msg;
-    return msg;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not an hrpp::Error: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "no error thrown";
-  return "";
-}
-
 const std::vector<glm::vec3> kTri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 const std::vector<glm::vec3> kQuad = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
 const std::vector<std::uint32_t> kQuadIdx = {0, 1, 2, 0, 2, 3};
 
-class SceneTest : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = hrpp::test::make_temp_dir("scene_test"); }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  // Writes w to dir_/name and loads it.
-  Scene load(const GltfWriter& w, const std::string& name = "s.glb") {
-    w.write(dir_ / name);
-    return hrpp::load_gltf(dir_ / name);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+class SceneTest : public hrpp::test::GltfFileTest {};
 
 GltfWriter one_triangle() {
   GltfWriter w;
@@ -518,29 +486,35 @@ void expect_triangles(const Scene& s, const std::vector<glm::vec3>& p,
   }
 }
 
-// A zigzag in z = 0: a strip or a fan over it winds every triangle the same way.
-const std::vector<glm::vec3> kZigzag = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+// Strips and fans, plain and indexed, with the triangles the spec's order makes and the sign of
+// their normals' z: every triangle of a strip or fan over a convex polygon winds the same way.
+struct StripOrFan {
+  int mode;
+  std::vector<glm::vec3> positions;
+  std::vector<std::uint32_t> indices;
+  std::vector<std::array<int, 3>> triangles;
+  float winding;
+};
 
-TEST_F(SceneTest, TriangleStripUsesTheSpecWinding) {
-  const Scene s = load(one_primitive(kZigzag, hrpp::test::kModeTriangleStrip));
-  expect_triangles(s, kZigzag, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}});
-  for (const hrpp::Triangle& t : s.triangles) {
-    EXPECT_LT(glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
+TEST_F(SceneTest, TriangleStripsAndFansUseTheSpecOrderAndWinding) {
+  using hrpp::test::kModeTriangleFan, hrpp::test::kModeTriangleStrip;
+  const std::vector<glm::vec3> zigzag = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+  const std::vector<glm::vec3> polygon = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}};
+  const StripOrFan cases[] = {
+      {kModeTriangleStrip, zigzag, {}, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}}, -1.0f},
+      {kModeTriangleStrip, zigzag, {4, 3, 2, 1}, {{4, 3, 2}, {3, 1, 2}}, 1.0f},
+      {kModeTriangleFan, polygon, {}, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}, 1.0f},
+      {kModeTriangleFan, polygon, {0, 1, 2, 3}, {{1, 2, 0}, {2, 3, 0}}, 1.0f},
+  };
+  for (const StripOrFan& c : cases) {
+    SCOPED_TRACE("mode " + std::to_string(c.mode) + ", " + std::to_string(c.indices.size()) +
+                 " indices");
+    const Scene s = load(one_primitive(c.positions, c.mode, c.indices));
+    expect_triangles(s, c.positions, c.triangles);
+    for (const hrpp::Triangle& t : s.triangles) {
+      EXPECT_GT(c.winding * glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
+    }
   }
-  // Indexed: the strip runs over the index sequence.
-  const Scene r = load(one_primitive(kZigzag, hrpp::test::kModeTriangleStrip, {4, 3, 2, 1}));
-  expect_triangles(r, kZigzag, {{4, 3, 2}, {3, 1, 2}});
-}
-
-TEST_F(SceneTest, TriangleFanUsesTheSpecWinding) {
-  const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}};
-  const Scene s = load(one_primitive(p, hrpp::test::kModeTriangleFan));
-  expect_triangles(s, p, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}});
-  for (const hrpp::Triangle& t : s.triangles) {
-    EXPECT_GT(glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
-  }
-  const Scene r = load(one_primitive(p, hrpp::test::kModeTriangleFan, {0, 1, 2, 3}));
-  expect_triangles(r, p, {{1, 2, 0}, {2, 3, 0}});
 }
 
 TEST_F(SceneTest, ShortStripsAndFansHaveNoTriangles) {

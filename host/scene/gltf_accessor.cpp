@@ -10,6 +10,34 @@ constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 28;
 
 std::string str(std::size_t v) { return std::to_string(v); }
 
+// A component type (size: bytes) or an element type (size: components), and its name.
+struct TypeInfo {
+  int id, size;
+  const char* name;
+};
+constexpr TypeInfo kComponentTypes[] = {
+    {TINYGLTF_COMPONENT_TYPE_BYTE, 1, "BYTE"},
+    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, 1, "UNSIGNED_BYTE"},
+    {TINYGLTF_COMPONENT_TYPE_SHORT, 2, "SHORT"},
+    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 2, "UNSIGNED_SHORT"},
+    {TINYGLTF_COMPONENT_TYPE_INT, 4, "INT"},
+    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 4, "UNSIGNED_INT"},
+    {TINYGLTF_COMPONENT_TYPE_FLOAT, 4, "FLOAT"}};
+constexpr TypeInfo kElementTypes[] = {
+    {TINYGLTF_TYPE_SCALAR, 1, "SCALAR"}, {TINYGLTF_TYPE_VEC2, 2, "VEC2"},
+    {TINYGLTF_TYPE_VEC3, 3, "VEC3"},     {TINYGLTF_TYPE_VEC4, 4, "VEC4"},
+    {TINYGLTF_TYPE_MAT2, 4, "MAT2"},     {TINYGLTF_TYPE_MAT3, 9, "MAT3"},
+    {TINYGLTF_TYPE_MAT4, 16, "MAT4"}};
+
+// The entry of `id`; size 0 and name "invalid" when there is none.
+template <std::size_t N>
+TypeInfo find_id(const TypeInfo (&table)[N], int id) {
+  for (const TypeInfo& e : table) {
+    if (e.id == id) return e;
+  }
+  return {id, 0, "invalid"};
+}
+
 // a + b <= limit, without overflow.
 bool fits(std::size_t a, std::size_t b, std::size_t limit) {
   std::size_t end = 0;
@@ -19,84 +47,13 @@ bool fits(std::size_t a, std::size_t b, std::size_t limit) {
 }  // namespace
 
 int gltf_component_size(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-    default:
-      return 0;
-  }
+  return find_id(kComponentTypes, component_type).size;
 }
-
 const char* gltf_component_name(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      return "BYTE";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return "UNSIGNED_BYTE";
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-      return "SHORT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return "UNSIGNED_SHORT";
-    case TINYGLTF_COMPONENT_TYPE_INT:
-      return "INT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      return "UNSIGNED_INT";
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return "FLOAT";
-    default:
-      return "invalid";
-  }
+  return find_id(kComponentTypes, component_type).name;
 }
-
-int gltf_type_components(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return 1;
-    case TINYGLTF_TYPE_VEC2:
-      return 2;
-    case TINYGLTF_TYPE_VEC3:
-      return 3;
-    case TINYGLTF_TYPE_VEC4:
-      return 4;
-    case TINYGLTF_TYPE_MAT2:
-      return 4;
-    case TINYGLTF_TYPE_MAT3:
-      return 9;
-    case TINYGLTF_TYPE_MAT4:
-      return 16;
-    default:
-      return 0;
-  }
-}
-
-const char* gltf_type_name(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return "SCALAR";
-    case TINYGLTF_TYPE_VEC2:
-      return "VEC2";
-    case TINYGLTF_TYPE_VEC3:
-      return "VEC3";
-    case TINYGLTF_TYPE_VEC4:
-      return "VEC4";
-    case TINYGLTF_TYPE_MAT2:
-      return "MAT2";
-    case TINYGLTF_TYPE_MAT3:
-      return "MAT3";
-    case TINYGLTF_TYPE_MAT4:
-      return "MAT4";
-    default:
-      return "invalid";
-  }
-}
+int gltf_type_components(int type) { return find_id(kElementTypes, type).size; }
+const char* gltf_type_name(int type) { return find_id(kElementTypes, type).name; }
 
 float AccessorView::read_float(std::size_t element, int component) const {
   auto integer = [&](float c, float scale) { return normalized ? std::max(c / scale, -1.0f) : c; };
@@ -166,21 +123,27 @@ AccessorView AccessorReader::view(int index, const std::string& use) {
   return buffer_view_elements(index, where);
 }
 
-// The accessor's elements in its bufferView (sparse substitution not applied).
-AccessorView AccessorReader::buffer_view_elements(int index, const std::string& where) const {
-  const tinygltf::Accessor& acc = m_.accessors[index];
+// The accessor's format, tightly packed (stride: the element size), no data yet.
+AccessorView AccessorReader::described(const tinygltf::Accessor& acc) {
   AccessorView v;
   v.count = acc.count;
   v.component_type = acc.componentType;
   v.components = gltf_type_components(acc.type);
   v.type = acc.type;
   v.normalized = acc.normalized;
+  v.stride = static_cast<std::size_t>(gltf_component_size(acc.componentType)) * v.components;
+  return v;
+}
+
+// The accessor's elements in its bufferView (sparse substitution not applied).
+AccessorView AccessorReader::buffer_view_elements(int index, const std::string& where) const {
+  const tinygltf::Accessor& acc = m_.accessors[index];
+  AccessorView v = described(acc);
+  const std::size_t element = v.stride;
   if (acc.bufferView < 0 || static_cast<std::size_t>(acc.bufferView) >= m_.bufferViews.size()) {
     throw GltfError(where + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
   }
   const tinygltf::BufferView& bv = m_.bufferViews[acc.bufferView];
-  const std::size_t element =
-      static_cast<std::size_t>(gltf_component_size(acc.componentType)) * v.components;
   v.stride = bv.byteStride != 0 ? bv.byteStride : element;
   if (v.stride < element) {
     throw GltfError(where + ": byteStride " + std::to_string(bv.byteStride) +
@@ -191,10 +154,19 @@ AccessorView AccessorReader::buffer_view_elements(int index, const std::string& 
                     std::to_string(bv.buffer) + " does not exist");
   }
   const std::vector<unsigned char>& data = m_.buffers[bv.buffer].data;
-  if (v.count == 0) {
-    v.base = data.data();
-    return v;
-  }
+  v.base = data.data();
+  if (v.count == 0) return v;  // nothing is read
+  check_range(index, v, element);
+  v.base += bv.byteOffset + acc.byteOffset;
+  return v;
+}
+
+// Every byte accessor `index` (view v, elements of `element` bytes) reads lies in its bufferView
+// and the bufferView in its buffer.
+void AccessorReader::check_range(int index, const AccessorView& v, std::size_t element) const {
+  const tinygltf::Accessor& acc = m_.accessors[index];
+  const tinygltf::BufferView& bv = m_.bufferViews[acc.bufferView];
+  const std::vector<unsigned char>& data = m_.buffers[bv.buffer].data;
   // Bytes the accessor reads, relative to the view: byteOffset + stride*(count-1) + element.
   std::size_t span = 0, in_view_end = 0, abs_end = 0;
   const bool overflow = __builtin_mul_overflow(v.stride, v.count - 1, &span) ||
@@ -213,23 +185,14 @@ AccessorView AccessorReader::buffer_view_elements(int index, const std::string& 
     throw GltfError("accessor " + std::to_string(index) + " reads past the end of bufferView " +
                     std::to_string(acc.bufferView));
   }
-  v.base = data.data() + bv.byteOffset + acc.byteOffset;
-  return v;
 }
 
 // A sparse accessor as a dense, tightly packed copy: its bufferView's elements (zeros without
 // one) with the sparse elements substituted.
 AccessorView AccessorReader::dense(int index, const std::string& where) {
   const tinygltf::Accessor& acc = m_.accessors[index];
-  AccessorView v;
-  v.count = acc.count;
-  v.component_type = acc.componentType;
-  v.components = gltf_type_components(acc.type);
-  v.type = acc.type;
-  v.normalized = acc.normalized;
-  const std::size_t element =
-      static_cast<std::size_t>(gltf_component_size(acc.componentType)) * v.components;
-  v.stride = element;
+  AccessorView v = described(acc);
+  const std::size_t element = v.stride;
   auto cached = dense_.find(index);
   if (cached == dense_.end()) {
     std::vector<std::uint8_t> out;

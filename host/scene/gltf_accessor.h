@@ -62,7 +62,9 @@ class AccessorReader {
   const std::uint8_t* view_bytes(int index, std::size_t& size) const;
 
  private:
+  static AccessorView described(const tinygltf::Accessor& acc);
   AccessorView buffer_view_elements(int index, const std::string& where) const;
+  void check_range(int index, const AccessorView& v, std::size_t element) const;
   AccessorView dense(int index, const std::string& where);
   void apply_sparse(const tinygltf::Accessor& acc, const std::string& where,
                     std::vector<std::uint8_t>& out, std::size_t element) const;
