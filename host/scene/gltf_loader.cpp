@@ -761,6 +761,15 @@ Scene load_gltf(const std::filesystem::path& file) {
     }
     json_begin = std::min<std::size_t>(20, bytes.size());
     json_end = json_begin + std::min<std::size_t>(u32_at(12), bytes.size() - json_begin);
+    // tinygltf 2.7 checks the BIN chunk's length against the header's total without the
+    // chunk's own 8-byte header: a chunk up to 8 bytes longer than the file would be read past
+    // its end.
+    const std::uint64_t bin = std::uint64_t{20} + u32_at(12);
+    if (u32_at(8) <= bytes.size() && bin + 8 <= bytes.size() &&
+        bin + 8 + u32_at(bin) > bytes.size()) {
+      throw Error(name + ": the BIN chunk (" + std::to_string(u32_at(bin)) +
+                  " bytes) lies past the end of the file");
+    }
   }
   // tinygltf converts JSON values recursively: deep nesting would overflow the stack.
   const std::size_t depth = json_nesting_depth(bytes.data() + json_begin, json_end - json_begin);
@@ -774,7 +783,11 @@ Scene load_gltf(const std::filesystem::path& file) {
   } catch (const GltfError& e) {
     throw Error(one_line(name + ": " + e.what()));
   }
-  if (pre.changed) bytes = replace_json(bytes, binary && magic, json_end, pre.json);
+  // A GLB is rebuilt only when its header's length is the file's: tinygltf refuses the others.
+  const bool glb = binary && magic;
+  if (pre.changed && (!glb || u32_at(8) == bytes.size())) {
+    bytes = replace_json(bytes, glb, json_end, pre.json);
+  }
   const std::string base_dir = file.parent_path().string();
   tinygltf::Model model;
   const auto size = static_cast<unsigned int>(bytes.size());  // < 4 GiB: read_whole_file

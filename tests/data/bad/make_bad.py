@@ -77,6 +77,12 @@ def main():
     bad_chunk = bytearray(good_glb)
     bad_chunk[12:16] = struct.pack("<I", 0x7FFFFFF0)  # JSON chunk longer than the file
     put(G, "chunk_length.glb", bytes(bad_chunk))
+    # The BIN chunk claims 8 bytes more than the file has: tinygltf 2.7 checks its length
+    # against the header's total without the chunk's own 8-byte header, and read past the end.
+    n = struct.unpack("<I", good_glb[12:16])[0]
+    past = bytearray(good_glb)
+    past[20 + n:24 + n] = struct.pack("<I", struct.unpack("<I", good_glb[20 + n:24 + n])[0] + 8)
+    put(G, "bin_chunk_past_end.glb", bytes(past))
     flipped = bytearray(good_glb)
     flipped[20] = ord("[")  # JSON chunk starts with '[' instead of '{'
     put(G, "corrupted_json_chunk.glb", bytes(flipped))
