@@ -90,7 +90,7 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   const GpuMaterial m = load_material(s.material);
   const vec3 wo = -ray.dir;
   vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
-  vec3 albedo = m.base_color;
+  vec3 albedo = m.base_color * s.color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
   const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);
   const Lobe lobe = choose_lobe(m, albedo, u.lobe);

@@ -48,7 +48,17 @@ int add_ints(GltfWriter& w, const std::vector<std::array<T, N>>& v, int componen
   for (std::size_t i = 0; i < v.size(); ++i)
     std::memcpy(&bytes[i * stride], v[i].data(), N * sizeof(T));
   const int bv = w.add_buffer_view(bytes.data(), bytes.size(), stride);
-  return w.add_accessor(bv, component_type, v.size(), N == 3 ? "VEC3" : "VEC2", 0, normalized);
+  return w.add_accessor(bv, component_type, v.size(), "VEC" + std::to_string(N), 0, normalized);
+}
+
+// The CPU reference renderer's image of `s`: size x size pixels, spp samples, seed 7.
+std::vector<float> cpu_image(const Scene& s, std::uint32_t size, std::uint32_t spp) {
+  RenderConfig config;
+  config.width = config.height = size;
+  config.spp = spp;
+  config.seed = 7;
+  const GpuBvh bvh = make_gpu_layout(build_bvh(s), s);
+  return CpuRenderer(s, bvh, config).render().rgb;
 }
 
 class GltfEncodings : public hrpp::test::GltfFileTest {
@@ -252,18 +262,83 @@ TEST_F(GltfEncodings, TextureTransformAppliesTheSpecMatrixToTexcoords) {
   }
 }
 
-TEST_F(GltfEncodings, VertexColoursAreIgnoredWithOneWarning) {
+TEST_F(GltfEncodings, VertexColoursArePackedPerVertex) {
   GltfWriter w;
   const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-  const int col = w.add_vec3({{1, 0, 0}, {1, 0, 0}, {1, 0, 0}});
+  const int rgb = w.add_vec3({{1, 0, 0}, {0, 0.5f, 2}, {-1, 0.2f, 1}});  // clamped to [0, 1]
+  const int rgba = add_ints<std::uint8_t, 4>(w, {{255, 0, 0, 9}, {1, 2, 3, 9}, {0, 0, 255, 9}},
+                                             kUnsignedByte, true);
+  json a = GltfWriter::primitive(pos), b = a;
+  a["attributes"]["COLOR_0"] = rgb;
+  b["attributes"]["COLOR_0"] = rgba;
+  w.add_scene({w.add_node(w.add_mesh({a, b, GltfWriter::primitive(pos)}))});
+  const Scene s = load(w);
+  ASSERT_EQ(s.shading.size(), 3u);
+  EXPECT_TRUE(s.warnings.empty());
+  // 0xBBGGRR, round(255 c): 0.5 -> 128, 0.2 -> 51.
+  EXPECT_EQ(s.shading[0].c0, 0x0000FFu);
+  EXPECT_EQ(s.shading[0].c1, 0xFF8000u);
+  EXPECT_EQ(s.shading[0].c2, 0xFF3300u);
+  EXPECT_EQ(s.shading[1].c0, 0x0000FFu);
+  EXPECT_EQ(s.shading[1].c1, 0x030201u);
+  EXPECT_EQ(s.shading[1].c2, 0xFF0000u);
+  EXPECT_EQ(s.shading[2].c0, hrpp::kNoVertexColor);  // no COLOR_0
+}
+
+TEST_F(GltfEncodings, BadVertexColoursAreRefused) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int col = add_ints<std::int8_t, 3>(w, {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}}, kByte, true);
   json prim = GltfWriter::primitive(pos);
   prim["attributes"]["COLOR_0"] = col;
-  const int mesh = w.add_mesh({prim, prim});
-  w.add_scene({w.add_node(mesh)});
-  const Scene s = load(w);
-  EXPECT_EQ(s.triangles.size(), 2u);
-  ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_NE(s.warnings[0].find("COLOR_0"), std::string::npos) << s.warnings[0];
+  w.add_scene({w.add_node(w.add_mesh({prim}))});
+  expect_error([&] { load(w); }, path(),
+               "accessor 1 (COLOR_0) is normalized BYTE VEC3, expected FLOAT VEC3/VEC4 or "
+               "normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC3/VEC4");
+}
+
+// A quad facing the default camera: base colour `base`, every vertex coloured `vertex`.
+Scene coloured_quad(GltfFileTest& t, const std::string& name, glm::vec3 base, glm::vec3 vertex) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}});
+  const int col = w.add_vec3({vertex, vertex, vertex, vertex});
+  const int idx = w.add_indices({0, 1, 2, 0, 2, 3});
+  const int mat = w.add_material(
+      {{"pbrMetallicRoughness", {{"baseColorFactor", {base.x, base.y, base.z, 1.0}}}}});
+  json prim = GltfWriter::primitive(pos, idx, mat);
+  prim["attributes"]["COLOR_0"] = col;
+  w.add_scene({w.add_node(w.add_mesh({prim}))});
+  w.write(t.dir() / name);
+  return load_scene((t.dir() / name).string());
+}
+
+// A manifest's material override replaces the object's vertex colours too; without one they stay.
+TEST_F(GltfEncodings, ManifestMaterialOverridesDropVertexColours) {
+  const glm::vec3 red(1, 0, 0);
+  coloured_quad(*this, "q.glb", glm::vec3(1.0f), red);
+  write_file(dir_ / "keep.scene.json", std::string(R"({"objects": [{"gltf": "q.glb"}]})"));
+  write_file(dir_ / "over.scene.json",
+             std::string(R"({"objects": [{"gltf": "q.glb", "material": {"type": "diffuse"}}]})"));
+  EXPECT_EQ(load_scene(path("keep.scene.json")).shading[0].c0, 0x0000FFu);
+  EXPECT_EQ(load_scene(path("over.scene.json")).shading[0].c0, kNoVertexColor);
+}
+
+// COLOR_0 multiplies the base colour: a red base colour under white vertex colours and a white
+// one under red vertex colours render the same image (CPU reference; the device runs the same
+// shading code, tests/cpu_render_test.cpp).
+TEST_F(GltfEncodings, VertexColoursMultiplyTheBaseColour) {
+  auto render = [](const Scene& s) { return cpu_image(s, 16, 2); };
+  const glm::vec3 red(0.8f, 0.2f, 0.0f), white(1.0f);  // 8-bit exact: 204/255, 51/255
+  const std::vector<float> by_material = render(coloured_quad(*this, "m.glb", red, white));
+  const std::vector<float> by_vertex = render(coloured_quad(*this, "v.glb", white, red));
+  const std::vector<float> plain = render(coloured_quad(*this, "w.glb", white, white));
+  ASSERT_EQ(by_vertex.size(), by_material.size());
+  float worst = 0.0f;  // interpolating equal vertex colours may round in the last bit
+  for (std::size_t i = 0; i < by_vertex.size(); ++i) {
+    worst = std::max(worst, std::abs(by_vertex[i] - by_material[i]));
+  }
+  EXPECT_LT(worst, 1e-5f);
+  EXPECT_NE(by_vertex, plain);
 }
 
 }  // namespace
@@ -376,14 +451,7 @@ TEST(GltfCorpus, EveryEncodingFlattensToThePlainTriangles) {
 // file's camera and seed is the plain file's within relMSE 1e-4.
 TEST(GltfCorpus, EveryEncodingRendersThePlainImage) {
   const Scene plain = hrpp::load_scene((kCorpus / "plain.glb").string());
-  hrpp::RenderConfig config;
-  config.width = config.height = 48;
-  config.spp = 4;
-  config.seed = 7;
-  auto render = [&](const Scene& s) {
-    const hrpp::GpuBvh bvh = hrpp::make_gpu_layout(hrpp::build_bvh(s), s);
-    return hrpp::CpuRenderer(s, bvh, config).render().rgb;
-  };
+  auto render = [](const Scene& s) { return cpu_image(s, 48, 4); };
   const std::vector<float> reference = render(plain);
   for (const Encoded& e : kEncoded) {
     Scene s = hrpp::load_scene((kCorpus / e.file).string());

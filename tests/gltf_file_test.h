@@ -37,6 +37,9 @@ inline std::string expect_error(const std::function<void()>& f, const std::strin
 }
 
 class GltfFileTest : public ::testing::Test {
+ public:
+  const std::filesystem::path& dir() const { return dir_; }
+
  protected:
   void SetUp() override { dir_ = make_temp_dir(tag()); }
   void TearDown() override {

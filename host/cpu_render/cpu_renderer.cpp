@@ -57,7 +57,7 @@ struct PathTracer {
       radiance += path.throughput * m.emission *
                   gpu::emission_weight(params.light_strategy, path, light_pdf);
     }
-    vec3 albedo = m.base_color;
+    vec3 albedo = m.base_color * s.color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
     const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);

@@ -149,6 +149,40 @@ glm::vec3 to_vec3(const std::vector<double>& v, glm::vec3 fallback) {
   return glm::vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
 }
 
+// The formats a vertex attribute may have: FLOAT, or with KHR_mesh_quantization the small
+// integer types in `integers` (bits: 1 << (componentType - BYTE)), normalized or not (or only
+// normalized: normalized_only); COLOR_0 may be VEC3 or VEC4.
+struct AttributeFormat {
+  const char* semantic;
+  int type, other_type = 0;  // other_type: 0, or a second type allowed
+  unsigned integers = 0;
+  bool normalized_only = false;
+  const char* expected = "";
+};
+constexpr unsigned kSmallInts = 0b1111, kSignedInts = 0b0101, kUnsignedInts = 0b1010;
+constexpr AttributeFormat kPosition = {
+    .semantic = "POSITION",
+    .type = TINYGLTF_TYPE_VEC3,
+    .integers = kSmallInts,
+    .expected = "FLOAT VEC3 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC3"};
+constexpr AttributeFormat kNormal = {.semantic = "NORMAL",
+                                     .type = TINYGLTF_TYPE_VEC3,
+                                     .integers = kSignedInts,
+                                     .normalized_only = true,
+                                     .expected = "FLOAT VEC3 or normalized BYTE/SHORT VEC3"};
+constexpr AttributeFormat kTexcoord = {
+    .semantic = "TEXCOORD_0",
+    .type = TINYGLTF_TYPE_VEC2,
+    .integers = kSmallInts,
+    .expected = "FLOAT VEC2 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC2"};
+constexpr AttributeFormat kColor = {
+    .semantic = "COLOR_0",
+    .type = TINYGLTF_TYPE_VEC3,
+    .other_type = TINYGLTF_TYPE_VEC4,
+    .integers = kUnsignedInts,
+    .normalized_only = true,
+    .expected = "FLOAT VEC3/VEC4 or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC3/VEC4"};
+
 class GltfLoader {
  public:
   GltfLoader(const tinygltf::Model& model, std::string file, Scene& scene)
@@ -180,7 +214,6 @@ class GltfLoader {
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
     report_skipped();
     if (texcoord_override_) warn("KHR_texture_transform texCoord ignored (TEXCOORD_0 is used)");
-    if (colors_ignored_) warn("COLOR_0 vertex colours ignored (the renderer has none)");
   }
 
   void warn(const std::string& what) { scene_.warnings.push_back(one_line(file_ + ": " + what)); }
@@ -514,6 +547,7 @@ class GltfLoader {
   struct WorldVertices {
     std::vector<glm::vec3> wp, wn;
     std::vector<glm::vec2> uv;
+    std::vector<std::uint32_t> rgb;  // vertex colours, TriangleShading's packing
   };
 
   void emit_mesh(int mesh_index, const glm::dmat4& world) {
@@ -540,8 +574,9 @@ class GltfLoader {
     const AccessorView pos = attribute(pos_it->second, kPosition);
     const std::optional<AccessorView> nrm = optional_attribute(prim, kNormal, pos.count);
     const std::optional<AccessorView> tc = optional_attribute(prim, kTexcoord, pos.count);
-    colors_ignored_ = colors_ignored_ || prim.attributes.count("COLOR_0") != 0;
+    const std::optional<AccessorView> col = optional_attribute(prim, kColor, pos.count);
     WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
+    if (col) v.rgb = vertex_colors(*col, prim.attributes.at(kColor.semantic));
     std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
     if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
       fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
@@ -552,32 +587,13 @@ class GltfLoader {
     emit_triangles(triangle_list(mode, std::move(sequence)), v, material);
   }
 
-  // The formats a vertex attribute may have: FLOAT, or with KHR_mesh_quantization the small
-  // integer types in `integers` (bits: 1 << (componentType - BYTE)), normalized or not.
-  struct AttributeFormat {
-    const char* semantic;
-    int type;
-    unsigned integers;
-    bool normalized_only;
-    const char* expected;
-  };
-  static constexpr unsigned kSmallInts = 0b1111, kSignedInts = 0b0101;
-  static constexpr AttributeFormat kPosition = {
-      "POSITION", TINYGLTF_TYPE_VEC3, kSmallInts, false,
-      "FLOAT VEC3 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC3"};
-  static constexpr AttributeFormat kNormal = {"NORMAL", TINYGLTF_TYPE_VEC3, kSignedInts, true,
-                                              "FLOAT VEC3 or normalized BYTE/SHORT VEC3"};
-  static constexpr AttributeFormat kTexcoord = {
-      "TEXCOORD_0", TINYGLTF_TYPE_VEC2, kSmallInts, false,
-      "FLOAT VEC2 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC2"};
-
   AccessorView attribute(int accessor, const AttributeFormat& f) {
     const AccessorView v = reader_.view(accessor, f.semantic);
     const int bit = v.component_type - TINYGLTF_COMPONENT_TYPE_BYTE;
     const bool is_float = v.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT && !v.normalized;
     const bool is_int = bit >= 0 && bit < 4 && ((f.integers >> bit) & 1u) != 0 &&
                         (v.normalized || !f.normalized_only);
-    if (v.type != f.type || (!is_float && !is_int)) {
+    if ((v.type != f.type && v.type != f.other_type) || (!is_float && !is_int)) {
       fail("accessor " + std::to_string(accessor) + " (" + f.semantic + ") is " + v.format() +
            ", expected " + f.expected);
     }
@@ -632,6 +648,23 @@ class GltfLoader {
     return v;
   }
 
+  // COLOR_0 as TriangleShading packs it (alpha is not used): 8 bits a channel, clamped to [0, 1].
+  std::vector<std::uint32_t> vertex_colors(const AccessorView& col, int accessor) {
+    std::vector<std::uint32_t> rgb(col.count);
+    for (std::size_t i = 0; i < col.count; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const float x = col.read_float(i, c);
+        if (!std::isfinite(x)) {
+          fail("accessor " + std::to_string(accessor) +
+               " (COLOR_0) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
+        }
+        const float unit = std::clamp(x, 0.0f, 1.0f);
+        rgb[i] |= static_cast<std::uint32_t>(std::lround(unit * 255.0f)) << (8 * c);
+      }
+    }
+    return rgb;
+  }
+
   // The primitive's vertex sequence: its indices (each checked against the vertex count), or
   // 0..vertices-1 when it has none.
   std::vector<std::uint32_t> vertex_sequence(const tinygltf::Primitive& prim,
@@ -683,6 +716,11 @@ class GltfLoader {
         s.n1 = v.wn[k[1]];
         s.n2 = v.wn[k[2]];
       }
+      if (!v.rgb.empty()) {
+        s.c0 = v.rgb[k[0]];
+        s.c1 = v.rgb[k[1]];
+        s.c2 = v.rgb[k[2]];
+      }
       if (!v.uv.empty()) {
         s.uv0 = v.uv[k[0]];
         s.uv1 = v.uv[k[1]];
@@ -704,7 +742,7 @@ class GltfLoader {
   std::size_t instances_ = 0;           // nodes entered so far, over every path
   int default_material_ = -1;
   std::vector<std::optional<glm::mat3>> uv_transform_;  // per glTF material: KHR_texture_transform
-  bool colors_ignored_ = false, texcoord_override_ = false;
+  bool texcoord_override_ = false;
   std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
 };
 

@@ -198,7 +198,10 @@ class ManifestLoader {
       const Material mat = load_material(j["material"], path + ".material");
       part.materials.assign(1, mat);
       part.textures.clear();
-      for (TriangleShading& s : part.shading) s.material = 0;
+      for (TriangleShading& s : part.shading) {  // the override's colour alone
+        s.material = 0;
+        s.c0 = s.c1 = s.c2 = kNoVertexColor;
+      }
     }
     append(scene, std::move(part));
   }
