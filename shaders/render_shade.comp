@@ -91,7 +91,7 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
   shadow_end = 0u;
   if (closes_path(path, params.max_depth)) return radiance;
-  vec3 albedo = m.base_color;
+  vec3 albedo = m.base_color * s.color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
   const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);
   const Lobe lobe = choose_lobe(m, albedo, u.lobe);

@@ -126,6 +126,22 @@ TEST_P(CpuReferenceScenes, AgreesWithTheDevicePerPixel) {
 INSTANTIATE_TEST_SUITE_P(TestScenes, CpuReferenceScenes,
                          testing::ValuesIn(test::reference_scene_names()), test::scene_param_name);
 
+// builtin:cornell with vertex colours on every triangle (as glTF COLOR_0 gives them): the device
+// multiplies them into the base colour as the CPU reference does, and they change the image.
+TEST(CpuReference, VertexColoursAgreeWithTheDevice) {
+  Scene scene = load_scene("builtin:cornell");
+  for (std::size_t i = 0; i < scene.shading.size(); ++i) {
+    TriangleShading& s = scene.shading[i];
+    s.c0 = 0x0000FFu;  // 0xBBGGRR: red
+    s.c1 = 0x00FF00u;
+    s.c2 = static_cast<std::uint32_t>(0x102030u * (i % 5 + 1));
+  }
+  const BothImages r = render_both(scene, small(32, 4));
+  expect_agreement(r, "cornell, vertex colours");
+  EXPECT_NE(r.cpu.rgb, render_both(load_scene("builtin:cornell"), small(32, 4)).cpu.rgb);
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 // builtin:cornell with every lobe, light type and a texture: the short block glass, the tall
 // block a rough metal chosen with probability 0.7 (the rest diffuse), the back wall a mirror,
 // the green wall textured (4 × 4 sRGB checker); a point light, a spot light, a directional

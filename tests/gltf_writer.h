@@ -27,7 +27,8 @@ namespace hrpp::test {
 // glTF constants.
 inline constexpr int kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125,
                      kFloat = 5126;
-inline constexpr int kModePoints = 0, kModeLines = 1, kModeTriangles = 4, kModeTriangleStrip = 5;
+inline constexpr int kModePoints = 0, kModeLines = 1, kModeTriangles = 4, kModeTriangleStrip = 5,
+                     kModeTriangleFan = 6;
 
 class GltfWriter {
  public:

@@ -1,5 +1,6 @@
 // Scene stage: glTF loader, manifests, builtin Cornell box, load_scene dispatch, triangle dump.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,12 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "gltf_file_test.h"
 #include "gltf_writer.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
 
 namespace fs = std::filesystem;
 using hrpp::Scene;
+using hrpp::test::expect_error;
 using hrpp::test::GltfWriter;
 using nlohmann::json;
 
@@ -35,45 +38,11 @@ void expect_near(glm::vec3 a, glm::vec3 b, float eps = kEps) {
   EXPECT_NEAR(a.z, b.z, eps) << "z";
 }
 
-// Runs f, expects an hrpp::Error with a one-line message that starts with `file` (the path as
-// passed) and contains `fragment`; returns the message.
-std::string expect_error(const std::function<void()>& f, const std::string& file,
-                         const std::string& fragment = "") {
-  try {
-    f();
-  } catch (const hrpp::Error& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    EXPECT_EQ(msg.rfind(file, 0), 0u) << "message does not start with " << file << ": " << msg;
-    EXPECT_NE(msg.find(fragment), std::string::npos) << "missing '" << fragment << "': " << msg;
-    return msg;
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not an hrpp::Error: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "no error thrown";
-  return "";
-}
-
 const std::vector<glm::vec3> kTri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 const std::vector<glm::vec3> kQuad = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
 const std::vector<std::uint32_t> kQuadIdx = {0, 1, 2, 0, 2, 3};
 
-class SceneTest : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = hrpp::test::make_temp_dir("scene_test"); }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  // Writes w to dir_/name and loads it.
-  Scene load(const GltfWriter& w, const std::string& name = "s.glb") {
-    w.write(dir_ / name);
-    return hrpp::load_gltf(dir_ / name);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+class SceneTest : public hrpp::test::GltfFileTest {};
 
 GltfWriter one_triangle() {
   GltfWriter w;
@@ -464,7 +433,8 @@ TEST_F(SceneTest, ErrorAccessorOutOfRange) {
   expect_error([&] { hrpp::load_gltf(dir_ / "huge.glb"); }, path("huge.glb"), "accessor 0");
 
   GltfWriter t = one_triangle();
-  t.doc["accessors"][0]["componentType"] = hrpp::test::kUnsignedShort;
+  t.doc["accessors"][0]["componentType"] =
+      hrpp::test::kUnsignedInt;  // not in KHR_mesh_quantization
   t.write(dir_ / "type.glb");
   expect_error([&] { hrpp::load_gltf(dir_ / "type.glb"); }, path("type.glb"), "POSITION");
 }
@@ -494,16 +464,97 @@ TEST_F(SceneTest, ErrorNonFinitePositions) {
   }
 }
 
-TEST_F(SceneTest, ErrorNonTriangleModes) {
-  for (int mode : {hrpp::test::kModePoints, hrpp::test::kModeLines,
-                   hrpp::test::kModeTriangleStrip, 6}) {
-    GltfWriter w;
-    const int pos = w.add_vec3(kTri);
-    w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, -1, -1, -1, mode)}))});
-    w.write(dir_ / "mode.glb");
-    expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
-                 "mode " + std::to_string(mode));
+// A primitive of `positions` in `mode`, indexed when `indices` is not empty.
+GltfWriter one_primitive(const std::vector<glm::vec3>& positions, int mode,
+                         const std::vector<std::uint32_t>& indices = {}) {
+  GltfWriter w;
+  const int pos = w.add_vec3(positions);
+  const int idx = indices.empty() ? -1 : w.add_indices(indices, hrpp::test::kUnsignedShort);
+  w.add_scene({w.add_node(w.add_mesh({GltfWriter::primitive(pos, idx, -1, -1, -1, mode)}))});
+  return w;
+}
+
+// Expects the scene's triangles to be exactly these vertices of `p`, in order.
+void expect_triangles(const Scene& s, const std::vector<glm::vec3>& p,
+                      const std::vector<std::array<int, 3>>& want) {
+  ASSERT_EQ(s.triangles.size(), want.size());
+  for (std::size_t t = 0; t < want.size(); ++t) {
+    SCOPED_TRACE("triangle " + std::to_string(t));
+    expect_near(s.triangles[t].v0, p[want[t][0]], 0.0f);
+    expect_near(s.triangles[t].v1, p[want[t][1]], 0.0f);
+    expect_near(s.triangles[t].v2, p[want[t][2]], 0.0f);
   }
+}
+
+// Strips and fans, plain and indexed, with the triangles the spec's order makes and the sign of
+// their normals' z: every triangle of a strip or fan over a convex polygon winds the same way.
+struct StripOrFan {
+  int mode;
+  std::vector<glm::vec3> positions;
+  std::vector<std::uint32_t> indices;
+  std::vector<std::array<int, 3>> triangles;
+  float winding;
+};
+
+TEST_F(SceneTest, TriangleStripsAndFansUseTheSpecOrderAndWinding) {
+  using hrpp::test::kModeTriangleFan, hrpp::test::kModeTriangleStrip;
+  const std::vector<glm::vec3> zigzag = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+  const std::vector<glm::vec3> polygon = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}};
+  const StripOrFan cases[] = {
+      {kModeTriangleStrip, zigzag, {}, {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}}, -1.0f},
+      {kModeTriangleStrip, zigzag, {4, 3, 2, 1}, {{4, 3, 2}, {3, 1, 2}}, 1.0f},
+      {kModeTriangleFan, polygon, {}, {{1, 2, 0}, {2, 3, 0}, {3, 4, 0}}, 1.0f},
+      {kModeTriangleFan, polygon, {0, 1, 2, 3}, {{1, 2, 0}, {2, 3, 0}}, 1.0f},
+  };
+  for (const StripOrFan& c : cases) {
+    SCOPED_TRACE("mode " + std::to_string(c.mode) + ", " + std::to_string(c.indices.size()) +
+                 " indices");
+    const Scene s = load(one_primitive(c.positions, c.mode, c.indices));
+    expect_triangles(s, c.positions, c.triangles);
+    for (const hrpp::Triangle& t : s.triangles) {
+      EXPECT_GT(c.winding * glm::cross(t.v1 - t.v0, t.v2 - t.v0).z, 0.0f) << "winding flips";
+    }
+  }
+}
+
+TEST_F(SceneTest, ShortStripsAndFansHaveNoTriangles) {
+  for (int mode : {hrpp::test::kModeTriangleStrip, hrpp::test::kModeTriangleFan}) {
+    GltfWriter w;
+    const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}});
+    w.add_scene({w.add_node(w.add_triangles(kTri)),
+                 w.add_node(w.add_mesh({GltfWriter::primitive(pos, -1, -1, -1, -1, mode)}))});
+    EXPECT_EQ(load(w).triangles.size(), 1u) << "mode " << mode;
+  }
+}
+
+// Points and lines are skipped with one warning that counts them; the triangles stay.
+TEST_F(SceneTest, PointsAndLinesAreSkippedWithOneWarning) {
+  GltfWriter w;
+  const int pos = w.add_vec3(kTri);
+  std::vector<json> prims;
+  for (int mode : {0, 1, 2, 3}) prims.push_back(GltfWriter::primitive(pos, -1, -1, -1, -1, mode));
+  prims.push_back(GltfWriter::primitive(pos));
+  const int mesh = w.add_mesh(prims);
+  w.add_scene({w.add_node(mesh), w.add_node(mesh)});  // instanced twice: still 4 primitives
+  const Scene s = load(w, "mixed.glb");
+  EXPECT_EQ(s.triangles.size(), 2u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0],
+            path("mixed.glb") + ": 4 points/lines primitives skipped (not surfaces)");
+}
+
+TEST_F(SceneTest, ErrorOnlyPointsAndLines) {
+  for (int mode : {hrpp::test::kModePoints, hrpp::test::kModeLines}) {
+    one_primitive(kTri, mode).write(dir_ / "mode.glb");
+    expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
+                 "no triangles: only 1 points/lines primitive (not surfaces)");
+  }
+}
+
+TEST_F(SceneTest, ErrorUnknownMode) {
+  one_primitive(kTri, 7).write(dir_ / "mode.glb");
+  expect_error([&] { hrpp::load_gltf(dir_ / "mode.glb"); }, path("mode.glb"),
+               "mode 7 (unknown) is not supported");
 }
 
 TEST_F(SceneTest, ErrorZeroTriangles) {

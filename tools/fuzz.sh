@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the libFuzzer targets (fuzz/) of the "asan" build for a bounded time each, from the seed
-# corpora (fuzz/corpus/<target>/ and the bad-input corpus tests/data/bad/). New inputs go to
-# build/asan/fuzz-corpus/<target>/, crashes to build/asan/fuzz-findings/. Exit status non-zero
+# corpora (fuzz/corpus/<target>/, the bad-input corpus tests/data/bad/ and, for glTF, the
+# encodings corpus tests/data/gltf_encodings/: quantized, meshopt and Draco files). New inputs go
+# to build/asan/fuzz-corpus/<target>/, crashes to build/asan/fuzz-findings/. Exit status non-zero
 # on any crash, sanitizer report, leak or timeout.
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET (default 30)] [TARGET...]
 set -euo pipefail
@@ -18,7 +19,7 @@ for t in "${targets[@]}"; do
   corpus="$build/fuzz-corpus/$t"
   mkdir -p "$corpus"
   case $t in
-    fuzz_gltf) seeds=(fuzz/corpus/gltf tests/data/bad/gltf) ;;
+    fuzz_gltf) seeds=(fuzz/corpus/gltf tests/data/bad/gltf tests/data/gltf_encodings) ;;
     fuzz_manifest) seeds=(fuzz/corpus/manifest tests/data/bad/manifest) ;;
     *) echo "fuzz: unknown target $t" >&2; exit 1 ;;
   esac

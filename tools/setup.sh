@@ -9,7 +9,7 @@ packages=(
   build-essential cmake pkg-config git ca-certificates
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers
   glslang-tools glslang-dev spirv-tools
-  libglm-dev libtinygltf-dev libstb-dev libopenimageio-dev openimageio-tools
+  libglm-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev libstb-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libembree-dev
   python3 python3-numpy python3-matplotlib python3-openimageio parallel
   clang libclang-rt-14-dev llvm-14

@@ -68,6 +68,53 @@ def full_doc():
     }, buf
 
 
+def encodings_doc():
+    """KHR_mesh_quantization (BYTE positions and normalized SHORT normals in 4-byte padded
+    strides, UNSIGNED_SHORT texcoords), a sparse accessor, a strip, a fan, a points primitive,
+    KHR_texture_transform and an unknown used extension. (The meshopt and Draco seeds are
+    tests/data/gltf_encodings/, which tools/fuzz.sh adds.)"""
+    pos = b"".join(struct.pack("<3bx", *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)])
+    nrm = b"".join(struct.pack("<3hxx", 0, 0, 32767) for _ in range(4))
+    uv = struct.pack("<8H", 0, 0, 65535, 0, 0, 65535, 65535, 65535)
+    sparse_idx = struct.pack("<H", 3) + b"\0\0"
+    sparse_val = struct.pack("<3bx", 2, 2, 0)
+    buf = pos + nrm + uv + sparse_idx + sparse_val
+    prims = [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "mode": m, "material": 0}
+             for m in (4, 5, 6, 0)]
+    prims[0]["attributes"]["POSITION"] = 3
+    prims[0]["indices"] = 4
+    idx = struct.pack("<6B", 0, 1, 2, 1, 3, 2) + b"\0\0"
+    buf += idx
+    return {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization", "KHR_texture_transform", "EXT_unknown"],
+        "extensionsRequired": ["KHR_mesh_quantization"],
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "scale": [0.5, 0.5, 0.5]}],
+        "meshes": [{"primitives": prims}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {
+            "index": 0, "extensions": {"KHR_texture_transform": {
+                "offset": [0.5, 0], "rotation": 0.3, "scale": [2, 2]}}}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(png(2, 2)).decode()}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5120, "count": 4, "type": "VEC3"},
+            {"bufferView": 1, "componentType": 5122, "normalized": True, "count": 4, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5123, "normalized": True, "count": 4, "type": "VEC2"},
+            {"bufferView": 0, "componentType": 5120, "count": 4, "type": "VEC3",
+             "sparse": {"count": 1, "indices": {"bufferView": 3, "componentType": 5123},
+                        "values": {"bufferView": 4}}},
+            {"bufferView": 5, "componentType": 5121, "count": 6, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 16, "byteStride": 4},
+                        {"buffer": 0, "byteOffset": 16, "byteLength": 32, "byteStride": 8},
+                        {"buffer": 0, "byteOffset": 48, "byteLength": 16},
+                        {"buffer": 0, "byteOffset": 64, "byteLength": 2},
+                        {"buffer": 0, "byteOffset": 68, "byteLength": 4},
+                        {"buffer": 0, "byteOffset": 72, "byteLength": 6}],
+        "buffers": [{"byteLength": len(buf), "uri": uri(buf)}],
+    }
+
+
 def glb(d, binary):
     d = json.loads(json.dumps(d))
     d["buffers"] = [{"byteLength": len(binary)}]
@@ -101,6 +148,7 @@ def main():
     u8["bufferViews"].append({"buffer": 0, "byteOffset": 36, "byteLength": 3})
     u8["buffers"] = [{"byteLength": len(data), "uri": uri(data)}]
     put("gltf", "triangle_u8_indices.gltf", json.dumps(u8, separators=(",", ":")))
+    put("gltf", "encodings.gltf", json.dumps(encodings_doc(), separators=(",", ":")))
 
     # Manifests: tri.glb is written next to the input by fuzz_manifest.cpp.
     put("manifest", "full.scene.json", json.dumps({

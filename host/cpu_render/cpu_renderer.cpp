@@ -59,7 +59,7 @@ struct PathTracer {
     }
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
     if (gpu::closes_path(path, params.max_depth)) return false;
-    vec3 albedo = m.base_color;
+    vec3 albedo = m.base_color * s.color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);
     const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, u.lobe);

@@ -132,11 +132,14 @@ float add_triangles(const Scene& scene, RenderScene& out, std::vector<float>& po
     g.v1 = t.v1;
     g.v2 = t.v2;
     g.material = s.material < scene.materials.size() ? s.material : 0;
-    g.has_normals = (s.n0 != glm::vec3(0.0f) || s.n1 != glm::vec3(0.0f) ||
-                     s.n2 != glm::vec3(0.0f)) ? 1u : 0u;
-    g.n0 = glm::vec4(s.n0, 0.0f);
-    g.n1 = glm::vec4(s.n1, 0.0f);
-    g.n2 = glm::vec4(s.n2, 0.0f);
+    const bool normals =
+        s.n0 != glm::vec3(0.0f) || s.n1 != glm::vec3(0.0f) || s.n2 != glm::vec3(0.0f);
+    const bool colors = s.c0 != kNoVertexColor || s.c1 != kNoVertexColor || s.c2 != kNoVertexColor;
+    g.vertex_data = (normals ? HRPP_VERTEX_NORMALS : 0u) | (colors ? HRPP_VERTEX_COLORS : 0u);
+    // Colours below 2^24: exact as float values.
+    g.n0 = glm::vec4(s.n0, static_cast<float>(s.c0));
+    g.n1 = glm::vec4(s.n1, static_cast<float>(s.c1));
+    g.n2 = glm::vec4(s.n2, static_cast<float>(s.c2));
     g.uv01 = glm::vec4(s.uv0, s.uv1);
     g.uv2 = glm::vec4(s.uv2, 0.0f, 0.0f);
     lo = glm::min(lo, glm::min(t.v0, glm::min(t.v1, t.v2)));

@@ -23,6 +23,11 @@
 #include <tiny_gltf.h>
 
 #include "common/error.h"
+#include "scene/gltf_accessor.h"
+#include "scene/gltf_draco.h"
+#include "scene/gltf_meshopt.h"
+#include "scene/gltf_prepass.h"
+#include "scene/gltf_topology.h"
 #include "scene/image_header.h"
 #include "scene/load_scene.h"
 
@@ -121,105 +126,6 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   return false;
 }
 
-const char* mode_name(int mode) {
-  switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
-    case TINYGLTF_MODE_TRIANGLE_STRIP: return "TRIANGLE_STRIP";
-    case TINYGLTF_MODE_TRIANGLE_FAN: return "TRIANGLE_FAN";
-    default: return "unknown";
-  }
-}
-
-int component_size(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
-  }
-}
-
-const char* component_name(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
-    case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
-    case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
-    default: return "invalid";
-  }
-}
-
-int type_components(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
-  }
-}
-
-const char* type_name(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-    case TINYGLTF_TYPE_VEC2: return "VEC2";
-    case TINYGLTF_TYPE_VEC3: return "VEC3";
-    case TINYGLTF_TYPE_VEC4: return "VEC4";
-    case TINYGLTF_TYPE_MAT2: return "MAT2";
-    case TINYGLTF_TYPE_MAT3: return "MAT3";
-    case TINYGLTF_TYPE_MAT4: return "MAT4";
-    default: return "invalid";
-  }
-}
-
-// A validated accessor: every element lies inside its buffer.
-struct View {
-  const std::uint8_t* base = nullptr;
-  std::size_t stride = 0;
-  std::size_t count = 0;
-  int component_type = 0;
-  int components = 0;
-  bool normalized = false;
-
-  template <typename T>
-  T load(std::size_t element, int component) const {
-    T v;
-    std::memcpy(&v, base + element * stride + component * sizeof(T), sizeof(T));
-    return v;
-  }
-  // Float value of a float or (normalised) unsigned integer component.
-  float read_float(std::size_t element, int component) const {
-    switch (component_type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(element, component);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return static_cast<float>(load<std::uint8_t>(element, component)) / 255.0f;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-        return static_cast<float>(load<std::uint16_t>(element, component)) / 65535.0f;
-      default: return 0.0f;
-    }
-  }
-  std::uint32_t read_index(std::size_t element) const {
-    switch (component_type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load<std::uint8_t>(element, 0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load<std::uint16_t>(element, 0);
-      default: return load<std::uint32_t>(element, 0);
-    }
-  }
-};
-
 glm::dmat4 node_local_matrix(const tinygltf::Node& node) {
   if (!node.matrix.empty()) return glm::make_mat4(node.matrix.data());  // column-major
   glm::dmat4 m(1.0);
@@ -243,6 +149,40 @@ glm::vec3 to_vec3(const std::vector<double>& v, glm::vec3 fallback) {
   return glm::vec3(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
 }
 
+// The formats a vertex attribute may have: FLOAT, or with KHR_mesh_quantization the small
+// integer types in `integers` (bits: 1 << (componentType - BYTE)), normalized or not (or only
+// normalized: normalized_only); COLOR_0 may be VEC3 or VEC4.
+struct AttributeFormat {
+  const char* semantic;
+  int type, other_type = 0;  // other_type: 0, or a second type allowed
+  unsigned integers = 0;
+  bool normalized_only = false;
+  const char* expected = "";
+};
+constexpr unsigned kSmallInts = 0b1111, kSignedInts = 0b0101, kUnsignedInts = 0b1010;
+constexpr AttributeFormat kPosition = {
+    .semantic = "POSITION",
+    .type = TINYGLTF_TYPE_VEC3,
+    .integers = kSmallInts,
+    .expected = "FLOAT VEC3 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC3"};
+constexpr AttributeFormat kNormal = {.semantic = "NORMAL",
+                                     .type = TINYGLTF_TYPE_VEC3,
+                                     .integers = kSignedInts,
+                                     .normalized_only = true,
+                                     .expected = "FLOAT VEC3 or normalized BYTE/SHORT VEC3"};
+constexpr AttributeFormat kTexcoord = {
+    .semantic = "TEXCOORD_0",
+    .type = TINYGLTF_TYPE_VEC2,
+    .integers = kSmallInts,
+    .expected = "FLOAT VEC2 or (normalized) BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT VEC2"};
+constexpr AttributeFormat kColor = {
+    .semantic = "COLOR_0",
+    .type = TINYGLTF_TYPE_VEC3,
+    .other_type = TINYGLTF_TYPE_VEC4,
+    .integers = kUnsignedInts,
+    .normalized_only = true,
+    .expected = "FLOAT VEC3/VEC4 or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC3/VEC4"};
+
 class GltfLoader {
  public:
   GltfLoader(const tinygltf::Model& model, std::string file, Scene& scene)
@@ -253,6 +193,15 @@ class GltfLoader {
   }
 
   void load() {
+    try {
+      load_default_scene();
+    } catch (const GltfError& e) {
+      fail(e.what());
+    }
+  }
+
+ private:
+  void load_default_scene() {
     if (m_.scenes.empty()) fail("glTF has no scene");
     int scene_index = m_.defaultScene;
     if (scene_index < 0) scene_index = 0;
@@ -263,9 +212,22 @@ class GltfLoader {
     texture_of_image_.assign(m_.images.size(), -1);
     state_.assign(m_.nodes.size(), 0);
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
+    report_skipped();
+    if (texcoord_override_) warn("KHR_texture_transform texCoord ignored (TEXCOORD_0 is used)");
   }
 
- private:
+  void warn(const std::string& what) { scene_.warnings.push_back(one_line(file_ + ": " + what)); }
+
+  // Points and lines are valid glTF but no surface: skipped with one warning, or refused when
+  // nothing else is left.
+  void report_skipped() {
+    if (skipped_.empty()) return;
+    const std::string what = std::to_string(skipped_.size()) + " points/lines primitive" +
+                             (skipped_.size() == 1 ? "" : "s");
+    if (scene_.triangles.empty()) fail("no triangles: only " + what + " (not surfaces)");
+    warn(what + " skipped (not surfaces)");
+  }
+
   // ---- materials -----------------------------------------------------------------------------
   static double ext_number(const tinygltf::ExtensionMap& ext, const char* name, const char* key,
                            double fallback) {
@@ -301,7 +263,43 @@ class GltfLoader {
       scene_.materials.push_back(std::move(mat));
       // Texture decoding is deferred until first use (see walk), but resolved here for errors.
       base_texture_.push_back(pbr.baseColorTexture.index);
+      uv_transform_.push_back(texture_transform(pbr.baseColorTexture.extensions, i));
     }
+  }
+
+  // KHR_texture_transform of a material's base colour texture as the matrix the spec gives:
+  // translation(offset) * rotation(rotation) * scale(scale), applied to (u, v, 1).
+  std::optional<glm::mat3> texture_transform(const tinygltf::ExtensionMap& ext, std::size_t i) {
+    auto it = ext.find("KHR_texture_transform");
+    if (it == ext.end() || !it->second.IsObject()) return std::nullopt;
+    auto pair = [&](const char* key, float fallback) {
+      glm::vec2 v(fallback);
+      if (!it->second.Has(key)) return v;
+      const tinygltf::Value& a = it->second.Get(key);
+      for (int c = 0; c < 2; ++c) {
+        const bool ok = a.IsArray() && a.ArrayLen() == 2 && a.Get(c).IsNumber();
+        v[c] = ok ? static_cast<float>(a.Get(c).GetNumberAsDouble()) : NAN;
+      }
+      return v;
+    };
+    const glm::vec2 offset = pair("offset", 0.0f), scale = pair("scale", 1.0f);
+    const float r = static_cast<float>(ext_number(ext, "KHR_texture_transform", "rotation", 0.0));
+    if (!std::isfinite(offset.x + offset.y + scale.x + scale.y + r)) {
+      fail("material " + std::to_string(i) +
+           ": KHR_texture_transform has a non-numeric or "
+           "non-finite offset, rotation or scale");
+    }
+    if (it->second.Has("texCoord")) texcoord_override_ = true;
+    const float c = std::cos(r), s = std::sin(r);
+    // Columns (as the extension's GLSL, column-major): the images of u, v and 1.
+    return glm::mat3(glm::vec3(c * scale.x, s * scale.x, 0.0f),
+                     glm::vec3(-s * scale.y, c * scale.y, 0.0f), glm::vec3(offset, 1.0f));
+  }
+
+  void transform_texcoords(int material, std::vector<glm::vec2>& uv) const {
+    const std::optional<glm::mat3>& t = uv_transform_[material];
+    if (!t) return;
+    for (glm::vec2& p : uv) p = glm::vec2(*t * glm::vec3(p, 1.0f));
   }
 
   int texture_for(int material_index) {
@@ -327,14 +325,7 @@ class GltfLoader {
     const std::uint8_t* bytes = nullptr;
     std::size_t size = 0;
     if (gi.bufferView >= 0) {
-      const std::string where = "image " + std::to_string(img);
-      if (static_cast<std::size_t>(gi.bufferView) >= m_.bufferViews.size()) {
-        fail(where + ": bufferView " + std::to_string(gi.bufferView) + " does not exist");
-      }
-      const tinygltf::BufferView& bv = m_.bufferViews[gi.bufferView];
-      const std::vector<unsigned char>& buf = buffer_of(bv, gi.bufferView);
-      bytes = buf.data() + bv.byteOffset;
-      size = bv.byteLength;
+      bytes = reader_.view_bytes(gi.bufferView, size);
     } else if (gi.as_is) {
       bytes = gi.image.data();
       size = gi.image.size();
@@ -404,79 +395,6 @@ class GltfLoader {
       scene_.materials[index].base_color_texture = texture_for(index);
     }
     return static_cast<std::uint32_t>(index);
-  }
-
-  // ---- buffers and accessors -----------------------------------------------------------------
-  const std::vector<unsigned char>& buffer_of(const tinygltf::BufferView& bv, int bv_index) const {
-    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
-      fail("bufferView " + std::to_string(bv_index) + ": buffer " + std::to_string(bv.buffer) +
-           " does not exist");
-    }
-    const std::vector<unsigned char>& data = m_.buffers[bv.buffer].data;
-    std::size_t end = 0;
-    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &end) || end > data.size()) {
-      fail("bufferView " + std::to_string(bv_index) + " lies past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    return data;
-  }
-
-  View view(int index, const std::string& use) const {
-    const std::string where = "accessor " + std::to_string(index) + " (" + use + ")";
-    if (index < 0 || static_cast<std::size_t>(index) >= m_.accessors.size()) {
-      fail(use + ": accessor " + std::to_string(index) + " does not exist");
-    }
-    const tinygltf::Accessor& acc = m_.accessors[index];
-    if (acc.sparse.isSparse) fail(where + ": sparse accessors are not supported");
-    View v;
-    v.count = acc.count;
-    v.component_type = acc.componentType;
-    v.components = type_components(acc.type);
-    v.normalized = acc.normalized;
-    const int csize = component_size(acc.componentType);
-    if (csize == 0) fail(where + ": invalid componentType " + std::to_string(acc.componentType));
-    if (v.components == 0) fail(where + ": invalid type");
-    if (acc.bufferView < 0 || static_cast<std::size_t>(acc.bufferView) >= m_.bufferViews.size()) {
-      fail(where + ": bufferView " + std::to_string(acc.bufferView) + " does not exist");
-    }
-    const tinygltf::BufferView& bv = m_.bufferViews[acc.bufferView];
-    const std::size_t element = static_cast<std::size_t>(csize) * v.components;
-    v.stride = bv.byteStride != 0 ? bv.byteStride : element;
-    if (v.stride < element) {
-      fail(where + ": byteStride " + std::to_string(bv.byteStride) +
-           " is smaller than the element size " + std::to_string(element));
-    }
-    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= m_.buffers.size()) {
-      fail("bufferView " + std::to_string(acc.bufferView) + ": buffer " +
-           std::to_string(bv.buffer) + " does not exist");
-    }
-    const std::size_t buffer_size = m_.buffers[bv.buffer].data.size();
-    if (v.count == 0) {
-      v.base = m_.buffers[bv.buffer].data.data();
-      return v;
-    }
-    // Bytes the accessor reads, relative to the view: byteOffset + stride*(count-1) + element.
-    std::size_t span = 0, in_view_end = 0, abs_end = 0;
-    bool overflow = __builtin_mul_overflow(v.stride, v.count - 1, &span) ||
-                    __builtin_add_overflow(span, element, &span) ||
-                    __builtin_add_overflow(span, acc.byteOffset, &in_view_end) ||
-                    __builtin_add_overflow(in_view_end, bv.byteOffset, &abs_end);
-    if (overflow || abs_end > buffer_size) {
-      fail("accessor " + std::to_string(index) + " reads past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    std::size_t view_end = 0;
-    if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) ||
-        view_end > buffer_size) {
-      fail("bufferView " + std::to_string(acc.bufferView) + " lies past the end of buffer " +
-           std::to_string(bv.buffer));
-    }
-    if (in_view_end > bv.byteLength) {
-      fail("accessor " + std::to_string(index) + " reads past the end of bufferView " +
-           std::to_string(acc.bufferView));
-    }
-    v.base = m_.buffers[bv.buffer].data.data() + bv.byteOffset + acc.byteOffset;
-    return v;
   }
 
   // ---- node graph ----------------------------------------------------------------------------
@@ -629,6 +547,7 @@ class GltfLoader {
   struct WorldVertices {
     std::vector<glm::vec3> wp, wn;
     std::vector<glm::vec2> uv;
+    std::vector<std::uint32_t> rgb;  // vertex colours, TriangleShading's packing
   };
 
   void emit_mesh(int mesh_index, const glm::dmat4& world) {
@@ -641,76 +560,67 @@ class GltfLoader {
     const tinygltf::Primitive& prim = m_.meshes[mesh_index].primitives[p];
     const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " +
                               std::to_string(p);
-    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
-      fail(where + ": mode " + std::to_string(mode) + " (" + mode_name(mode) +
-           ") is not supported, only TRIANGLES (4)");
+    const int mode = prim.mode < 0 ? kGltfTriangles : prim.mode;
+    if (is_point_or_line_mode(mode)) {
+      skipped_.insert({mesh_index, p});
+      return;
+    }
+    if (mode > kGltfTriangleFan) {
+      fail(where + ": mode " + std::to_string(mode) + " (" + gltf_mode_name(mode) +
+           ") is not supported, only TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6)");
     }
     auto pos_it = prim.attributes.find("POSITION");
     if (pos_it == prim.attributes.end()) fail(where + " has no POSITION attribute");
-    const View pos = view(pos_it->second, "POSITION");
-    if (pos.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT || pos.components != 3 ||
-        m_.accessors[pos_it->second].type != TINYGLTF_TYPE_VEC3) {
-      fail("accessor " + std::to_string(pos_it->second) + " (POSITION) is " +
-           component_name(pos.component_type) + " " +
-           type_name(m_.accessors[pos_it->second].type) + ", expected FLOAT VEC3");
+    const AccessorView pos = attribute(pos_it->second, kPosition);
+    const std::optional<AccessorView> nrm = optional_attribute(prim, kNormal, pos.count);
+    const std::optional<AccessorView> tc = optional_attribute(prim, kTexcoord, pos.count);
+    const std::optional<AccessorView> col = optional_attribute(prim, kColor, pos.count);
+    WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
+    if (col) v.rgb = vertex_colors(*col, prim.attributes.at(kColor.semantic));
+    std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
+    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
+      fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
+           std::to_string(sequence.size()) + " is not a multiple of 3");
     }
-    const std::optional<View> nrm = normal_view(prim, pos.count);
-    const std::optional<View> tc = texcoord_view(prim, pos.count);
-    const WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
-    View idx;
-    const std::size_t n_indices = index_count(prim, where, pos.count, idx);
     const std::uint32_t material = material_for(prim.material, mesh_index, p);
-    emit_triangles(prim, idx, n_indices, v, material);
+    if (prim.material >= 0) transform_texcoords(prim.material, v.uv);
+    emit_triangles(triangle_list(mode, std::move(sequence)), v, material);
   }
 
-  std::optional<View> normal_view(const tinygltf::Primitive& prim, std::size_t vertices) {
-    auto it = prim.attributes.find("NORMAL");
-    if (it == prim.attributes.end()) return std::nullopt;
-    View nrm = view(it->second, "NORMAL");
-    if (nrm.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-        m_.accessors[it->second].type != TINYGLTF_TYPE_VEC3) {
-      fail("accessor " + std::to_string(it->second) + " (NORMAL) is " +
-           component_name(nrm.component_type) + " " +
-           type_name(m_.accessors[it->second].type) + ", expected FLOAT VEC3");
+  AccessorView attribute(int accessor, const AttributeFormat& f) {
+    const AccessorView v = reader_.view(accessor, f.semantic);
+    const int bit = v.component_type - TINYGLTF_COMPONENT_TYPE_BYTE;
+    const bool is_float = v.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT && !v.normalized;
+    const bool is_int = bit >= 0 && bit < 4 && ((f.integers >> bit) & 1u) != 0 &&
+                        (v.normalized || !f.normalized_only);
+    if ((v.type != f.type && v.type != f.other_type) || (!is_float && !is_int)) {
+      fail("accessor " + std::to_string(accessor) + " (" + f.semantic + ") is " + v.format() +
+           ", expected " + f.expected);
     }
-    if (nrm.count != vertices) {
-      fail("accessor " + std::to_string(it->second) + " (NORMAL) has " +
-           std::to_string(nrm.count) + " elements, POSITION has " + std::to_string(vertices));
-    }
-    return nrm;
+    return v;
   }
 
-  std::optional<View> texcoord_view(const tinygltf::Primitive& prim, std::size_t vertices) {
-    auto it = prim.attributes.find("TEXCOORD_0");
+  std::optional<AccessorView> optional_attribute(const tinygltf::Primitive& prim,
+                                                 const AttributeFormat& f, std::size_t vertices) {
+    auto it = prim.attributes.find(f.semantic);
     if (it == prim.attributes.end()) return std::nullopt;
-    View tc = view(it->second, "TEXCOORD_0");
-    const bool ok_type = m_.accessors[it->second].type == TINYGLTF_TYPE_VEC2;
-    const bool ok_comp =
-        tc.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-        (tc.normalized && (tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                           tc.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
-    if (!ok_type || !ok_comp) {
-      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) is " +
-           (tc.normalized ? "normalized " : "") + component_name(tc.component_type) + " " +
-           type_name(m_.accessors[it->second].type) +
-           ", expected FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT VEC2");
+    const AccessorView v = attribute(it->second, f);
+    if (v.count != vertices) {
+      fail("accessor " + std::to_string(it->second) + " (" + f.semantic + ") has " +
+           std::to_string(v.count) + " elements, POSITION has " + std::to_string(vertices));
     }
-    if (tc.count != vertices) {
-      fail("accessor " + std::to_string(it->second) + " (TEXCOORD_0) has " +
-           std::to_string(tc.count) + " elements, POSITION has " + std::to_string(vertices));
-    }
-    return tc;
+    return v;
   }
 
   // Transforms every vertex once.
-  WorldVertices world_vertices(const View& pos, int pos_accessor, const std::optional<View>& nrm,
-                               const std::optional<View>& tc, const glm::dmat4& world) {
+  WorldVertices world_vertices(const AccessorView& pos, int pos_accessor,
+                               const std::optional<AccessorView>& nrm,
+                               const std::optional<AccessorView>& tc, const glm::dmat4& world) {
     const std::size_t nv = pos.count;
     WorldVertices v;
     v.wp.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) {
-      const glm::dvec3 p(pos.load<float>(i, 0), pos.load<float>(i, 1), pos.load<float>(i, 2));
+      const glm::dvec3 p(pos.read_float(i, 0), pos.read_float(i, 1), pos.read_float(i, 2));
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
         fail("accessor " + std::to_string(pos_accessor) +
              " (POSITION) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
@@ -725,7 +635,7 @@ class GltfLoader {
       const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
       v.wn.resize(nv);
       for (std::size_t i = 0; i < nv; ++i) {
-        glm::dvec3 n(nrm->load<float>(i, 0), nrm->load<float>(i, 1), nrm->load<float>(i, 2));
+        glm::dvec3 n(nrm->read_float(i, 0), nrm->read_float(i, 1), nrm->read_float(i, 2));
         n = normal_matrix * n;
         const double len = glm::length(n);
         v.wn[i] = (len > 0.0 && std::isfinite(len)) ? glm::vec3(n / len) : glm::vec3(0.0f);
@@ -738,61 +648,78 @@ class GltfLoader {
     return v;
   }
 
-  // The primitive's index count (its vertex count when it has no indices), a multiple of 3;
-  // `idx`: the indices accessor when there is one.
-  std::size_t index_count(const tinygltf::Primitive& prim, const std::string& where,
-                          std::size_t vertices, View& idx) {
-    std::size_t n_indices = vertices;
-    const bool indexed = prim.indices >= 0;
-    if (indexed) {
-      idx = view(prim.indices, "indices");
-      if (m_.accessors[prim.indices].type != TINYGLTF_TYPE_SCALAR ||
-          (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-           idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-        fail("accessor " + std::to_string(prim.indices) + " (indices) is " +
-             component_name(idx.component_type) + " " +
-             type_name(m_.accessors[prim.indices].type) +
-             ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
+  // COLOR_0 as TriangleShading packs it (alpha is not used): 8 bits a channel, clamped to [0, 1].
+  std::vector<std::uint32_t> vertex_colors(const AccessorView& col, int accessor) {
+    std::vector<std::uint32_t> rgb(col.count);
+    for (std::size_t i = 0; i < col.count; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const float x = col.read_float(i, c);
+        if (!std::isfinite(x)) {
+          fail("accessor " + std::to_string(accessor) +
+               " (COLOR_0) has a non-finite value (NaN or Inf) at element " + std::to_string(i));
+        }
+        const float unit = std::clamp(x, 0.0f, 1.0f);
+        rgb[i] |= static_cast<std::uint32_t>(std::lround(unit * 255.0f)) << (8 * c);
       }
-      n_indices = idx.count;
-    } else if (prim.indices < -1) {
-      fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
     }
-    if (n_indices % 3 != 0) {
-      fail(where + ": " + (indexed ? "index" : "vertex") + " count " +
-           std::to_string(n_indices) + " is not a multiple of 3");
-    }
-    return n_indices;
+    return rgb;
   }
 
-  void emit_triangles(const tinygltf::Primitive& prim, const View& idx, std::size_t n_indices,
-                      const WorldVertices& v, std::uint32_t material) {
-    const bool indexed = prim.indices >= 0;
-    const std::size_t nv = v.wp.size();
-    const std::size_t nt = n_indices / 3;
+  // The primitive's vertex sequence: its indices (each checked against the vertex count), or
+  // 0..vertices-1 when it has none.
+  std::vector<std::uint32_t> vertex_sequence(const tinygltf::Primitive& prim,
+                                             const std::string& where, std::size_t vertices) {
+    std::vector<std::uint32_t> sequence;
+    if (prim.indices < -1) {
+      fail(where + ": indices accessor " + std::to_string(prim.indices) + " does not exist");
+    }
+    if (prim.indices < 0) {
+      sequence.resize(vertices);
+      for (std::size_t i = 0; i < vertices; ++i) sequence[i] = static_cast<std::uint32_t>(i);
+      return sequence;
+    }
+    const AccessorView idx = reader_.view(prim.indices, "indices");
+    if (idx.type != TINYGLTF_TYPE_SCALAR ||
+        (idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+         idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+         idx.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+      fail("accessor " + std::to_string(prim.indices) + " (indices) is " + idx.format() +
+           ", expected SCALAR UNSIGNED_BYTE/UNSIGNED_SHORT/UNSIGNED_INT");
+    }
+    sequence.resize(idx.count);
+    for (std::size_t e = 0; e < idx.count; ++e) {
+      sequence[e] = idx.read_index(e);
+      if (sequence[e] >= vertices) {
+        fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
+             std::to_string(sequence[e]) + " at element " + std::to_string(e) +
+             " is out of range (vertex count " + std::to_string(vertices) + ")");
+      }
+    }
+    return sequence;
+  }
+
+  // Appends the triangles of a triangle list (indices checked by vertex_sequence).
+  void emit_triangles(const std::vector<std::uint32_t>& list, const WorldVertices& v,
+                      std::uint32_t material) {
+    const std::size_t nt = list.size() / 3;
     if (nt > kMaxTriangles - scene_.triangles.size()) {
       fail("more than " + std::to_string(kMaxTriangles) + " triangles");
     }
     // No reserve(size + nt) here: once per instance, it would defeat the vectors' geometric
     // growth and copy every triangle loaded so far (quadratic in the instance count).
     for (std::size_t t = 0; t < nt; ++t) {
-      std::uint32_t k[3];
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t e = 3 * t + c;
-        k[c] = indexed ? idx.read_index(e) : static_cast<std::uint32_t>(e);
-        if (k[c] >= nv) {
-          fail("accessor " + std::to_string(prim.indices) + " (indices): index " +
-               std::to_string(k[c]) + " at element " + std::to_string(e) +
-               " is out of range (vertex count " + std::to_string(nv) + ")");
-        }
-      }
+      const std::uint32_t* k = &list[3 * t];
       scene_.triangles.push_back(Triangle{v.wp[k[0]], v.wp[k[1]], v.wp[k[2]]});
       TriangleShading s;
       if (!v.wn.empty()) {
         s.n0 = v.wn[k[0]];
         s.n1 = v.wn[k[1]];
         s.n2 = v.wn[k[2]];
+      }
+      if (!v.rgb.empty()) {
+        s.c0 = v.rgb[k[0]];
+        s.c1 = v.rgb[k[1]];
+        s.c2 = v.rgb[k[2]];
       }
       if (!v.uv.empty()) {
         s.uv0 = v.uv[k[0]];
@@ -805,6 +732,7 @@ class GltfLoader {
   }
 
   const tinygltf::Model& m_;
+  AccessorReader reader_{m_};
   std::string file_;
   Scene& scene_;
   std::vector<int> base_texture_;       // per glTF material: baseColorTexture.index
@@ -813,7 +741,28 @@ class GltfLoader {
   std::vector<std::uint8_t> state_;     // per node: 1 while on the current path
   std::size_t instances_ = 0;           // nodes entered so far, over every path
   int default_material_ = -1;
+  std::vector<std::optional<glm::mat3>> uv_transform_;  // per glTF material: KHR_texture_transform
+  bool texcoord_override_ = false;
+  std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
 };
+
+// Decodes the compressed data (meshopt views, Draco primitives), then flattens the model.
+Scene load_model(tinygltf::Model& model, const std::string& name, const GltfPrepass& pre) {
+  try {
+    decode_meshopt_views(model);
+    decode_draco_primitives(model, pre.draco_indices);
+  } catch (const GltfError& e) {
+    throw Error(one_line(name + ": " + e.what()));
+  }
+  Scene scene;
+  scene.name = std::filesystem::path(name).filename().string();
+  for (const std::string& w : pre.warnings) scene.warnings.push_back(name + ": " + w);
+  GltfLoader(model, name, scene).load();
+  for (const std::string& w : scene.warnings) {
+    std::fprintf(stderr, "hrpp: warning: %s\n", w.c_str());
+  }
+  return scene;
+}
 
 }  // namespace
 
@@ -850,12 +799,32 @@ Scene load_gltf(const std::filesystem::path& file) {
     }
     json_begin = std::min<std::size_t>(20, bytes.size());
     json_end = json_begin + std::min<std::size_t>(u32_at(12), bytes.size() - json_begin);
+    // tinygltf 2.7 checks the BIN chunk's length against the header's total without the
+    // chunk's own 8-byte header: a chunk up to 8 bytes longer than the file would be read past
+    // its end.
+    const std::uint64_t bin = std::uint64_t{20} + u32_at(12);
+    if (u32_at(8) <= bytes.size() && bin + 8 <= bytes.size() &&
+        bin + 8 + u32_at(bin) > bytes.size()) {
+      throw Error(name + ": the BIN chunk (" + std::to_string(u32_at(bin)) +
+                  " bytes) lies past the end of the file");
+    }
   }
   // tinygltf converts JSON values recursively: deep nesting would overflow the stack.
   const std::size_t depth = json_nesting_depth(bytes.data() + json_begin, json_end - json_begin);
   if (depth > kMaxJsonDepth) {
     throw Error(name + ": JSON nested " + std::to_string(depth) + " levels deep (at most " +
                 std::to_string(kMaxJsonDepth) + ")");
+  }
+  GltfPrepass pre;
+  try {
+    pre = gltf_prepass(bytes.data() + json_begin, json_end - json_begin);
+  } catch (const GltfError& e) {
+    throw Error(one_line(name + ": " + e.what()));
+  }
+  // A GLB is rebuilt only when its header's length is the file's: tinygltf refuses the others.
+  const bool glb = binary && magic;
+  if (pre.changed && (!glb || u32_at(8) == bytes.size())) {
+    bytes = replace_json(bytes, glb, json_end, pre.json);
   }
   const std::string base_dir = file.parent_path().string();
   tinygltf::Model model;
@@ -873,10 +842,7 @@ Scene load_gltf(const std::filesystem::path& file) {
     }
     throw Error(one_line(name + ": " + err));
   }
-  Scene scene;
-  scene.name = file.filename().string();
-  GltfLoader(model, name, scene).load();
-  return scene;
+  return load_model(model, name, pre);
 }
 
 }  // namespace hrpp

@@ -198,7 +198,10 @@ class ManifestLoader {
       const Material mat = load_material(j["material"], path + ".material");
       part.materials.assign(1, mat);
       part.textures.clear();
-      for (TriangleShading& s : part.shading) s.material = 0;
+      for (TriangleShading& s : part.shading) {  // the override's colour alone
+        s.material = 0;
+        s.c0 = s.c1 = s.c2 = kNoVertexColor;
+      }
     }
     append(scene, std::move(part));
   }
@@ -316,6 +319,7 @@ class ManifestLoader {
     }
     for (Light& l : part.lights) scene.lights.push_back(l);
     for (Camera& c : part.cameras) scene.cameras.push_back(std::move(c));
+    for (std::string& w : part.warnings) scene.warnings.push_back(std::move(w));
   }
 
   static void add_quad(Scene& s, glm::vec3 corner, glm::vec3 u, glm::vec3 v,

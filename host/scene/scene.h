@@ -18,10 +18,15 @@ struct Triangle {
   glm::vec3 v0, v1, v2;
 };
 
+// A vertex colour as 0xBBGGRR (8 bits a channel, linear); kNoVertexColor (white): none.
+inline constexpr std::uint32_t kNoVertexColor = 0xFFFFFFu;
+
 // Per-triangle shading data, parallel to Scene::triangles.
 struct TriangleShading {
   glm::vec3 n0{0}, n1{0}, n2{0};  // world-space vertex normals; all zero when the mesh has none
   glm::vec2 uv0{0}, uv1{0}, uv2{0};
+  // Vertex colours (glTF COLOR_0), which multiply the material's base colour.
+  std::uint32_t c0 = kNoVertexColor, c1 = kNoVertexColor, c2 = kNoVertexColor;
   std::uint32_t material = 0;     // index into Scene::materials
 };
 
@@ -82,6 +87,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Camera> cameras;            // never empty after load_scene (a default is added)
   bool default_camera = false;            // true when cameras[0] was made from the bounds
+  std::vector<std::string> warnings;      // one line each, naming the file (already printed)
 };
 
 }  // namespace hrpp

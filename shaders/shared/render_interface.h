@@ -149,12 +149,16 @@ struct RenderPushConstants {
 };
 
 // Shading data of one triangle (by triangle id), read as 8 16-byte texels:
-//   v0.xyz material | v1.xyz has_normals | v2.xyz light | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
+//   v0.xyz material | v1.xyz vertex_data | v2.xyz light | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
+// n0.w, n1.w, n2.w: the vertex colours (HRPP_VERTEX_COLORS) as the float value of 0xBBGGRR
+// (below 2^24, so exact).
+#define HRPP_VERTEX_NORMALS 1u
+#define HRPP_VERTEX_COLORS 2u
 struct ShadeTriangle {
   vec3 v0;
   uint material;
   vec3 v1;
-  uint has_normals;
+  uint vertex_data;  // HRPP_VERTEX_NORMALS | HRPP_VERTEX_COLORS: which of n and colour are set
   vec3 v2;
   uint light;  // emissive triangles: 1 + the index of the triangle's light; 0: not a light
   vec4 n0;

@@ -17,9 +17,13 @@ struct SurfaceHit {
   vec3 ng;  // unit geometric normal facing the incoming ray
   vec3 ns;  // unit shading normal on the side of ng
   vec2 uv;
+  vec3 color;  // the interpolated vertex colour; white without vertex colours
   bool front;  // the ray hit the side the triangle's winding faces (glass: entering)
   uint material;
 };
+
+// A vertex colour stored as the float value of 0xBBGGRR (ShadeTriangle), as linear RGB.
+HRPP_INLINE vec3 vertex_color(float packed) { return vec3(unpackUnorm4x8(uint(packed))); }
 
 // Triangle t hit at barycentrics (h.u, h.v) by a ray along dir.
 HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
@@ -30,7 +34,7 @@ HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
   s.front = dot(ng, dir) < 0.0f;
   s.ng = s.front ? ng : -ng;
   s.ns = s.ng;
-  if (t.has_normals != 0u) {
+  if ((t.vertex_data & HRPP_VERTEX_NORMALS) != 0u) {
     const vec3 n = w * vec3(t.n0) + h.u * vec3(t.n1) + h.v * vec3(t.n2);
     if (dot(n, n) > 0.0f) {
       s.ns = normalize(n);
@@ -38,6 +42,10 @@ HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
     }
   }
   s.uv = w * vec2(t.uv01) + h.u * vec2(t.uv01.z, t.uv01.w) + h.v * vec2(t.uv2);
+  s.color = vec3(1.0f);
+  if ((t.vertex_data & HRPP_VERTEX_COLORS) != 0u) {
+    s.color = w * vertex_color(t.n0.w) + h.u * vertex_color(t.n1.w) + h.v * vertex_color(t.n2.w);
+  }
   s.material = t.material;
   return s;
 }

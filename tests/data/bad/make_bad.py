@@ -77,6 +77,12 @@ def main():
     bad_chunk = bytearray(good_glb)
     bad_chunk[12:16] = struct.pack("<I", 0x7FFFFFF0)  # JSON chunk longer than the file
     put(G, "chunk_length.glb", bytes(bad_chunk))
+    # The BIN chunk claims 8 bytes more than the file has: tinygltf 2.7 checks its length
+    # against the header's total without the chunk's own 8-byte header, and read past the end.
+    n = struct.unpack("<I", good_glb[12:16])[0]
+    past = bytearray(good_glb)
+    past[20 + n:24 + n] = struct.pack("<I", struct.unpack("<I", good_glb[20 + n:24 + n])[0] + 8)
+    put(G, "bin_chunk_past_end.glb", bytes(past))
     flipped = bytearray(good_glb)
     flipped[20] = ord("[")  # JSON chunk starts with '[' instead of '{'
     put(G, "corrupted_json_chunk.glb", bytes(flipped))
@@ -106,9 +112,10 @@ def main():
     put(G, "position_vec2.gltf", js(d))
     d = doc(); d["accessors"][0]["componentType"] = 5130
     put(G, "component_type_double.gltf", js(d))
-    d = doc(); d["accessors"][0]["sparse"] = {"count": 1, "indices": {"bufferView": 0, "componentType": 5125},
+    # Sparse accessors are read; this one substitutes more elements than the accessor has.
+    d = doc(); d["accessors"][0]["sparse"] = {"count": 4, "indices": {"bufferView": 0, "componentType": 5125},
                                               "values": {"bufferView": 0}}
-    put(G, "sparse_accessor.gltf", js(d))
+    put(G, "sparse_count_too_large.gltf", js(d))
     d = doc(); del d["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
     put(G, "no_position.gltf", js(d))
     d = doc(); d["nodes"][0]["mesh"] = 5
@@ -151,7 +158,6 @@ def main():
     # ---- primitives and values -------------------------------------------------------------
     put(G, "mode_points.gltf", js(doc(mode=0)))
     put(G, "mode_lines.gltf", js(doc(mode=1)))
-    put(G, "mode_triangle_strip.gltf", js(doc(mode=5)))
     put(G, "mode_invalid.gltf", js(doc(mode=9)))
     put(G, "nan_vertex.gltf", js(doc(positions=struct.pack("<9f", 0, 0, 0, float("nan"), 0, 0, 0, 1, 0))))
     put(G, "inf_vertex.gltf", js(doc(positions=struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, float("inf"), 0))))
@@ -159,6 +165,9 @@ def main():
     put(G, "overflowing_transform.gltf", js(d))
     d = doc(); d["nodes"][0]["matrix"] = [1, 0, 0]
     put(G, "matrix_wrong_length.gltf", js(d))
+
+    d = doc(); d["extensionsUsed"] = d["extensionsRequired"] = ["KHR_texture_basisu"]
+    put(G, "required_extension.gltf", js(d))
 
     # ---- scenes and node graphs ------------------------------------------------------------
     d = doc(); d["scenes"] = []; del d["scene"]
