@@ -76,6 +76,9 @@ std::optional<std::uint32_t> host_shared_type(const VkPhysicalDeviceMemoryProper
   return first_passing(mp, allowed,
                        {[&](std::uint32_t i) { return has(mp, i, kHost | kCached | kCoherent); },
                         [&](std::uint32_t i) { return has(mp, i, kHost | kCached); },
+                        [&](std::uint32_t i) {
+                          return has(mp, i, kHost | kCoherent) && !has(mp, i, kLocal);
+                        },
                         [&](std::uint32_t i) { return has(mp, i, kHost | kCoherent); },
                         [&](std::uint32_t i) { return has(mp, i, kHost); }});
 }

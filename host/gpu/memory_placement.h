@@ -49,7 +49,8 @@ MemoryMode resolve_memory_mode(MemoryMode requested, VkPhysicalDeviceType device
 //  - mapped, kDevice: host-visible; device-local and coherent only where its heap is the largest
 //    device-local heap (unified memory, lavapipe, resizable BAR), else coherent host memory,
 //    else any host-visible type.
-//  - kHostShared: host-visible; cached and coherent, cached, coherent, any, in that order.
+//  - kHostShared: host-visible; cached and coherent, cached, coherent (host memory before a
+//    device-local window), any, in that order.
 // Throws hrpp::Error when no allowed type fits.
 MemoryTypeChoice choose_memory_type(const VkPhysicalDeviceMemoryProperties& mp,
                                     std::uint32_t allowed, MemoryMode mode, MemoryRole role);
