@@ -28,7 +28,8 @@ VkPhysicalDeviceMemoryProperties memory(
     std::initializer_list<std::pair<VkMemoryPropertyFlags, std::uint32_t>> types) {
   VkPhysicalDeviceMemoryProperties mp{};
   for (const auto& [size, local] : heaps)
-    mp.memoryHeaps[mp.memoryHeapCount++] = {size, local ? VK_MEMORY_HEAP_DEVICE_LOCAL_BIT : 0u};
+    mp.memoryHeaps[mp.memoryHeapCount++] = {
+        size, local ? VkMemoryHeapFlags{VK_MEMORY_HEAP_DEVICE_LOCAL_BIT} : VkMemoryHeapFlags{0}};
   for (const auto& [flags, heap] : types) mp.memoryTypes[mp.memoryTypeCount++] = {flags, heap};
   return mp;
 }
