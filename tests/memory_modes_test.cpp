@@ -87,7 +87,7 @@ class MemoryModesCli : public test::CliTest {
   std::string run_in(const std::string& mode, const std::string& args) const {
     const test::CliResult r = run(args + " --memory " + mode);
     EXPECT_EQ(r.status, 0) << args << " --memory " << mode << "\n" << r.err;
-    EXPECT_NE(r.out.find("memory      " + mode + ":"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(mode + ": device buffers in type"), std::string::npos) << r.out;
     return r.out;
   }
 };
@@ -118,6 +118,19 @@ TEST_F(MemoryModesCli, TraceWritesTheSameHits) {
   }
 }
 
+// An EXR file's bytes with the value of its capDate attribute (the time OpenImageIO wrote it)
+// blanked: the rest (the other attributes and every pixel) compares bit for bit.
+std::string without_capture_date(std::string exr) {
+  const std::string attribute("capDate\0string\0", 15);
+  const std::size_t at = exr.find(attribute);
+  if (at == std::string::npos || at + attribute.size() + 4 > exr.size()) return exr;
+  std::uint32_t length = 0;
+  std::memcpy(&length, exr.data() + at + attribute.size(), sizeof length);
+  const std::size_t value = at + attribute.size() + 4;
+  if (value + length <= exr.size()) exr.replace(value, length, length, '-');
+  return exr;
+}
+
 TEST_F(MemoryModesCli, RenderWritesTheSameImage) {
   for (const char* hrpp : {"off", "on"}) {
     std::string images[2];
@@ -127,7 +140,7 @@ TEST_F(MemoryModesCli, RenderWritesTheSameImage) {
       run_in(modes[m], std::string("render builtin:cornell --size 32x24 --spp 3 --wavefront 300 "
                                    "--seed 5 --hrpp ") +
                            hrpp + " --out " + out.string());
-      images[m] = read_file(out);
+      images[m] = without_capture_date(read_file(out));
     }
     ASSERT_FALSE(images[0].empty()) << hrpp;
     EXPECT_TRUE(images[0] == images[1]) << "--hrpp " << hrpp;
