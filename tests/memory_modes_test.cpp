@@ -152,8 +152,8 @@ nlohmann::json bench_hits(const nlohmann::json& report) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& kind : report.at("kinds"))
     for (const auto& t : kind.at("tracers"))
-      out.push_back({kind.at("kind"), t.at("tracer"), t.at("hits"), t.value("counters", nlohmann::json{}),
-                     t.at("validation")});
+      out.push_back({kind.at("kind"), t.at("tracer"), t.at("hits"),
+                     t.value("counters", nlohmann::json{}), t.at("validation")});
   return out;
 }
 
@@ -162,8 +162,10 @@ TEST_F(MemoryModesCli, BenchFindsTheSameHits) {
   const char* modes[2] = {"staged", "mapped"};
   for (int m = 0; m < 2; ++m) {
     const fs::path json = dir_ / (std::string(modes[m]) + ".json");
-    run_in(modes[m], "bench teapot --rays 2048 --no-embree --repeat 1 --strict --hrpp on "
-                     "--check-rays 512 --json " + json.string());
+    run_in(modes[m],
+           "bench teapot --rays 2048 --no-embree --repeat 1 --strict --hrpp on "
+           "--check-rays 512 --json " +
+               json.string());
     const nlohmann::json report = nlohmann::json::parse(read_file(json));
     EXPECT_EQ(report.at("machine").at("vulkan_memory_mode"), modes[m]);
     hits[m] = bench_hits(report);

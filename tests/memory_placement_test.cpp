@@ -14,10 +14,7 @@
 namespace hrpp {
 namespace {
 
-constexpr VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-constexpr VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-constexpr VkMemoryPropertyFlags kCached = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+using namespace memory_flags;
 constexpr VkDeviceSize kMiB = VkDeviceSize{1} << 20;
 constexpr VkDeviceSize kGiB = VkDeviceSize{1} << 30;
 constexpr std::uint32_t kAll = ~0u;
@@ -37,25 +34,27 @@ VkPhysicalDeviceMemoryProperties memory(
 // A discrete GPU without resizable BAR (NVIDIA's usual list): 8 GiB of VRAM, 32 GiB of system
 // memory, and a 256 MiB host-visible device-local window, listed first so that a choice by
 // flags alone would take it.
-const VkPhysicalDeviceMemoryProperties kDiscrete =
-    memory({{8 * kGiB, true}, {32 * kGiB, false}, {256 * kMiB, true}},
-           {{kLocal | kHost | kCoherent, 2}, {kLocal, 0}, {kHost | kCoherent, 1},
-            {kHost | kCoherent | kCached, 1}});
+const VkPhysicalDeviceMemoryProperties kDiscrete = memory(
+    {{8 * kGiB, true}, {32 * kGiB, false}, {256 * kMiB, true}}, {{kLocal | kHost | kCoherent, 2},
+                                                                 {kLocal, 0},
+                                                                 {kHost | kCoherent, 1},
+                                                                 {kHost | kCoherent | kCached, 1}});
 
 // The same with resizable BAR: all of VRAM host-visible.
 const VkPhysicalDeviceMemoryProperties kResizableBar =
-    memory({{8 * kGiB, true}, {32 * kGiB, false}},
-           {{kLocal, 0}, {kLocal | kHost | kCoherent, 0}, {kHost | kCoherent, 1},
-            {kHost | kCoherent | kCached, 1}});
+    memory({{8 * kGiB, true}, {32 * kGiB, false}}, {{kLocal, 0},
+                                                    {kLocal | kHost | kCoherent, 0},
+                                                    {kHost | kCoherent, 1},
+                                                    {kHost | kCoherent | kCached, 1}});
 
 // lavapipe (Mesa 22.3): one heap, one type with every flag.
 const VkPhysicalDeviceMemoryProperties kCpu =
     memory({{2 * kGiB, true}}, {{kLocal | kHost | kCoherent | kCached, 0}});
 
 // An integrated GPU (Intel's usual list): one device-local heap that is system memory.
-const VkPhysicalDeviceMemoryProperties kIntegrated =
-    memory({{16 * kGiB, true}},
-           {{kLocal, 0}, {kLocal | kHost | kCoherent, 0}, {kLocal | kHost | kCoherent | kCached, 0}});
+const VkPhysicalDeviceMemoryProperties kIntegrated = memory(
+    {{16 * kGiB, true}},
+    {{kLocal, 0}, {kLocal | kHost | kCoherent, 0}, {kLocal | kHost | kCoherent | kCached, 0}});
 
 std::uint32_t type_of(const VkPhysicalDeviceMemoryProperties& mp, MemoryMode mode, MemoryRole role,
                       std::uint32_t allowed = kAll) {
@@ -63,7 +62,8 @@ std::uint32_t type_of(const VkPhysicalDeviceMemoryProperties& mp, MemoryMode mod
 }
 
 TEST(MemoryPlacement, AutoIsMappedWhereTheDeviceSharesHostMemory) {
-  EXPECT_EQ(resolve_memory_mode(MemoryMode::kAuto, VK_PHYSICAL_DEVICE_TYPE_CPU), MemoryMode::kMapped);
+  EXPECT_EQ(resolve_memory_mode(MemoryMode::kAuto, VK_PHYSICAL_DEVICE_TYPE_CPU),
+            MemoryMode::kMapped);
   EXPECT_EQ(resolve_memory_mode(MemoryMode::kAuto, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU),
             MemoryMode::kMapped);
   EXPECT_EQ(resolve_memory_mode(MemoryMode::kAuto, VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU),
@@ -144,7 +144,8 @@ TEST(MemoryPlacement, NoFittingTypeIsAOneLineError) {
               choose_memory_type(device_only, kAll, MemoryMode::kStaged, MemoryRole::kHostShared);
             }),
             "");
-  EXPECT_NE(test::error_of([&] { choose_memory_type(kCpu, 0u, MemoryMode::kStaged, MemoryRole::kDevice); }),
+  EXPECT_NE(test::error_of(
+                [&] { choose_memory_type(kCpu, 0u, MemoryMode::kStaged, MemoryRole::kDevice); }),
             "");
 }
 

@@ -214,7 +214,9 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     const MemoryPlacement& placement = ctx->memory().report().placement;
     std::printf("memory      %s; heap %s (%s)\n", placement_text(placement).c_str(),
                 format_bytes(d.heap_bytes).c_str(),
-                d.heap_budget ? "budget" : d.heap_is_host ? "the host's memory" : "reported");
+                d.heap_budget    ? "budget"
+                : d.heap_is_host ? "the host's memory"
+                                 : "reported");
     machine["vulkan_memory_mode"] = placement.mode;
     machine["vulkan_memory_placement"] = placement_json(placement);
     machine["vulkan_buffers_device_local"] = d.device_memory.device_local();

@@ -20,7 +20,7 @@ struct MemoryTypeReport {
 
 // The context's memory mode and where each role's buffers live.
 struct MemoryPlacement {
-  std::string mode;                                // "staged" or "mapped"
+  std::string mode;                               // "staged" or "mapped"
   std::map<std::string, MemoryTypeReport> roles;  // by kMemoryRoleNames
 };
 

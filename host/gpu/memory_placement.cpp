@@ -9,10 +9,7 @@ namespace hrpp {
 
 namespace {
 
-constexpr VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-constexpr VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-constexpr VkMemoryPropertyFlags kCached = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+using namespace memory_flags;
 
 using TypeTest = std::function<bool(std::uint32_t type)>;
 
@@ -73,14 +70,13 @@ std::optional<std::uint32_t> mapped_device_type(const VkPhysicalDeviceMemoryProp
 
 std::optional<std::uint32_t> host_shared_type(const VkPhysicalDeviceMemoryProperties& mp,
                                               std::uint32_t allowed) {
-  return first_passing(mp, allowed,
-                       {[&](std::uint32_t i) { return has(mp, i, kHost | kCached | kCoherent); },
-                        [&](std::uint32_t i) { return has(mp, i, kHost | kCached); },
-                        [&](std::uint32_t i) {
-                          return has(mp, i, kHost | kCoherent) && !has(mp, i, kLocal);
-                        },
-                        [&](std::uint32_t i) { return has(mp, i, kHost | kCoherent); },
-                        [&](std::uint32_t i) { return has(mp, i, kHost); }});
+  return first_passing(
+      mp, allowed,
+      {[&](std::uint32_t i) { return has(mp, i, kHost | kCached | kCoherent); },
+       [&](std::uint32_t i) { return has(mp, i, kHost | kCached); },
+       [&](std::uint32_t i) { return has(mp, i, kHost | kCoherent) && !has(mp, i, kLocal); },
+       [&](std::uint32_t i) { return has(mp, i, kHost | kCoherent); },
+       [&](std::uint32_t i) { return has(mp, i, kHost); }});
 }
 
 }  // namespace
@@ -99,8 +95,8 @@ MemoryTypeChoice choose_memory_type(const VkPhysicalDeviceMemoryProperties& mp,
   const bool staged = role == MemoryRole::kDevice && mode == MemoryMode::kStaged;
   const std::optional<std::uint32_t> type = role == MemoryRole::kHostShared
                                                 ? host_shared_type(mp, allowed)
-                                                : staged ? staged_device_type(mp, allowed)
-                                                         : mapped_device_type(mp, allowed);
+                                            : staged ? staged_device_type(mp, allowed)
+                                                     : mapped_device_type(mp, allowed);
   if (!type)
     throw Error(std::string("the Vulkan device offers no ") +
                 (staged ? "memory" : "host-visible memory") + " for " +
@@ -111,8 +107,10 @@ MemoryTypeChoice choose_memory_type(const VkPhysicalDeviceMemoryProperties& mp,
 
 std::string memory_flags_text(VkMemoryPropertyFlags flags) {
   std::string s;
-  const std::pair<VkMemoryPropertyFlags, const char*> names[] = {
-      {kLocal, "device-local"}, {kHost, "host-visible"}, {kCoherent, "coherent"}, {kCached, "cached"}};
+  const std::pair<VkMemoryPropertyFlags, const char*> names[] = {{kLocal, "device-local"},
+                                                                 {kHost, "host-visible"},
+                                                                 {kCoherent, "coherent"},
+                                                                 {kCached, "cached"}};
   for (const auto& [bit, name] : names)
     if (flags & bit) s += (s.empty() ? "" : ", ") + std::string(name);
   return s.empty() ? "none" : s;

@@ -16,8 +16,9 @@ namespace hrpp {
 // buffer (gpu/staged_transfer.h); mapped: every buffer host-visible and mapped for its life;
 // auto: mapped on a CPU device (lavapipe) or an integrated GPU, staged on the others.
 enum class MemoryMode : std::uint8_t { kAuto, kStaged, kMapped };
-inline constexpr NameTable<MemoryMode, 3> kMemoryModeNames = {
-    {{MemoryMode::kAuto, "auto"}, {MemoryMode::kStaged, "staged"}, {MemoryMode::kMapped, "mapped"}}};
+inline constexpr NameTable<MemoryMode, 3> kMemoryModeNames = {{{MemoryMode::kAuto, "auto"},
+                                                               {MemoryMode::kStaged, "staged"},
+                                                               {MemoryMode::kMapped, "mapped"}}};
 
 // What a buffer is for. kDevice: data the kernels read and write (BVH, scene arrays, rays, hits,
 // path states, predictor tables); kHostShared: small buffers the host reads or writes around
@@ -27,12 +28,20 @@ enum class MemoryRole : std::uint8_t { kDevice, kHostShared };
 inline constexpr NameTable<MemoryRole, 2> kMemoryRoleNames = {
     {{MemoryRole::kDevice, "device"}, {MemoryRole::kHostShared, "host_shared"}}};
 
+// The property flags the choice looks at, by short names.
+namespace memory_flags {
+inline constexpr VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+inline constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+inline constexpr VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+inline constexpr VkMemoryPropertyFlags kCached = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+}  // namespace memory_flags
+
 // A memory type chosen for a role.
 struct MemoryTypeChoice {
-  std::uint32_t type = 0;            // index into VkPhysicalDeviceMemoryProperties::memoryTypes
-  std::uint32_t heap = 0;            // its heap
-  VkMemoryPropertyFlags flags = 0;   // its property flags
-  bool mapped = false;               // buffers of the role are mapped (else staged)
+  std::uint32_t type = 0;           // index into VkPhysicalDeviceMemoryProperties::memoryTypes
+  std::uint32_t heap = 0;           // its heap
+  VkMemoryPropertyFlags flags = 0;  // its property flags
+  bool mapped = false;              // buffers of the role are mapped (else staged)
 
   bool coherent() const { return (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0; }
   bool device_local() const { return (flags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0; }

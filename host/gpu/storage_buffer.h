@@ -72,8 +72,8 @@ class StorageBuffer {
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  void* mapped_ = nullptr;                 // mapped memory, or nullptr when staged
-  StagedTransfer* staging_ = nullptr;      // the context's, when staged
+  void* mapped_ = nullptr;             // mapped memory, or nullptr when staged
+  StagedTransfer* staging_ = nullptr;  // the context's, when staged
   bool coherent_ = true;
   std::size_t bytes_ = 0;
   std::string name_;

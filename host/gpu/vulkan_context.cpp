@@ -331,10 +331,10 @@ MemoryTypeReport type_report(const MemoryTypeChoice& c) {
 }
 
 MemoryPlacement placement_report(const DeviceInfo& info) {
-  return {name_in(kMemoryModeNames, info.memory_mode),
-          {{name_in(kMemoryRoleNames, MemoryRole::kDevice), type_report(info.device_memory)},
-           {name_in(kMemoryRoleNames, MemoryRole::kHostShared),
-            type_report(info.host_shared_memory)}}};
+  return {
+      name_in(kMemoryModeNames, info.memory_mode),
+      {{name_in(kMemoryRoleNames, MemoryRole::kDevice), type_report(info.device_memory)},
+       {name_in(kMemoryRoleNames, MemoryRole::kHostShared), type_report(info.host_shared_memory)}}};
 }
 
 constexpr const char* kInstall =
@@ -354,7 +354,8 @@ void create_instance(Handles& h, bool validate,
   VkDebugUtilsMessengerCreateInfoEXT dbg = messenger_info(messages);
   // Synchronization validation beside the layer's default checks: missing or wrong barriers
   // (the staged copies', the kernels') are reported like any other message.
-  const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  const VkValidationFeatureEnableEXT sync =
+      VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
   VkValidationFeaturesEXT features{};
   features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
   features.pNext = &dbg;
@@ -530,7 +531,8 @@ void VulkanContext::submit_and_wait(const std::function<void(VkCommandBuffer)>& 
 void VulkanContext::State::submit_and_wait(const std::function<void(VkCommandBuffer)>& record,
                                            const std::string& what) {
   if (recording)
-    throw Error(what + ": submitted while another command buffer is being recorded (a staged "
+    throw Error(what +
+                ": submitted while another command buffer is being recorded (a staged "
                 "buffer's upload, download or fill inside a recording)");
   Handles& s = h;
   check_vk(vkResetCommandBuffer(s.cmd, 0), "vkResetCommandBuffer (" + what + ")");
