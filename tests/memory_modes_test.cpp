@@ -4,6 +4,7 @@
 // render` the same image (HRPP off and on), `hrpp bench` the same hits and counters, bit for
 // bit; the outputs say which mode ran and where buffers live.
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -145,6 +146,20 @@ TEST_F(MemoryModesCli, RenderWritesTheSameImage) {
     ASSERT_FALSE(images[0].empty()) << hrpp;
     EXPECT_TRUE(images[0] == images[1]) << "--hrpp " << hrpp;
   }
+}
+
+// Staged, the staging buffer is host memory, not the device's heap: a capped heap refuses the
+// scene by name as in mapped mode, not the staging buffer.
+TEST_F(MemoryModesCli, AStagedSceneOverTheHeapIsRefusedByName) {
+  ::setenv("HRPP_DEVICE_HEAP_MIB", "1", 1);
+  const test::CliResult r =
+      run("render builtin:cornell --size 512x512 --spp 1 --memory staged --out " +
+          (dir_ / "i.exr").string());
+  ::unsetenv("HRPP_DEVICE_HEAP_MIB");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("more than the device's memory heap as capped by HRPP_DEVICE_HEAP_MIB"),
+            std::string::npos)
+      << r.err;
 }
 
 // Every tracer's hit count, counters and check against the CPU reference, per ray kind.

@@ -15,9 +15,11 @@ StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string 
     : device_(ctx.device()), bytes_(bytes), name_(std::move(name)), binding_(binding) {
   const MemoryLimits limits = memory_limits(ctx.info());
   check_buffer(BufferNeed{name_, bytes, binding}, limits);
-  // Buffers made after the scene's check (arrays that grow with a batch) still fit the heap.
+  // Buffers made after the scene's check (arrays that grow with a batch) still fit the heap
+  // (the device role's; host-shared buffers, the staging buffer among them, are host memory
+  // on a discrete GPU, and a few KiB besides it).
   const std::uint64_t held = ctx.memory().total();
-  if (held + bytes > limits.heap)
+  if (role == MemoryRole::kDevice && held + bytes > limits.heap)
     throw Error(name_ + " (" + format_bytes(bytes) + ") does not fit beside the " +
                 format_bytes(held) + " already allocated in the device's " + limits.heap_name +
                 " of " + format_bytes(limits.heap) + " (" + std::to_string(limits.heap) +

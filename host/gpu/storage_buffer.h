@@ -30,7 +30,8 @@ class StorageBuffer {
   // ComputePipeline refuses to bind it as a storage buffer. Throws hrpp::Error when `bytes`
   // exceeds the limit of its binding (naming the array and the limit), when it would take the
   // context's buffers past the device's heap (DeviceInfo::heap_bytes), or memory runs out.
-  // `role`: which memory type it gets (kHostShared: mapped in every mode).
+  // `role`: which memory type it gets (kHostShared: mapped in every mode, and not checked
+  // against the heap, which is the device role's).
   StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
                 BufferBinding binding = BufferBinding::kStorage,
                 MemoryRole role = MemoryRole::kDevice);
