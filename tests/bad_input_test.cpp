@@ -212,6 +212,9 @@ TEST_F(BadInputCli, BadValuesNameTheFlag) {
       {"trace --rays r.bin --hits h.bin --bvh-nodes wide8", "--bvh-nodes"},
       {"render --rays-per-invocation 0", "--rays-per-invocation"},
       {"bench --rays-per-invocation 0", "--rays-per-invocation"},
+      {"trace --rays r.bin --hits h.bin --memory foo", "--memory"},
+      {"bench --memory device", "--memory"},
+      {"render --memory 1", "--memory"},
       {"frobnicate", "frobnicate"},
   };
   for (const auto& [args, needle] : cases) expect_error(args, needle);

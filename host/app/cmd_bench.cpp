@@ -33,6 +33,7 @@
 #include "common/task_pool.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
+#include "render/render_stats.h"
 #include "reference/embree_tracer.h"
 #include "scene/load_scene.h"
 #include "trace/ray_batches.h"
@@ -208,12 +209,17 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     const DeviceInfo& d = ctx->info();
     std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
                 d.driver.c_str(), d.subgroup_size);
-    // Where the tracers' buffers live (all are host-visible and mapped): to look into a GPU's
-    // slower later query kinds (bench/README.md, "On a real GPU").
-    std::printf("memory      buffers in host-visible%s memory, heap %s (%s)\n",
-                d.buffers_device_local ? " device-local" : "", format_bytes(d.heap_bytes).c_str(),
-                d.heap_budget ? "budget" : d.heap_is_host ? "the host's memory" : "reported");
-    machine["vulkan_buffers_device_local"] = d.buffers_device_local;
+    // Where the tracers' buffers live (--memory): to look into a GPU's slower later query kinds
+    // (bench/README.md, "On a real GPU").
+    const MemoryPlacement& placement = ctx->memory().report().placement;
+    std::printf("memory      %s; heap %s (%s)\n", placement_text(placement).c_str(),
+                format_bytes(d.heap_bytes).c_str(),
+                d.heap_budget    ? "budget"
+                : d.heap_is_host ? "the host's memory"
+                                 : "reported");
+    machine["vulkan_memory_mode"] = placement.mode;
+    machine["vulkan_memory_placement"] = placement_json(placement);
+    machine["vulkan_buffers_device_local"] = d.device_memory.device_local();
     machine["vulkan_heap_bytes"] = d.heap_bytes;
     machine["vulkan_device"] = d.name;
     machine["vulkan_driver"] = d.driver;

@@ -87,6 +87,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorted ? " (the sort's device time is in the kernel time)" : "");
   std::printf("bvh nodes   %s\n", node_format_name(o.shared.nodes));
+  std::printf("memory      %s\n", placement_text(ctx.memory().report().placement).c_str());
   std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
               per_ray(c.interior_visited), per_ray(c.leaves_visited), per_ray(c.triangles_tested));
   if (o.shared.tracer.count_steps)

@@ -33,6 +33,12 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
       ->default_str(node_format_name(o.nodes));
   cmd->add_option("--device", o.vulkan.device,
                   "Vulkan device: index or name substring (default: a GPU, else lavapipe)");
+  cmd->add_option("--memory", o.vulkan.memory,
+                  "Where buffers live: staged (device-local, copied through a staging buffer), "
+                  "mapped (host-visible, mapped), auto (mapped on a CPU device or an integrated "
+                  "GPU, else staged)")
+      ->transform(one_of(kMemoryModeNames))
+      ->default_str(name_in(kMemoryModeNames, o.vulkan.memory));
   cmd->add_flag("--validate,--vulkan-validate", o.vulkan.validate,
                 "Vulkan validation layer on; any message fails the command");
   cmd->add_option("--rays-per-invocation", o.tracer.rays_per_invocation,

@@ -1,6 +1,6 @@
 // The options that every subcommand loading a scene shares, defined once: the scene, the BVH
 // build (--bvh-*), and for the commands that open the Vulkan device --bvh-nodes, --device,
-// --validate and --rays-per-invocation.
+// --memory, --validate and --rays-per-invocation.
 #pragma once
 
 #include <string>

@@ -80,12 +80,14 @@ struct Table {
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c,
         const std::array<BufferNeed, 3>& b)
       : params(p),
-        param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters")),
+        param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters"),
+                  BufferBinding::kStorage, MemoryRole::kHostShared),  // written while recording
         tags(ctx, b[kTags]),
         stamps(ctx, b[kStamps]),
         slots(ctx, b[kSlots]),
         requests(ctx, sizeof(gpu::InsertRequest), "insert requests"),
-        counters(ctx, sizeof(gpu::PredictorCounters), name(c, "predictor counters")),
+        counters(ctx, sizeof(gpu::PredictorCounters), name(c, "predictor counters"),
+                 BufferBinding::kStorage, MemoryRole::kHostShared),
         tag_view(ctx, tags),
         slot_view(ctx, slots),
         predicts{make_predict(ctx, c, p.go_up, false), make_predict(ctx, c, p.go_up, true)},
@@ -141,8 +143,10 @@ struct Queue {
   std::size_t capacity = 0;
 
   Queue(VulkanContext& ctx, QueryKind kind)
-      : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue"),
-        trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters"),
+      : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue", BufferBinding::kStorage,
+              MemoryRole::kHostShared),
+        trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters",
+                       BufferBinding::kStorage, MemoryRole::kHostShared),
         trace(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
               sizeof(gpu::TracePushConstants)),
         pass_args(ctx, Kernel::hrpp_pass_args, embedded_spirv(Kernel::hrpp_pass_args), 1,

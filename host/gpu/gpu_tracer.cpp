@@ -111,7 +111,8 @@ struct QueryArrays {
 
   QueryArrays(VulkanContext& c, QueryKind kind, std::span<const SpecializationConstant> spec)
       : counters(c, sizeof(gpu::TraceCounters),
-                 std::string(query_kind_label(kind)) + " trace counters"),
+                 std::string(query_kind_label(kind)) + " trace counters", BufferBinding::kStorage,
+                 MemoryRole::kHostShared),
         kernel(c, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
                sizeof(gpu::TracePushConstants), spec),
         indexed(c, kernel.kernel(), embedded_spirv(trace_indexed_kernel(kind)),

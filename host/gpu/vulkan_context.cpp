@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "common/error.h"
+#include "gpu/staged_transfer.h"
 
 namespace hrpp {
 
@@ -48,21 +49,6 @@ void check_vk(VkResult r, const std::string& what) {
   throw Error(what + " failed: " + vk_result_name(r));
 }
 
-std::uint32_t pick_memory_type(const VkPhysicalDeviceMemoryProperties& mp, std::uint32_t allowed,
-                               bool* coherent) {
-  const VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
-  const VkMemoryPropertyFlags kCoherent = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  const VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  const VkMemoryPropertyFlags wanted[] = {kHost | kCoherent | kLocal, kHost | kCoherent, kHost};
-  for (VkMemoryPropertyFlags want : wanted)
-    for (std::uint32_t i = 0; i < mp.memoryTypeCount; ++i)
-      if ((allowed & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want) {
-        *coherent = (mp.memoryTypes[i].propertyFlags & kCoherent) != 0;
-        return i;
-      }
-  throw Error("the Vulkan device offers no host-visible memory for storage buffers");
-}
-
 const char* DeviceInfo::type_name() const {
   switch (type) {
     case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
@@ -96,8 +82,13 @@ struct VulkanContext::State {
   std::vector<DeviceInfo> devices;
   std::atomic<std::uint64_t> messages{0};
   MemoryLedger ledger;
+  std::unique_ptr<StagedTransfer> staging;  // staged mode
+  bool recording = false;                   // inside submit_and_wait's `record`
+
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
 
   ~State() {
+    staging.reset();  // its buffer before the device
     if (h.device) {
       vkDeviceWaitIdle(h.device);
       if (h.fence) vkDestroyFence(h.device, h.fence, nullptr);
@@ -149,11 +140,12 @@ bool has_layer(const char* name) {
   return false;
 }
 
-bool has_instance_extension(const char* name) {
+// `layer`: an extension that layer provides (nullptr: the loader's and the drivers').
+bool has_instance_extension(const char* name, const char* layer = nullptr) {
   std::uint32_t n = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+  vkEnumerateInstanceExtensionProperties(layer, &n, nullptr);
   std::vector<VkExtensionProperties> exts(n);
-  vkEnumerateInstanceExtensionProperties(nullptr, &n, exts.data());
+  vkEnumerateInstanceExtensionProperties(layer, &n, exts.data());
   for (const auto& e : exts)
     if (std::strcmp(e.extensionName, name) == 0) return true;
   return false;
@@ -209,8 +201,9 @@ bool has_device_extension(VkPhysicalDevice pd, const char* name) {
 // The buffer and memory limits of DeviceInfo (gpu/memory_plan.h): maxMemoryAllocationSize
 // (Vulkan 1.1), maxBufferSize (VK_KHR_maintenance4; no limit without it: the instance asks for
 // Vulkan 1.2, so the 1.3 core query is not ours to make) and the heap of the memory type
-// StorageBuffer picks, or that heap's budget with VK_EXT_memory_budget.
-void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
+// kDevice buffers take under the requested memory mode, or that heap's budget with
+// VK_EXT_memory_budget.
+void describe_memory(VkPhysicalDevice pd, MemoryMode requested, DeviceInfo* info) {
   VkPhysicalDeviceMaintenance4Properties m4{};
   m4.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES;
   VkPhysicalDeviceMaintenance3Properties m3{};
@@ -232,16 +225,15 @@ void describe_memory(VkPhysicalDevice pd, DeviceInfo* info) {
   mp2.pNext = info->heap_budget ? &budget : nullptr;
   vkGetPhysicalDeviceMemoryProperties2(pd, &mp2);
   const VkPhysicalDeviceMemoryProperties& mp = mp2.memoryProperties;
-  bool coherent = false;
-  std::uint32_t type = 0;
+  info->memory_mode = resolve_memory_mode(requested, info->type);
   try {
-    type = pick_memory_type(mp, ~0u, &coherent);
+    info->device_memory = choose_memory_type(mp, ~0u, info->memory_mode, MemoryRole::kDevice);
+    info->host_shared_memory =
+        choose_memory_type(mp, ~0u, info->memory_mode, MemoryRole::kHostShared);
   } catch (const Error&) {
     return;  // no host-visible memory: heap_bytes 0, every buffer refused by name
   }
-  const std::uint32_t heap = mp.memoryTypes[type].heapIndex;
-  info->buffers_device_local =
-      (mp.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+  const std::uint32_t heap = info->device_memory.heap;
   info->heap_bytes = info->heap_budget ? budget.heapBudget[heap] : mp.memoryHeaps[heap].size;
   info->reported_heap_bytes = mp.memoryHeaps[heap].size;
   // A CPU device's buffers are the host's memory. Mesa 22.3's lavapipe reports a fixed 2 GiB
@@ -269,7 +261,7 @@ void apply_heap_cap(DeviceInfo* info) {
   info->heap_capped = true;
 }
 
-DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
+DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index, MemoryMode memory) {
   VkPhysicalDeviceSubgroupProperties sub{};
   sub.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
   VkPhysicalDeviceDriverProperties driver{};
@@ -301,7 +293,7 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
   info.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   info.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   info.timestamp_period_ns = p.limits.timestampPeriod;
-  describe_memory(pd, &info);
+  describe_memory(pd, memory, &info);
   return info;
 }
 
@@ -334,6 +326,17 @@ std::string device_list(const std::vector<DeviceInfo>& devices) {
 
 namespace {
 
+MemoryTypeReport type_report(const MemoryTypeChoice& c) {
+  return {c.type, c.heap, memory_flags_text(c.flags), c.mapped};
+}
+
+MemoryPlacement placement_report(const DeviceInfo& info) {
+  return {
+      name_in(kMemoryModeNames, info.memory_mode),
+      {{name_in(kMemoryRoleNames, MemoryRole::kDevice), type_report(info.device_memory)},
+       {name_in(kMemoryRoleNames, MemoryRole::kHostShared), type_report(info.host_shared_memory)}}};
+}
+
 constexpr const char* kInstall =
     "install a Vulkan driver (Debian: apt-get install mesa-vulkan-drivers, for lavapipe)";
 
@@ -349,6 +352,15 @@ void create_instance(Handles& h, bool validate,
   app.apiVersion = VK_API_VERSION_1_2;
   std::vector<const char*> layers, extensions;
   VkDebugUtilsMessengerCreateInfoEXT dbg = messenger_info(messages);
+  // Synchronization validation beside the layer's default checks: missing or wrong barriers
+  // (the staged copies', the kernels') are reported like any other message.
+  const VkValidationFeatureEnableEXT sync =
+      VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{};
+  features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+  features.pNext = &dbg;
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = &sync;
   VkInstanceCreateInfo ici{};
   ici.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   ici.pApplicationInfo = &app;
@@ -361,6 +373,11 @@ void create_instance(Handles& h, bool validate,
     layers.push_back("VK_LAYER_KHRONOS_validation");
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     ici.pNext = &dbg;  // also reports on vkCreateInstance / vkDestroyInstance
+    if (has_instance_extension(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME,
+                               "VK_LAYER_KHRONOS_validation")) {
+      extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+      ici.pNext = &features;
+    }
   }
   ici.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
   ici.ppEnabledLayerNames = layers.data();
@@ -475,7 +492,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   create_instance(s.h, validate, &s.messages);
   const std::vector<VkPhysicalDevice> physical = physical_devices(s.h.instance);
   for (std::uint32_t i = 0; i < physical.size(); ++i)
-    s.devices.push_back(describe(physical[i], i));
+    s.devices.push_back(describe(physical[i], i, options.memory));
   const std::uint32_t chosen = choose_device(physical, s.devices, options.device, &s.h.family);
   s.h.physical = physical[chosen];
   s.info = s.devices[chosen];
@@ -484,6 +501,12 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   s.ledger.set_heap(s.info.heap_bytes);
   create_device(s.h, s.info);
   create_command_objects(s.h);
+  s.ledger.set_placement(placement_report(s.info));
+  if (s.info.memory_mode == MemoryMode::kStaged)
+    s.staging = std::make_unique<StagedTransfer>(
+        *this, [&s](const std::function<void(VkCommandBuffer)>& record, const std::string& what) {
+          s.submit_and_wait(record, what);
+        });
 }
 
 VulkanContext::~VulkanContext() = default;
@@ -495,19 +518,36 @@ const std::vector<DeviceInfo>& VulkanContext::devices() const { return s_->devic
 std::uint64_t VulkanContext::validation_messages() const { return s_->messages.load(); }
 MemoryLedger& VulkanContext::memory() { return s_->ledger; }
 const MemoryLedger& VulkanContext::memory() const { return s_->ledger; }
+StagedTransfer* VulkanContext::staging() { return s_->staging.get(); }
 VkDevice VulkanContext::device() const { return s_->h.device; }
 VkPhysicalDevice VulkanContext::physical_device() const { return s_->h.physical; }
 std::uint32_t VulkanContext::queue_family() const { return s_->h.family; }
 
 void VulkanContext::submit_and_wait(const std::function<void(VkCommandBuffer)>& record,
                                     const std::string& what) {
-  Handles& s = s_->h;
+  s_->submit_and_wait(record, what);
+}
+
+void VulkanContext::State::submit_and_wait(const std::function<void(VkCommandBuffer)>& record,
+                                           const std::string& what) {
+  if (recording)
+    throw Error(what +
+                ": submitted while another command buffer is being recorded (a staged "
+                "buffer's upload, download or fill inside a recording)");
+  Handles& s = h;
   check_vk(vkResetCommandBuffer(s.cmd, 0), "vkResetCommandBuffer (" + what + ")");
   VkCommandBufferBeginInfo bi{};
   bi.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check_vk(vkBeginCommandBuffer(s.cmd, &bi), "vkBeginCommandBuffer (" + what + ")");
-  record(s.cmd);
+  recording = true;
+  try {
+    record(s.cmd);
+  } catch (...) {
+    recording = false;
+    throw;
+  }
+  recording = false;
   // Shader writes → host reads of the mapped buffers once the fence has signalled.
   VkMemoryBarrier to_host{};
   to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;

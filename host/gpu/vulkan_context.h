@@ -11,6 +11,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/memory_ledger.h"
+#include "gpu/memory_placement.h"
 
 namespace hrpp {
 
@@ -21,8 +22,13 @@ struct VulkanOptions {
   // VK_LAYER_KHRONOS_validation with a debug-utils messenger that prints every warning and error
   // to stderr and counts them (validation_messages()). Also on when the environment has
   // HRPP_VALIDATE=1 (CI runs every GPU test so, and the commands treat any message as an error).
+  // Synchronization validation is on with it.
   bool validate = false;
+  // --memory: where buffers live (gpu/memory_placement.h); kAuto is resolved by the device's type.
+  MemoryMode memory = MemoryMode::kAuto;
 };
+
+class StagedTransfer;
 
 // What the kernels and the reports need to know about the chosen device.
 struct DeviceInfo {
@@ -39,8 +45,13 @@ struct DeviceInfo {
   std::uint32_t max_texel_buffer_elements = 0;  // texels one texel-buffer view may span
   std::uint64_t max_memory_allocation_size = 0;  // bytes of one allocation (one buffer here)
   std::uint64_t max_buffer_size = 0;             // bytes of one VkBuffer
+  // The memory mode, resolved (never kAuto), and the memory type of each role under it
+  // (choose_memory_type with every type allowed: StorageBuffer's buffers all allow the same).
+  MemoryMode memory_mode = MemoryMode::kMapped;
+  MemoryTypeChoice device_memory;       // MemoryRole::kDevice
+  MemoryTypeChoice host_shared_memory;  // MemoryRole::kHostShared
   // What all of a scene's buffers together must fit (gpu/memory_plan.h): the heap of the memory
-  // type buffers use (pick_memory_type), or its budget where the device has
+  // type kDevice buffers use (device_memory), or its budget where the device has
   // VK_EXT_memory_budget, or on a CPU device the host's physical memory; at most
   // HRPP_DEVICE_HEAP_MIB when that is set.
   std::uint64_t heap_bytes = 0;
@@ -48,7 +59,6 @@ struct DeviceInfo {
   bool heap_budget = false;               // heap_bytes is VK_EXT_memory_budget's budget
   bool heap_is_host = false;              // heap_bytes is the host's memory (a CPU device)
   bool heap_capped = false;               // HRPP_DEVICE_HEAP_MIB applied
-  bool buffers_device_local = false;      // the buffers' memory type is also device-local
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps
@@ -75,12 +85,15 @@ class VulkanContext {
   std::uint64_t validation_messages() const;
 
   // Records commands into a fresh primary command buffer, submits it on the compute queue and
-  // waits on a fence. `what` names the work in errors (device lost).
+  // waits on a fence. `what` names the work in errors (device lost). Throws hrpp::Error when
+  // called from inside `record` (a staged buffer's upload while recording, say).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
 
   // The buffers allocated now, by name (StorageBuffer keeps it), and their peak.
   MemoryLedger& memory();
   const MemoryLedger& memory() const;
+  // The staging copies of kDevice buffers in staged mode; nullptr in mapped mode.
+  StagedTransfer* staging();
 
   VkDevice device() const;
   VkPhysicalDevice physical_device() const;
@@ -95,11 +108,6 @@ class VulkanContext {
 // and running out of device or host memory get their own one-line messages naming `what`.
 void check_vk(VkResult r, const std::string& what);
 
-// The host-visible memory type for buffers that allow `allowed` (a memoryTypeBits mask), best
-// first: device-local and coherent (a GPU's BAR or unified memory; all of lavapipe's),
-// coherent, then any host-visible type. Throws hrpp::Error when there is none.
-std::uint32_t pick_memory_type(const VkPhysicalDeviceMemoryProperties& mp, std::uint32_t allowed,
-                               bool* coherent);
 const char* vk_result_name(VkResult r);
 
 }  // namespace hrpp

@@ -171,7 +171,24 @@ json memory_json(const MemoryReport& memory) {
   return json{{"buffers", buffers},
               {"total_bytes", memory.total},
               {"peak_bytes", memory.peak},
-              {"heap_bytes", memory.heap}};
+              {"heap_bytes", memory.heap},
+              {"mode", memory.placement.mode},
+              {"placement", placement_json(memory.placement)}};
+}
+
+json placement_json(const MemoryPlacement& placement) {
+  json roles = json::object();
+  for (const auto& [role, t] : placement.roles)
+    roles[role] = {{"type", t.type}, {"heap", t.heap}, {"flags", t.flags}, {"mapped", t.mapped}};
+  return roles;
+}
+
+std::string placement_text(const MemoryPlacement& placement) {
+  std::string s = placement.mode + ":";
+  for (const auto& [role, t] : placement.roles)
+    s += std::string(s.back() == ':' ? " " : ", ") + role + " buffers in type " +
+         std::to_string(t.type) + " (" + t.flags + ") heap " + std::to_string(t.heap);
+  return s;
 }
 
 std::string memory_text(const MemoryReport& memory) {
@@ -186,7 +203,7 @@ std::string memory_text(const MemoryReport& memory) {
                   " buffers (peak " + format_bytes(memory.peak) + ", device heap " +
                   format_bytes(memory.heap) + ")";
   if (!largest.empty()) s += "; largest " + largest + " " + format_bytes(most);
-  return s;
+  return s + "; " + placement_text(memory.placement);
 }
 
 }  // namespace hrpp

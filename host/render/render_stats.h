@@ -17,11 +17,20 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                                  const DeviceInfo& device, const RenderResult& result);
 
 // The "memory" object of the stats: bytes allocated per named device buffer ("buffers"), their
-// total, the peak total and the device heap they were checked against (gpu/memory_plan.h).
+// total, the peak total, the device heap they were checked against (gpu/memory_plan.h), the
+// memory mode and where each role's buffers live ("mode", "placement": placement_json).
 nlohmann::json memory_json(const MemoryReport& memory);
 
-// One terminal line: "<total> in <n> buffers (peak <peak>, heap <heap>); largest <name> <size>".
+// One terminal line: "<total> in <n> buffers (peak <peak>, heap <heap>); largest <name> <size>;
+// <placement_text>".
 std::string memory_text(const MemoryReport& memory);
+
+// {"device": {"type", "heap", "flags", "mapped"}, "host_shared": {...}} (gpu/memory_placement.h).
+nlohmann::json placement_json(const MemoryPlacement& placement);
+
+// "staged: device buffers in type 1 (device-local) heap 0, host_shared buffers in type 3
+// (host-visible, coherent, cached) heap 1".
+std::string placement_text(const MemoryPlacement& placement);
 
 // The same as lines of text for the terminal.
 std::string render_stats_text(const RenderConfig& config, const RenderResult& result);

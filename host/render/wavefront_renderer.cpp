@@ -177,7 +177,7 @@ struct WavefrontRenderer::State {
         next_rays(c, needs.next_rays),
         shadows(c, needs.shadows),
         image(c, needs.image),
-        queues(c, needs.queues),
+        queues(c, needs.queues, MemoryRole::kHostShared),  // read after every bounce
         shade_triangles(upload_array(c, needs.shade_triangles, rs.triangles)),
         materials(upload_array(c, needs.materials, rs.materials)),
         lights(upload_array(c, needs.lights, rs.lights)),
