@@ -213,6 +213,11 @@ class GltfLoader {
     state_.assign(m_.nodes.size(), 0);
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
     report_skipped();
+    if (!ragged_.empty()) {
+      warn(std::to_string(ragged_.size()) + " TRIANGLES primitive" +
+           (ragged_.size() == 1 ? "" : "s") +
+           " with a vertex or index count not a multiple of 3: the last 1 or 2 ignored");
+    }
     if (texcoord_override_) warn("KHR_texture_transform texCoord ignored (TEXCOORD_0 is used)");
   }
 
@@ -578,9 +583,9 @@ class GltfLoader {
     WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
     if (col) v.rgb = vertex_colors(*col, prim.attributes.at(kColor.semantic));
     std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
-    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
-      fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
-           std::to_string(sequence.size()) + " is not a multiple of 3");
+    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {  // a warning in the spec's validator
+      ragged_.insert({mesh_index, p});
+      sequence.resize(sequence.size() / 3 * 3);
     }
     const std::uint32_t material = material_for(prim.material, mesh_index, p);
     if (prim.material >= 0) transform_texcoords(prim.material, v.uv);
@@ -744,6 +749,7 @@ class GltfLoader {
   std::vector<std::optional<glm::mat3>> uv_transform_;  // per glTF material: KHR_texture_transform
   bool texcoord_override_ = false;
   std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
+  std::set<std::pair<int, int>> ragged_;   // TRIANGLES (mesh, primitive) with 3n + 1 or 2 indices
 };
 
 std::uint32_t u32_at(const std::vector<unsigned char>& bytes, std::size_t offset) {
