@@ -213,6 +213,11 @@ class GltfLoader {
     state_.assign(m_.nodes.size(), 0);
     for (int root : m_.scenes[scene_index].nodes) walk(root, glm::dmat4(1.0));
     report_skipped();
+    if (!ragged_.empty()) {
+      warn(std::to_string(ragged_.size()) + " TRIANGLES primitive" +
+           (ragged_.size() == 1 ? "" : "s") +
+           " with a vertex or index count not a multiple of 3: the last 1 or 2 ignored");
+    }
     if (texcoord_override_) warn("KHR_texture_transform texCoord ignored (TEXCOORD_0 is used)");
   }
 
@@ -578,9 +583,9 @@ class GltfLoader {
     WorldVertices v = world_vertices(pos, pos_it->second, nrm, tc, world);
     if (col) v.rgb = vertex_colors(*col, prim.attributes.at(kColor.semantic));
     std::vector<std::uint32_t> sequence = vertex_sequence(prim, where, pos.count);
-    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {
-      fail(where + ": " + (prim.indices >= 0 ? "index" : "vertex") + " count " +
-           std::to_string(sequence.size()) + " is not a multiple of 3");
+    if (mode == kGltfTriangles && sequence.size() % 3 != 0) {  // a warning in the spec's validator
+      ragged_.insert({mesh_index, p});
+      sequence.resize(sequence.size() / 3 * 3);
     }
     const std::uint32_t material = material_for(prim.material, mesh_index, p);
     if (prim.material >= 0) transform_texcoords(prim.material, v.uv);
@@ -744,7 +749,87 @@ class GltfLoader {
   std::vector<std::optional<glm::mat3>> uv_transform_;  // per glTF material: KHR_texture_transform
   bool texcoord_override_ = false;
   std::set<std::pair<int, int>> skipped_;  // (mesh, primitive) of points and lines skipped
+  std::set<std::pair<int, int>> ragged_;   // TRIANGLES (mesh, primitive) with 3n + 1 or 2 indices
 };
+
+std::uint32_t u32_at(const std::vector<unsigned char>& bytes, std::size_t offset) {
+  std::uint32_t v = 0;  // little-endian host (x86-64, aarch64)
+  if (bytes.size() >= offset + 4) std::memcpy(&v, bytes.data() + offset, 4);
+  return v;
+}
+
+// A glTF file's bytes and where its JSON lies in them (a .gltf: all of them).
+struct GltfFile {
+  std::vector<unsigned char> bytes;
+  bool binary = false;  // parsed as GLB: a .glb, or the GLB magic under another extension
+  bool glb = false;     // binary, and starts with the GLB magic
+  std::size_t json_begin = 0, json_end = 0;
+  std::size_t json_size() const { return json_end - json_begin; }
+};
+
+// A GLB's JSON chunk; refuses other versions than 2 and a BIN chunk past the end of the file.
+void locate_glb_json(GltfFile& f, const std::string& name) {
+  const std::vector<unsigned char>& b = f.bytes;
+  // tinygltf reads any GLB version; glTF 2.0 is version 2 (version 1 is the glTF 1.0 format).
+  if (u32_at(b, 4) != 2) {
+    throw Error(name + ": GLB version " + std::to_string(u32_at(b, 4)) +
+                " is not supported (glTF 2.0 files are version 2)");
+  }
+  f.json_begin = std::min<std::size_t>(20, b.size());
+  f.json_end = f.json_begin + std::min<std::size_t>(u32_at(b, 12), b.size() - f.json_begin);
+  // tinygltf 2.7 checks the BIN chunk's length against the header's total without the
+  // chunk's own 8-byte header: a chunk up to 8 bytes longer than the file would be read past
+  // its end.
+  const std::uint64_t bin = std::uint64_t{20} + u32_at(b, 12);
+  if (u32_at(b, 8) <= b.size() && bin + 8 <= b.size() && bin + 8 + u32_at(b, bin) > b.size()) {
+    throw Error(name + ": the BIN chunk (" + std::to_string(u32_at(b, bin)) +
+                " bytes) lies past the end of the file");
+  }
+}
+
+GltfFile read_gltf_file(const std::filesystem::path& file, const std::string& name) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw Error(name + ": no such file");
+  if (std::filesystem::is_directory(file, ec)) throw Error(name + ": is a directory");
+  GltfFile f;
+  std::string err;
+  if (!read_whole_file(&f.bytes, &err, name, nullptr)) throw Error(name + ": " + err);
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool magic = f.bytes.size() >= 4 && std::memcmp(f.bytes.data(), "glTF", 4) == 0;
+  // Unknown extension: sniff the GLB magic.
+  f.binary = ext == ".glb" || (ext != ".gltf" && magic);
+  f.glb = f.binary && magic;
+  f.json_end = f.bytes.size();
+  if (f.glb && f.bytes.size() >= 12) locate_glb_json(f, name);
+  return f;
+}
+
+// tinygltf's model of the file; one line naming the file when it cannot parse it.
+tinygltf::Model parse_model(const GltfFile& f, const std::string& base_dir,
+                            const std::string& name) {
+  tinygltf::TinyGLTF gltf;
+  gltf.SetImageLoader(defer_image, nullptr);
+  gltf.SetFsCallbacks(tinygltf::FsCallbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath,
+                                            &read_whole_file, &tinygltf::WriteWholeFile, nullptr});
+  tinygltf::Model model;
+  std::string err, warn;
+  const auto size = static_cast<unsigned int>(f.bytes.size());  // < 4 GiB: read_whole_file
+  const bool ok =
+      f.binary
+          ? gltf.LoadBinaryFromMemory(&model, &err, &warn, f.bytes.data(), size, base_dir)
+          : gltf.LoadASCIIFromString(&model, &err, &warn,
+                                     reinterpret_cast<const char*>(f.bytes.data()), size, base_dir);
+  if (ok) return model;
+  if (err.empty()) err = "cannot be parsed as glTF";
+  // Say so when the GLB header promises more bytes than the file has.
+  if (f.glb && f.bytes.size() >= 12 && u32_at(f.bytes, 8) > f.bytes.size()) {
+    err += " (truncated: the header says " + std::to_string(u32_at(f.bytes, 8)) +
+           " bytes, the file has " + std::to_string(f.bytes.size()) + ")";
+  }
+  throw Error(one_line(name + ": " + err));
+}
 
 // Decodes the compressed data (meshopt views, Draco primitives), then flattens the model.
 Scene load_model(tinygltf::Model& model, const std::string& name, const GltfPrepass& pre) {
@@ -768,80 +853,24 @@ Scene load_model(tinygltf::Model& model, const std::string& name, const GltfPrep
 
 Scene load_gltf(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) throw Error(name + ": no such file");
-  if (std::filesystem::is_directory(file, ec)) throw Error(name + ": is a directory");
-
-  tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(defer_image, nullptr);
-  gltf.SetFsCallbacks(tinygltf::FsCallbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath,
-                                            &read_whole_file, &tinygltf::WriteWholeFile, nullptr});
-  std::vector<unsigned char> bytes;
-  std::string err, warn;
-  if (!read_whole_file(&bytes, &err, name, nullptr)) throw Error(name + ": " + err);
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  auto u32_at = [&](std::size_t offset) {  // little-endian host (x86-64, aarch64)
-    std::uint32_t v = 0;
-    if (bytes.size() >= offset + 4) std::memcpy(&v, bytes.data() + offset, 4);
-    return v;
-  };
-  const bool magic = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-  // Unknown extension: sniff the GLB magic.
-  const bool binary = ext == ".glb" || (ext != ".gltf" && magic);
-  std::size_t json_begin = 0, json_end = bytes.size();
-  if (binary && magic && bytes.size() >= 12) {
-    // tinygltf reads any GLB version; glTF 2.0 is version 2 (version 1 is the glTF 1.0 format).
-    if (u32_at(4) != 2) {
-      throw Error(name + ": GLB version " + std::to_string(u32_at(4)) +
-                  " is not supported (glTF 2.0 files are version 2)");
-    }
-    json_begin = std::min<std::size_t>(20, bytes.size());
-    json_end = json_begin + std::min<std::size_t>(u32_at(12), bytes.size() - json_begin);
-    // tinygltf 2.7 checks the BIN chunk's length against the header's total without the
-    // chunk's own 8-byte header: a chunk up to 8 bytes longer than the file would be read past
-    // its end.
-    const std::uint64_t bin = std::uint64_t{20} + u32_at(12);
-    if (u32_at(8) <= bytes.size() && bin + 8 <= bytes.size() &&
-        bin + 8 + u32_at(bin) > bytes.size()) {
-      throw Error(name + ": the BIN chunk (" + std::to_string(u32_at(bin)) +
-                  " bytes) lies past the end of the file");
-    }
-  }
+  GltfFile f = read_gltf_file(file, name);
   // tinygltf converts JSON values recursively: deep nesting would overflow the stack.
-  const std::size_t depth = json_nesting_depth(bytes.data() + json_begin, json_end - json_begin);
+  const std::size_t depth = json_nesting_depth(f.bytes.data() + f.json_begin, f.json_size());
   if (depth > kMaxJsonDepth) {
     throw Error(name + ": JSON nested " + std::to_string(depth) + " levels deep (at most " +
                 std::to_string(kMaxJsonDepth) + ")");
   }
   GltfPrepass pre;
   try {
-    pre = gltf_prepass(bytes.data() + json_begin, json_end - json_begin);
+    pre = gltf_prepass(f.bytes.data() + f.json_begin, f.json_size());
   } catch (const GltfError& e) {
     throw Error(one_line(name + ": " + e.what()));
   }
   // A GLB is rebuilt only when its header's length is the file's: tinygltf refuses the others.
-  const bool glb = binary && magic;
-  if (pre.changed && (!glb || u32_at(8) == bytes.size())) {
-    bytes = replace_json(bytes, glb, json_end, pre.json);
+  if (pre.changed && (!f.glb || u32_at(f.bytes, 8) == f.bytes.size())) {
+    f.bytes = replace_json(f.bytes, f.glb, f.json_end, pre.json);
   }
-  const std::string base_dir = file.parent_path().string();
-  tinygltf::Model model;
-  const auto size = static_cast<unsigned int>(bytes.size());  // < 4 GiB: read_whole_file
-  const bool ok = binary
-      ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, base_dir)
-      : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                 size, base_dir);
-  if (!ok) {
-    if (err.empty()) err = "cannot be parsed as glTF";
-    // Say so when the GLB header promises more bytes than the file has.
-    if (binary && magic && bytes.size() >= 12 && u32_at(8) > bytes.size()) {
-      err += " (truncated: the header says " + std::to_string(u32_at(8)) + " bytes, the file has " +
-             std::to_string(bytes.size()) + ")";
-    }
-    throw Error(one_line(name + ": " + err));
-  }
+  tinygltf::Model model = parse_model(f, file.parent_path().string(), name);
   return load_model(model, name, pre);
 }
 
