@@ -29,8 +29,8 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from hrpp_bench import read_exr  # noqa: E402
-from estimator_error import (EPS, errors, mean_text, output_dir, run,  # noqa: E402
-                             scene_arg, write_json)
+from estimator_error import (DEFAULT_SCENES, EPS, errors, mean_text,  # noqa: E402
+                             output_dir, run, scene_arg, write_json)
 
 DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
 HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobol"],
@@ -86,8 +86,7 @@ def compare_scene(a, scene, out_dir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes",
-                    default="builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel")
+    ap.add_argument("--scenes", default=DEFAULT_SCENES)
     ap.add_argument("--size", default="64x64")
     ap.add_argument("--spp", type=int, default=1024)
     ap.add_argument("--max-depth", type=int, default=8)

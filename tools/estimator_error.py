@@ -33,6 +33,8 @@ CONFIGS = [("light", "independent"), ("mis", "independent"), ("light", "sobol"),
            ("mis", "sobol"), ("bsdf", "sobol")]
 BASELINE = ("light", "independent")
 EPS = 1e-2
+# The estimator scripts' scenes: the Cornell boxes, two stand-ins, two lights near surfaces.
+DEFAULT_SCENES = "builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel"
 
 
 def scene_arg(name):
@@ -92,8 +94,7 @@ def errors(img, ref):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes",
-                    default="builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel",
+    ap.add_argument("--scenes", default=DEFAULT_SCENES,
                     help="builtin:cornell and names of scenes/NAME.scene.json (cornell: the "
                          "glTF Cornell box)")
     ap.add_argument("--size", default="64x64")
