@@ -49,7 +49,8 @@ the generated tables in RESULTS.md.
                      already uses every core)
   --sshloginfile F   run the jobs on the machines listed in F (GNU parallel --sshloginfile);
                      they need this repository, the binary and the run directory at the same
-                     absolute paths (a shared file system)
+                     absolute paths (a shared file system); one line per machine, e.g.
+                     "1/ssh -p 2222 -i KEY user@host" (1 render at a time, another port/key)
   --resume           skip the jobs the joblog records as done (GNU parallel --resume)
   --collect-only     do not render: collect, plot and report what the run directory holds
   --help             this text
