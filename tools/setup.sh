@@ -33,7 +33,21 @@ else
   exit 1
 fi
 echo "setup: installing ${missing[*]}"
+# openssh-server is there for sshd, which tests/remote_sweep_test.sh starts on loopback ports of
+# its own; the package's system service is not wanted, so a policy-rc.d keeps it from starting
+# while it installs and, where systemd runs, the service is disabled afterwards.
+installing_sshd=0
+[[ " ${missing[*]} " == *" openssh-server "* && ! -e /usr/sbin/policy-rc.d ]] && installing_sshd=1
+if [ "$installing_sshd" = 1 ]; then
+  printf '#!/bin/sh\nexit 101\n' | "${sudo[@]}" tee /usr/sbin/policy-rc.d >/dev/null
+  "${sudo[@]}" chmod +x /usr/sbin/policy-rc.d
+  trap '"${sudo[@]}" rm -f /usr/sbin/policy-rc.d' EXIT
+fi
 "${sudo[@]}" apt-get update -qq
 "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
   "${missing[@]}" >/dev/null
+if [ "$installing_sshd" = 1 ] && [ -d /run/systemd/system ]; then
+  "${sudo[@]}" systemctl disable --quiet ssh.service ssh.socket 2>/dev/null || true
+  echo "setup: openssh-server's service disabled (the tests run sshd on their own ports)"
+fi
 echo "setup: done"
