@@ -1,0 +1,139 @@
+#!/usr/bin/python3
+"""tools/cost_model.py, the fit of tools/hrpp_model.py, on synthetic renders whose costs are
+known: stats JSON files built from random operation counts and chosen costs per operation, with
+2% multiplicative noise on every kernel time. The fit must recover every cost that carries
+weight within 10%, predict held-out runs' class times within 5%, and the break-even answers
+must solve their closed forms (the modelled on/off is 1 there). Then, given an hrpp binary,
+tools/hrpp_model.py runs end to end on tiny renders and ends with its summary line.
+Usage: hrpp_model_test.py [HRPP_BINARY WORK_DIR]"""
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOOLS = os.path.join(HERE, "..", "tools")
+sys.path.insert(0, TOOLS)
+import cost_model as cm  # noqa: E402
+
+NS = 1e-6  # ms per ns
+TRUE = {
+    "trace:camera": {"dispatch": 20000 * NS, "ray": 90 * NS, "interior": 60 * NS,
+                     "leaf": 40 * NS, "triangle": 25 * NS},
+    "trace:bounce": {"dispatch": 20000 * NS, "ray": 120 * NS, "interior": 95 * NS,
+                     "leaf": 55 * NS, "triangle": 30 * NS},
+    "trace:shadow": {"dispatch": 15000 * NS, "ray": 80 * NS, "interior": 75 * NS,
+                     "leaf": 45 * NS, "triangle": 20 * NS},
+    "hrpp_predict": {"dispatch": 30000 * NS, "probe": 150 * NS, "verify_interior": 70 * NS,
+                     "verify_leaf": 60 * NS, "verify_triangle": 30 * NS},
+    "hrpp_resolve": {"dispatch": 25000 * NS, "queue_entry": 60 * NS, "insert": 110 * NS},
+}
+
+
+def synthetic_class(rng, on, dispatches):
+    rays = int(np.exp(rng.uniform(np.log(2000), np.log(400000))))
+    interior, leaf, tri = rng.uniform(2, 20), rng.uniform(0.5, 6), rng.uniform(1, 12)
+    c = {"rays": rays, "trace_dispatches": dispatches}
+    answered = int(rays * rng.uniform(0, 0.5)) if on else 0
+    traced = rays - answered
+    hits = answered + int(rays * rng.uniform(0, 0.1)) if on else 0
+    v_int, v_leaf, v_tri = (int(hits * rng.uniform(0, 5)), hits, int(hits * rng.uniform(1, 3))) \
+        if on else (0, 0, 0)
+    c["interior_visited"] = int(traced * interior) + v_int
+    c["leaves_visited"] = int(traced * leaf) + v_leaf
+    c["triangles_tested"] = int(traced * tri) + v_tri
+    if on:
+        c["hrpp"] = {"probes": rays, "traced": traced, "predictor_hits": hits,
+                     "verify_interior": v_int, "verify_leaves": v_leaf,
+                     "verify_triangles": v_tri, "predicted_traces": dispatches,
+                     "insert_requests": int(traced * rng.uniform(0.3, 1.0))}
+    return c
+
+
+def synthetic_stats(rng, on, frames=4):
+    """A stats JSON's "frames" with random counts and kernel times from TRUE (2% noise)."""
+    out = {"frames": []}
+    for _ in range(frames):
+        classes = {}
+        for cls in cm.CLASSES:
+            c = synthetic_class(rng, on, int(rng.integers(1, 16)))
+            obs = {"class": cls, "counts": cm.class_counts(c)}
+            ms = {cm.TRACE_KERNEL[cls]: cm.predict_kernel(TRUE, obs, f"trace:{cls}")}
+            if on:
+                for k in cm.STAGE_KERNELS:
+                    ms[k] = cm.predict_kernel(TRUE, obs, k)
+            c["kernels_ms"] = {k: v * rng.normal(1, 0.02) for k, v in ms.items()}
+            classes[cls] = c
+        out["frames"].append({"classes": classes})
+    return out
+
+
+def weight(obs, model, op):
+    """The median share of its kernel's time that one operation takes."""
+    i = cm.model_features(model).index(op)
+    shares = [cm.feature_row(o, model)[i] * TRUE[model][op] / t for o in obs
+              if (t := cm.predict_kernel(TRUE, o, model)) > 0 and model in o["ms"]]
+    return float(np.median(shares)) if shares else 0.0
+
+
+def check_fit():
+    rng = np.random.default_rng(7)
+    runs = {(f"scene{i}", s): synthetic_stats(rng, s == "on") for i in range(12)
+            for s in ("off", "on")}
+    obs = [o for key, st in runs.items() for o in cm.observations(st, key)]
+    fitted = cm.fit([o for o in obs if o["run"][0] != "scene11"])
+    checked = 0
+    for model, costs in TRUE.items():
+        for op, c in costs.items():
+            if weight(obs, model, op) < 0.05:
+                continue  # under 5% of the kernel's time somewhere: not identifiable
+            got = fitted[model][op]
+            assert abs(got / c - 1) < 0.10, f"{model} {op}: fitted {got / NS:.1f} ns, true {c / NS:.1f}"
+            checked += 1
+    assert checked >= 12, f"only {checked} costs carry weight: the synthetic data is too narrow"
+    held = cm.class_totals([o for o in obs if o["run"][0] == "scene11"], fitted)
+    worst = max(abs(t["modelled"] / t["measured"] - 1) for t in held.values())
+    assert worst < 0.05, f"held-out class times off by {worst:.3f}"
+    print(f"hrpp_model_test: fit recovers {checked} costs within 10%, held out within {worst:.3f}")
+    return obs
+
+
+def check_break_even(obs):
+    pick = lambda run, cls: [o for o in obs if o["run"] == run and o["class"] == cls]
+    for cls in cm.CLASSES:
+        cc = cm.ClassCosts(TRUE, cm.per_ray_rates(pick(("scene0", "off"), cls)),
+                           cm.per_ray_rates(pick(("scene0", "on"), cls)), f"trace:{cls}")
+        a = cc.break_even_answered()
+        if np.isfinite(a):
+            assert abs(cc.ratio(a=a) - 1) < 1e-9, (cls, a, cc.ratio(a=a))
+        s = cc.break_even_probe() * cc.interior_cost
+        assert abs(cc.ratio(s=s) - 1) < 1e-9, (cls, s, cc.ratio(s=s))
+        # More answered rays and cheaper probes can only lower the modelled on/off.
+        assert cc.ratio(a=0.9) < cc.ratio(a=0.1) and cc.ratio(s=0) < cc.ratio()
+        # With no queue costs and a free probe, answering every ray costs only verification.
+        assert abs(cc.ratio(a=1.0, s=0.0, queue=False) - (1 + cc.f) * cc.v / cc.trace_only) < 1e-9
+    print("hrpp_model_test: break-even answers solve on/off = 1")
+
+
+def check_command(hrpp, work):
+    cmd = [sys.executable, os.path.join(TOOLS, "hrpp_model.py"), "--hrpp", hrpp,
+           "--scenes", "builtin:cornell,teapot", "--size", "48x48", "--spp", "1",
+           "--runs", os.path.join(work, "runs"), "--figure", os.path.join(work, "model.png"),
+           "--json", os.path.join(work, "model.json"), "--results", os.path.join(work, "R.md")]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    last = r.stdout.strip().splitlines()[-1]
+    assert re.fullmatch(r"model: max relative error \d+\.\d+ on 10 held-out runs", last), last
+    assert open(os.path.join(work, "model.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+    text = open(os.path.join(work, "R.md")).read()
+    assert text.count("<!-- BEGIN hrpp_model -->") == 1 and "| teapot | camera |" in text, text
+    print(f"hrpp_model_test: tools/hrpp_model.py end to end: {last}")
+
+
+if __name__ == "__main__":
+    check_break_even(check_fit())
+    if len(sys.argv) == 3:
+        os.makedirs(sys.argv[2], exist_ok=True)
+        check_command(sys.argv[1], sys.argv[2])

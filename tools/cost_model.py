@@ -1,0 +1,206 @@
+"""HRPP's cost model: a device's cost per operation, fitted from the kernels' timestamps and
+counters of `hrpp render --stats` files, and what it says about where prediction pays.
+
+Every kernel of a ray class is modelled as a sum of operations times their costs (ms each):
+
+  trace (trace_closest, trace_any): dispatch, ray traced, interior node, leaf, triangle test
+  hrpp_predict:                     dispatch, probe, verified interior node, leaf, triangle
+  hrpp_resolve:                     dispatch, queue entry (a ray the prediction did not answer),
+                                    insert (a queued ray's hit offered to the table)
+
+The counts come from the stats of each frame and class ("frames"[i]["classes"][class]); the
+trace kernel's share of the counters is the class's minus what verification spent. Each kernel's
+costs are fitted by non-negative least squares on relative error (every observation weighs the
+same whatever its size), one set per device and, for the trace kernels, per ray class: camera
+rays are coherent and bounce rays are not, so a node visit costs each class its own time on a
+SIMD device (lavapipe: 55-70 ns for camera rays, 75-120 ns for bounce rays). Used by tools/hrpp_model.py (the command) and tests/hrpp_model_test.py.
+"""
+import numpy as np
+
+CLASSES = ["camera", "bounce", "shadow"]
+TRACE_KERNEL = {"camera": "trace_closest", "bounce": "trace_closest", "shadow": "trace_any"}
+STAGE_KERNELS = ["hrpp_predict", "hrpp_resolve"]
+FEATURES = {
+    "trace": ["dispatch", "ray", "interior", "leaf", "triangle"],
+    "hrpp_predict": ["dispatch", "probe", "verify_interior", "verify_leaf", "verify_triangle"],
+    "hrpp_resolve": ["dispatch", "queue_entry", "insert"],
+}
+MODELS = [f"trace:{c}" for c in CLASSES] + STAGE_KERNELS
+
+
+def model_features(model):
+    return FEATURES["trace" if model.startswith("trace") else model]
+
+
+def class_counts(c):
+    """Operation counts of one class in one frame (a "classes" entry of the stats JSON)."""
+    h = c.get("hrpp")
+    probes = h["probes"] if h else 0
+    queued = h["traced"] if h else 0
+    v_int = h["verify_interior"] if h else 0
+    v_leaf = h["verify_leaves"] if h else 0
+    v_tri = h["verify_triangles"] if h else 0
+    return {
+        "rays": c["rays"],
+        "probes": probes,
+        "answered": probes - queued,
+        "predictor_hits": h["predictor_hits"] if h else 0,
+        "trace": {"dispatch": c["trace_dispatches"], "ray": c["rays"] - (probes - queued),
+                  "interior": c["interior_visited"] - v_int, "leaf": c["leaves_visited"] - v_leaf,
+                  "triangle": c["triangles_tested"] - v_tri},
+        "hrpp_predict": {"dispatch": h["predicted_traces"] if h else 0, "probe": probes,
+                         "verify_interior": v_int, "verify_leaf": v_leaf,
+                         "verify_triangle": v_tri},
+        "hrpp_resolve": {"dispatch": h["predicted_traces"] if h else 0, "queue_entry": queued,
+                         "insert": h["insert_requests"] if h else 0},
+    }
+
+
+def observations(stats, run):
+    """One observation per frame and class of a stats JSON: counts and kernel times (ms)."""
+    out = []
+    for i, frame in enumerate(stats["frames"]):
+        for cls in CLASSES:
+            c = frame["classes"][cls]
+            if c["rays"] == 0:
+                continue
+            ms = c["kernels_ms"]
+            out.append({"run": run, "frame": i, "class": cls, "counts": class_counts(c),
+                        "ms": {f"trace:{cls}": ms.get(TRACE_KERNEL[cls], 0.0),
+                               "hrpp_predict": ms.get("hrpp_predict", 0.0),
+                               "hrpp_resolve": ms.get("hrpp_resolve", 0.0)},
+                        "class_ms": sum(ms.values())})
+    return out
+
+
+def feature_row(obs, model):
+    counts = obs["counts"]["trace" if model.startswith("trace") else model]
+    return [float(counts[f]) for f in model_features(model)]
+
+
+def rows_for(obs_list, model):
+    """The observations that ran `model`, as a feature matrix and the measured times."""
+    chosen = [o for o in obs_list if model in o["ms"] and any(feature_row(o, model))]
+    x = np.array([feature_row(o, model) for o in chosen]).reshape(-1, len(model_features(model)))
+    y = np.array([o["ms"][model] for o in chosen])
+    return x, y
+
+
+def nnls(a, b):
+    """min |a x - b| with x >= 0 (Lawson and Hanson's active-set method)."""
+    from scipy.optimize import nnls as scipy_nnls
+    return scipy_nnls(a, b)[0]
+
+
+def fit(obs_list):
+    """Costs per operation, {model: {feature: ms}}, fitted on relative error."""
+    costs = {}
+    for model in MODELS:
+        x, y = rows_for(obs_list, model)
+        if len(y) == 0:
+            continue
+        keep = y > 0
+        x, y = x[keep], y[keep]
+        scale = x.max(axis=0)
+        scale[scale == 0] = 1.0
+        w = 1.0 / y  # relative error: each row divided by its measured time
+        c = nnls(x / scale * w[:, None], np.ones_like(y)) / scale
+        costs[model] = dict(zip(model_features(model), c.tolist()))
+    return costs
+
+
+def predict_kernel(costs, obs, model):
+    if model not in costs:
+        return 0.0
+    return float(np.dot(feature_row(obs, model), [costs[model][f] for f in model_features(model)]))
+
+
+def predict_class_ms(costs, obs):
+    """The class's modelled kernel time in one frame: its trace kernel plus, when it probed,
+    the HRPP stage's kernels."""
+    models = [f"trace:{obs['class']}"]
+    if obs["counts"]["probes"] > 0:
+        models += STAGE_KERNELS
+    return sum(predict_kernel(costs, obs, m) for m in models)
+
+
+def class_totals(obs_list, costs):
+    """Per (run, class): measured and modelled time summed over the frames."""
+    totals = {}
+    for o in obs_list:
+        t = totals.setdefault((o["run"], o["class"]), {"measured": 0.0, "modelled": 0.0})
+        t["measured"] += o["class_ms"]
+        t["modelled"] += predict_class_ms(costs, o)
+    return totals
+
+
+def per_ray_rates(obs_list):
+    """A class's operations per ray summed over frames: {name: count per ray or per probe}."""
+    rays = sum(o["counts"]["rays"] for o in obs_list)
+    probes = sum(o["counts"]["probes"] for o in obs_list)
+    hits = sum(o["counts"]["predictor_hits"] for o in obs_list)
+    total = lambda m, f: sum(o["counts"][m][f] for o in obs_list)
+    r = {"rays": rays, "probes": probes}
+    r["trace"] = {f: total("trace", f) / rays for f in FEATURES["trace"]}
+    if probes:
+        r["answered"] = sum(o["counts"]["answered"] for o in obs_list) / probes
+        r["hit_rate"] = hits / probes
+        r["verify"] = {f: total("hrpp_predict", f) / max(hits, 1)
+                       for f in FEATURES["hrpp_predict"][2:]}
+        queued = total("hrpp_resolve", "queue_entry")
+        r["insert_per_queued"] = total("hrpp_resolve", "insert") / max(queued, 1)
+        r["predict_dispatch"] = total("hrpp_predict", "dispatch") / probes
+    return r
+
+
+class ClassCosts:
+    """A class's costs per ray on one device, from the fitted costs and the counts of an
+    HRPP-off run (its traversal) and an HRPP-on run (its prediction rates):
+      C   trace cost per ray of HRPP off (traversal + dispatch share)
+      s   probe: hrpp_predict's cost per probed ray, verification excluded
+      v   verification per predictor hit
+      r   hrpp_resolve per queued ray (queue entry + its insert share)
+      d   the stage's dispatches per probed ray
+    On/off time of the class at answered share a and predictor-hit share h = a + f:
+      (s + d + h v + (1 - a) (C' + r)) / C,   C' = C without its dispatch share."""
+
+    def __init__(self, costs, off_rates, on_rates, trace_model):
+        k = costs[trace_model]
+        t = off_rates["trace"]
+        self.trace_only = sum(k[f] * t[f] for f in ("ray", "interior", "leaf", "triangle"))
+        self.C = self.trace_only + k["dispatch"] * t["dispatch"]
+        self.interior_cost = k["interior"]
+        p, res = costs["hrpp_predict"], costs["hrpp_resolve"]
+        self.s = p["probe"]
+        self.v = sum(p[f] * on_rates["verify"][f] for f in on_rates["verify"])
+        self.r = res["queue_entry"] + res["insert"] * on_rates["insert_per_queued"]
+        self.d = (p["dispatch"] + res["dispatch"]) * on_rates["predict_dispatch"]
+        self.a = on_rates["answered"]
+        self.f = max(on_rates["hit_rate"] - self.a, 0.0)
+
+    def ratio(self, a=None, s=None, queue=True):
+        """Modelled on/off time; `queue=False` drops the queue's costs (resolve, dispatches,
+        the compacted trace's own dispatches), as a hardware predictor would."""
+        a = self.a if a is None else a
+        s = self.s if s is None else s
+        h = a + self.f
+        if queue:
+            return (s + self.d + h * self.v + (1 - a) * (self.trace_only + self.r)) / self.C
+        return (s + h * self.v + (1 - a) * self.trace_only) / self.trace_only
+
+    def break_even_answered(self):
+        """The answered share at which on/off = 1 at today's probe cost (>1: never)."""
+        denom = self.trace_only + self.r - self.v
+        if denom <= 0:
+            return float("inf")
+        return (self.s + self.d + self.f * self.v + self.trace_only + self.r - self.C) / denom
+
+    def break_even_probe(self):
+        """The probe cost, in interior-node visits, at which on/off = 1 at the measured answered
+        share (<0: no probe cost is cheap enough)."""
+        h = self.a + self.f
+        s = self.C - self.d - h * self.v - (1 - self.a) * (self.trace_only + self.r)
+        return s / self.interior_cost if self.interior_cost > 0 else float("nan")
+
+    def probe_in_interior_visits(self):
+        return self.s / self.interior_cost if self.interior_cost > 0 else float("nan")

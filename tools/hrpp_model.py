@@ -1,0 +1,267 @@
+#!/usr/bin/python3
+"""Where would HRPP pay? Fits the device's cost per operation from renders and asks the model.
+
+Renders each stand-in with HRPP off and with every ray predicted under a few predictor settings
+(hash precision 6 and 4, go-up 2, exact mode), then fits the cost of each operation of the
+trace and HRPP kernels (tools/cost_model.py: dispatch, ray, interior node, leaf, triangle test,
+probe, verification, queue entry, insert) from the kernels' timestamps and counters. It checks
+the model on renders it was not fitted on (each scene's runs predicted by a fit on the other
+scenes), then answers per class and stand-in, at the default setting (precision 6):
+  - break-even answered share: the share of probed rays the prediction must answer for HRPP to
+    cost what HRPP off does, at today's probe cost (above 1: never);
+  - break-even probe: the probe cost, in interior-node visits of this device, at which HRPP
+    breaks even at the measured answered share (below 0: at no probe cost);
+  - hardware: on/off if a probe cost what MICRO'21's simulated predictor costs (2 cycles, where
+    its RT unit spends 24 on a node: 1/12 of an interior-node visit) and the queue cost nothing
+    (the RT unit regroups rays itself).
+It draws on/off against probe cost per class (the model's lines, the measured points) and can
+rewrite its block in RESULTS.md. The last line is `model: max relative error E on N held-out
+runs` (class times, HRPP on and off).
+
+Usage: tools/hrpp_model.py [--quick] [--hrpp BIN] [--scenes a,b] [--size WxH] [--spp N]
+                           [--runs DIR] [--reuse] [--json FILE] [--figure PNG] [--results MD]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cost_model as cm  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "dragon"]
+PREDICT_ALL = ["--hrpp", "on", "--hrpp-adaptive", "off"]
+SETTINGS = {
+    "off": ["--hrpp", "off"],
+    "n6": PREDICT_ALL,
+    "n4": PREDICT_ALL + ["--hash-bits", "4"],
+    "n6-up2": PREDICT_ALL + ["--go-up", "2"],
+    "n6-exact": PREDICT_ALL + ["--hrpp-mode", "exact"],
+}
+DEFAULT_SETTING = "n6"
+HARDWARE_PROBE = 2.0 / 24.0  # interior-node visits: MICRO'21 predictor lookup / RT node latency
+BEGIN, END = "<!-- BEGIN hrpp_model -->", "<!-- END hrpp_model -->"
+
+
+def default_binary():
+    for b in ("build/release", "build/ci", "build/portable"):
+        p = os.path.join(REPO, b, "host", "hrpp")
+        if os.access(p, os.X_OK):
+            return p
+    return os.path.join(REPO, "build", "release", "host", "hrpp")
+
+
+def render(a, scene, setting):
+    """One render's stats (reused from --runs when --reuse and present)."""
+    name = f"{scene.replace(':', '_')}_{setting}"
+    stats = os.path.join(a.runs, name + ".json")
+    if not (a.reuse and os.path.exists(stats)):
+        cmd = [a.hrpp, "render", scene, "--size", a.size, "--spp", str(a.spp), "--seed",
+               str(a.seed), "--out", os.path.join(a.runs, name + ".exr"), "--stats", stats]
+        r = subprocess.run(cmd + SETTINGS[setting], capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"hrpp_model: {' '.join(cmd + SETTINGS[setting])} failed:\n{r.stderr.strip()}")
+    with open(stats) as f:
+        return json.load(f)
+
+
+def collect(a):
+    """{(scene, setting): stats} over every scene and setting, off and on interleaved."""
+    os.makedirs(a.runs, exist_ok=True)
+    runs, start = {}, time.time()
+    todo = [(s, k) for s in a.scenes for k in SETTINGS]
+    for i, (scene, setting) in enumerate(todo):
+        runs[(scene, setting)] = render(a, scene, setting)
+        print(f"hrpp_model: render {i + 1}/{len(todo)} {scene} {setting} "
+              f"({time.time() - start:.0f} s)", file=sys.stderr, flush=True)
+    return runs
+
+
+def all_observations(runs):
+    return [o for key, s in runs.items() for o in cm.observations(s, key)]
+
+
+def held_out(obs, scenes):
+    """Each scene's class times predicted by a fit on the other scenes' runs."""
+    rows = []
+    for scene in scenes:
+        costs = cm.fit([o for o in obs if o["run"][0] != scene])
+        mine = [o for o in obs if o["run"][0] == scene]
+        for (run, cls), t in sorted(cm.class_totals(mine, costs).items()):
+            err = t["modelled"] / t["measured"] - 1 if t["measured"] > 0 else float("nan")
+            rows.append({"scene": run[0], "setting": run[1], "class": cls, **t, "error": err})
+    return rows
+
+
+def ratio_errors(rows):
+    """Modelled against measured on/off ratios of the held-out class times."""
+    by = {(r["scene"], r["setting"], r["class"]): r for r in rows}
+    out = []
+    for (scene, setting, cls), r in by.items():
+        off = by.get((scene, "off", cls))
+        if setting == "off" or not off:
+            continue
+        measured = r["measured"] / off["measured"]
+        modelled = r["modelled"] / off["modelled"]
+        out.append({"scene": scene, "setting": setting, "class": cls, "measured": measured,
+                    "modelled": modelled, "error": modelled / measured - 1})
+    return out
+
+
+def answers(obs, costs, scenes):
+    """Per scene and class at the default setting: the model's break-even figures."""
+    out = []
+    for scene in scenes:
+        for cls in cm.CLASSES:
+            pick = lambda k: [o for o in obs if o["run"] == (scene, k) and o["class"] == cls]
+            off, on = pick("off"), pick(DEFAULT_SETTING)
+            if not off or not on or not sum(o["counts"]["probes"] for o in on):
+                continue
+            cc = cm.ClassCosts(costs, cm.per_ray_rates(off), cm.per_ray_rates(on), f"trace:{cls}")
+            measured = sum(o["class_ms"] for o in on) / sum(o["class_ms"] for o in off)
+            out.append({"scene": scene, "class": cls, "measured": measured,
+                        "modelled": cc.ratio(), "answered": cc.a,
+                        "break_even_answered": cc.break_even_answered(),
+                        "probe": cc.probe_in_interior_visits(),
+                        "break_even_probe": cc.break_even_probe(),
+                        "hardware": cc.ratio(s=HARDWARE_PROBE * cc.interior_cost, queue=False),
+                        "curve": cc})
+    return out
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    xs = np.logspace(-2, 2, 60)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), sharey=True)
+    for ax, cls in zip(axes, cm.CLASSES):
+        for i, r in enumerate(x for x in rows if x["class"] == cls):
+            cc, color = r["curve"], f"C{i}"
+            ax.plot(xs, [cc.ratio(s=x * cc.interior_cost) for x in xs], color=color,
+                    label=f"{r['scene']} (answered {r['answered']:.2f})")
+            ax.plot([r["probe"]], [r["measured"]], "o", color=color)
+        ax.axhline(1, color="k", lw=0.8)
+        ax.axvline(HARDWARE_PROBE, color="gray", ls="--", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("probe cost (interior-node visits)")
+        ax.set_title(f"{cls} rays")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("HRPP on / off, class time")
+    fig.suptitle("Model lines and measured points (dots); dashed: MICRO'21's probe", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def fmt(x, d=2):
+    if x is None or not np.isfinite(x):
+        return "never" if x == float("inf") else "n/a"
+    return f"{x:.{d}f}"
+
+
+def report_lines(a, costs, held, ratios, ans, device, load):
+    err = max(abs(r["error"]) for r in held)
+    runs = len({(r["scene"], r["setting"]) for r in held})
+    lines = [f"`tools/hrpp_model.py{' --quick' if a.quick else ''}` ({a.size}, {a.spp} spp, "
+             f"seed {a.seed}; scenes {', '.join(a.scenes)}), {device}, load {load}.", "",
+             "Costs per operation (ns), fitted on every run:", "",
+             "| kernel | " + " | ".join(["op", "ns"]) + " |", "|---|---|---|"]
+    for model, c in costs.items():
+        for f, v in c.items():
+            lines.append(f"| {model} | {f} | {v * 1e6:.3g} |")
+    worst = max(ratios, key=lambda r: abs(r["error"])) if ratios else None
+    lines += ["", f"Held out (each scene's runs predicted by a fit on the other scenes): class "
+              f"times within {100 * err:.1f}% on {runs} runs; on/off ratios within "
+              f"{100 * max(abs(r['error']) for r in ratios):.1f}%"
+              + (f" (worst: {worst['scene']} {worst['setting']} {worst['class']}, measured "
+                 f"{worst['measured']:.2f}, modelled {worst['modelled']:.2f})." if worst else "."),
+              "", "At the default setting (hash precision 6, every ray predicted):", "",
+              "| scene | class | on/off measured | modelled | answered | break-even answered "
+              "| probe today (interior visits) | break-even probe | hardware probe on/off |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for r in ans:
+        lines.append(f"| {r['scene']} | {r['class']} | {fmt(r['measured'])} | "
+                     f"{fmt(r['modelled'])} | {fmt(r['answered'])} | "
+                     f"{fmt(r['break_even_answered'])} | {fmt(r['probe'], 1)} | "
+                     f"{fmt(r['break_even_probe'], 1)} | {fmt(r['hardware'])} |")
+    return lines, err, runs
+
+
+def rewrite_results(path, lines, figure):
+    rel = os.path.relpath(figure, os.path.dirname(os.path.abspath(path)))
+    block = [BEGIN, "<!-- generated by tools/hrpp_model.py; edits inside this block are "
+             "overwritten -->", *lines, "", f"![on/off against probe cost]({rel})", END]
+    text = open(path).read() if os.path.exists(path) else ""
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        text = head + "\n".join(block) + rest.split(END, 1)[1]
+    else:
+        text = text.rstrip("\n") + "\n\n" + "\n".join(block) + "\n"
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--hrpp", default=default_binary(), help="the hrpp binary")
+    ap.add_argument("--scenes", default=",".join(STAND_INS), help="comma-separated scenes")
+    ap.add_argument("--size", default="512x512")
+    ap.add_argument("--spp", type=int, default=4)
+    ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--quick", action="store_true", help="128x128, 2 spp, cornell, teapot, bunny")
+    ap.add_argument("--runs", help="render directory (default build/hrpp-model/full|quick)")
+    ap.add_argument("--reuse", action="store_true", help="reuse the renders --runs holds")
+    ap.add_argument("--json", help="write the costs, held-out errors and answers here")
+    ap.add_argument("--figure", help="on/off against probe cost (default tools/figures/"
+                    "hrpp_model.png; --quick: tools/figures/quick/hrpp_model.png)")
+    ap.add_argument("--results", help="rewrite this Markdown file's hrpp_model block")
+    a = ap.parse_args()
+    if a.quick:
+        a.size, a.spp = "128x128", 2
+        if a.scenes == ",".join(STAND_INS):
+            a.scenes = "cornell,teapot,bunny"
+    a.scenes = [s for s in a.scenes.split(",") if s]
+    if len(a.scenes) < 2:
+        sys.exit("hrpp_model: --scenes needs at least two scenes (each is held out in turn)")
+    if not os.access(a.hrpp, os.X_OK):
+        sys.exit(f"hrpp_model: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    mode = "quick" if a.quick else "full"
+    a.runs = a.runs or os.path.join(REPO, "build", "hrpp-model", mode)
+    a.figure = a.figure or os.path.join(HERE, "figures", *(["quick"] if a.quick else []),
+                                        "hrpp_model.png")
+    load = os.getloadavg()[0]
+    runs = collect(a)
+    load = f"{load:.1f}-{os.getloadavg()[0]:.1f}"
+    first = next(iter(runs.values()))
+    device = f"{first['device']['name']} ({first['device']['driver']})"
+    obs = all_observations(runs)
+    costs = cm.fit(obs)
+    held = held_out(obs, a.scenes)
+    ratios = ratio_errors(held)
+    ans = answers(obs, costs, a.scenes)
+    os.makedirs(os.path.dirname(a.figure), exist_ok=True)
+    plot(ans, a.figure)
+    lines, err, n = report_lines(a, costs, held, ratios, ans, device, load)
+    print("\n".join(lines))
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"costs_ms": costs, "held_out": held, "ratios": ratios,
+                       "answers": [{k: v for k, v in r.items() if k != "curve"} for r in ans]},
+                      f, indent=1)
+    if a.results:
+        rewrite_results(a.results, lines, a.figure)
+    print(f"figure: {a.figure}")
+    print(f"model: max relative error {err:.3f} on {n} held-out runs")
+
+
+if __name__ == "__main__":
+    main()
