@@ -184,6 +184,8 @@ class ClassCosts:
         a = self.a if a is None else a
         s = self.s if s is None else s
         h = a + self.f
+        if self.trace_only <= 0:
+            return float("nan")  # the fit gave this class's trace no cost: nothing to compare
         if queue:
             return (s + self.d + h * self.v + (1 - a) * (self.trace_only + self.r)) / self.C
         return (s + h * self.v + (1 - a) * self.trace_only) / self.trace_only
