@@ -21,11 +21,11 @@ import cost_model as cm  # noqa: E402
 NS = 1e-6  # ms per ns
 TRUE = {
     "trace:camera": {"dispatch": 20000 * NS, "ray": 90 * NS, "interior": 60 * NS,
-                     "leaf": 40 * NS, "triangle": 25 * NS},
+                     "leaf": 40 * NS, "triangle": 25 * NS, "queued_interior": 10 * NS},
     "trace:bounce": {"dispatch": 20000 * NS, "ray": 120 * NS, "interior": 95 * NS,
-                     "leaf": 55 * NS, "triangle": 30 * NS},
+                     "leaf": 55 * NS, "triangle": 30 * NS, "queued_interior": 15 * NS},
     "trace:shadow": {"dispatch": 15000 * NS, "ray": 80 * NS, "interior": 75 * NS,
-                     "leaf": 45 * NS, "triangle": 20 * NS},
+                     "leaf": 45 * NS, "triangle": 20 * NS, "queued_interior": 5 * NS},
     "hrpp_predict": {"dispatch": 30000 * NS, "probe": 150 * NS, "verify_interior": 70 * NS,
                      "verify_leaf": 60 * NS, "verify_triangle": 30 * NS},
     "hrpp_resolve": {"dispatch": 25000 * NS, "queue_entry": 60 * NS, "insert": 110 * NS},

@@ -3,7 +3,8 @@ counters of `hrpp render --stats` files, and what it says about where prediction
 
 Every kernel of a ray class is modelled as a sum of operations times their costs (ms each):
 
-  trace (trace_closest, trace_any): dispatch, ray traced, interior node, leaf, triangle test
+  trace (trace_closest, trace_any): dispatch, ray traced, interior node, leaf, triangle test,
+                                    interior node of a ray the HRPP queue compacted (extra)
   hrpp_predict:                     dispatch, probe, verified interior node, leaf, triangle
   hrpp_resolve:                     dispatch, queue entry (a ray the prediction did not answer),
                                     insert (a queued ray's hit offered to the table)
@@ -21,7 +22,7 @@ CLASSES = ["camera", "bounce", "shadow"]
 TRACE_KERNEL = {"camera": "trace_closest", "bounce": "trace_closest", "shadow": "trace_any"}
 STAGE_KERNELS = ["hrpp_predict", "hrpp_resolve"]
 FEATURES = {
-    "trace": ["dispatch", "ray", "interior", "leaf", "triangle"],
+    "trace": ["dispatch", "ray", "interior", "leaf", "triangle", "queued_interior"],
     "hrpp_predict": ["dispatch", "probe", "verify_interior", "verify_leaf", "verify_triangle"],
     "hrpp_resolve": ["dispatch", "queue_entry", "insert"],
 }
@@ -40,14 +41,18 @@ def class_counts(c):
     v_int = h["verify_interior"] if h else 0
     v_leaf = h["verify_leaves"] if h else 0
     v_tri = h["verify_triangles"] if h else 0
+    trace_rays = c["rays"] - (probes - queued)
+    trace_interior = c["interior_visited"] - v_int
     return {
         "rays": c["rays"],
         "probes": probes,
         "answered": probes - queued,
         "predictor_hits": h["predictor_hits"] if h else 0,
-        "trace": {"dispatch": c["trace_dispatches"], "ray": c["rays"] - (probes - queued),
-                  "interior": c["interior_visited"] - v_int, "leaf": c["leaves_visited"] - v_leaf,
-                  "triangle": c["triangles_tested"] - v_tri},
+        "trace": {"dispatch": c["trace_dispatches"], "ray": trace_rays,
+                  "interior": trace_interior, "leaf": c["leaves_visited"] - v_leaf,
+                  "triangle": c["triangles_tested"] - v_tri,
+                  # the share of the visits made by rays the HRPP queue compacted
+                  "queued_interior": trace_interior * queued // max(trace_rays, 1)},
         "hrpp_predict": {"dispatch": h["predicted_traces"] if h else 0, "probe": probes,
                          "verify_interior": v_int, "verify_leaf": v_leaf,
                          "verify_triangle": v_tri},
@@ -159,7 +164,8 @@ class ClassCosts:
       C   trace cost per ray of HRPP off (traversal + dispatch share)
       s   probe: hrpp_predict's cost per probed ray, verification excluded
       v   verification per predictor hit
-      r   hrpp_resolve per queued ray (queue entry + its insert share)
+      r   per queued ray: its extra trace cost (its interior visits cost more once the queue
+          has taken its neighbours away) + hrpp_resolve's queue entry and insert share
       d   the stage's dispatches per probed ray
     On/off time of the class at answered share a and predictor-hit share h = a + f:
       (s + d + h v + (1 - a) (C' + r)) / C,   C' = C without its dispatch share."""
@@ -170,10 +176,11 @@ class ClassCosts:
         self.trace_only = sum(k[f] * t[f] for f in ("ray", "interior", "leaf", "triangle"))
         self.C = self.trace_only + k["dispatch"] * t["dispatch"]
         self.interior_cost = k["interior"]
+        self.q = k["queued_interior"] * t["interior"]
         p, res = costs["hrpp_predict"], costs["hrpp_resolve"]
         self.s = p["probe"]
         self.v = sum(p[f] * on_rates["verify"][f] for f in on_rates["verify"])
-        self.r = res["queue_entry"] + res["insert"] * on_rates["insert_per_queued"]
+        self.r = self.q + res["queue_entry"] + res["insert"] * on_rates["insert_per_queued"]
         self.d = (p["dispatch"] + res["dispatch"]) * on_rates["predict_dispatch"]
         self.a = on_rates["answered"]
         self.f = max(on_rates["hit_rate"] - self.a, 0.0)
