@@ -14,7 +14,8 @@ trace kernel's share of the counters is the class's minus what verification spen
 costs are fitted by non-negative least squares on relative error (every observation weighs the
 same whatever its size), one set per device and, for the trace kernels, per ray class: camera
 rays are coherent and bounce rays are not, so a node visit costs each class its own time on a
-SIMD device (lavapipe: 55-70 ns for camera rays, 75-120 ns for bounce rays). Used by tools/hrpp_model.py (the command) and tests/hrpp_model_test.py.
+SIMD device (lavapipe: 55-70 ns for camera rays, 75-120 ns for bounce rays). Used by
+tools/hrpp_model.py (the command) and tests/hrpp_model_test.py.
 """
 import numpy as np
 
