@@ -23,7 +23,8 @@ CLASSES = ["camera", "bounce", "shadow"]
 TRACE_KERNEL = {"camera": "trace_closest", "bounce": "trace_closest", "shadow": "trace_any"}
 STAGE_KERNELS = ["hrpp_predict", "hrpp_resolve"]
 FEATURES = {
-    "trace": ["dispatch", "ray", "interior", "leaf", "triangle", "queued_interior"],
+    "trace": ["dispatch", "ray", "interior", "leaf", "triangle", "queued_interior",
+              "interior_memory"],
     "hrpp_predict": ["dispatch", "probe", "verify_interior", "verify_leaf", "verify_triangle"],
     "hrpp_resolve": ["dispatch", "queue_entry", "insert"],
 }
@@ -34,8 +35,15 @@ def model_features(model):
     return FEATURES["trace" if model.startswith("trace") else model]
 
 
-def class_counts(c):
-    """Operation counts of one class in one frame (a "classes" entry of the stats JSON)."""
+def memory_depth(node_bytes):
+    """log2 of the BVH node array over 1 MiB (0 below): how far beyond a cache the node fetches
+    reach. A node visit is modelled to cost k_interior + k_interior_memory * memory_depth."""
+    return max(0.0, np.log2(max(node_bytes, 1) / 2**20))
+
+
+def class_counts(c, node_bytes=0):
+    """Operation counts of one class in one frame (a "classes" entry of the stats JSON) in a
+    scene whose BVH node array holds `node_bytes`."""
     h = c.get("hrpp")
     probes = h["probes"] if h else 0
     queued = h["traced"] if h else 0
@@ -53,7 +61,8 @@ def class_counts(c):
                   "interior": trace_interior, "leaf": c["leaves_visited"] - v_leaf,
                   "triangle": c["triangles_tested"] - v_tri,
                   # the share of the visits made by rays the HRPP queue compacted
-                  "queued_interior": trace_interior * queued // max(trace_rays, 1)},
+                  "queued_interior": trace_interior * queued // max(trace_rays, 1),
+                  "interior_memory": trace_interior * memory_depth(node_bytes)},
         "hrpp_predict": {"dispatch": h["predicted_traces"] if h else 0, "probe": probes,
                          "verify_interior": v_int, "verify_leaf": v_leaf,
                          "verify_triangle": v_tri},
@@ -65,13 +74,15 @@ def class_counts(c):
 def observations(stats, run):
     """One observation per frame and class of a stats JSON: counts and kernel times (ms)."""
     out = []
+    node_bytes = stats.get("memory", {}).get("buffers", {}).get("BVH node array", 0)
     for i, frame in enumerate(stats["frames"]):
         for cls in CLASSES:
             c = frame["classes"][cls]
             if c["rays"] == 0:
                 continue
             ms = c["kernels_ms"]
-            out.append({"run": run, "frame": i, "class": cls, "counts": class_counts(c),
+            out.append({"run": run, "frame": i, "class": cls,
+                        "counts": class_counts(c, node_bytes),
                         "ms": {f"trace:{cls}": ms.get(TRACE_KERNEL[cls], 0.0),
                                "hrpp_predict": ms.get("hrpp_predict", 0.0),
                                "hrpp_resolve": ms.get("hrpp_resolve", 0.0)},
@@ -174,9 +185,11 @@ class ClassCosts:
     def __init__(self, costs, off_rates, on_rates, trace_model):
         k = costs[trace_model]
         t = off_rates["trace"]
-        self.trace_only = sum(k[f] * t[f] for f in ("ray", "interior", "leaf", "triangle"))
+        self.trace_only = sum(k[f] * t[f] for f in ("ray", "interior", "leaf", "triangle",
+                                                     "interior_memory"))
         self.C = self.trace_only + k["dispatch"] * t["dispatch"]
-        self.interior_cost = k["interior"]
+        self.interior_cost = (k["interior"] + k["interior_memory"] * t["interior_memory"] /
+                              max(t["interior"], 1e-9))
         self.q = k["queued_interior"] * t["interior"]
         p, res = costs["hrpp_predict"], costs["hrpp_resolve"]
         self.s = p["probe"]
