@@ -95,6 +95,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"type", device.type_name()},
                  {"driver", device.driver},
                  {"subgroup_size", device.subgroup_size},
+                 {"denorm_preserve", device.denorm_preserve},
                  {"timestamps", device.timestamps}};
   j["features"] = s.features;
   j["scene"] = {{"triangles", s.triangles},
