@@ -2,7 +2,8 @@
 // sampling; a sample that gains turns it to every ray, one that loses turns it off; an off class
 // samples again after kRetryEvery frames (twice as long after each losing sample); a class at
 // every ray that loses goes off; a sample's dispatches count their fixed cost once; a class that
-// does not predict never probes; adaptive off probes every ray of every frame.
+// does not predict never probes; adaptive off probes every ray of every frame; samples cost at
+// most AdaptivePredictor::kSampleBudget of the class's plain trace time, however dear they are.
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -28,14 +29,14 @@ ClassFrameCost off_frame(double ms = 10.0) {
   return c;
 }
 
-// A sample frame: the plain trace of 1000 rays (10 ms) and the stage over 100 of them costing
-// `ms` (predict + resolve: half of it).
+// A sample frame: the plain trace of 1000 rays (10 ms) and the stage over 10 of them costing
+// `ms` per 100 sampled rays (predict + resolve: half of it), within the sampling budget.
 ClassFrameCost sample_frame(double ms) {
   ClassFrameCost c = off_frame();
   c.mode = Probe::kSample;
-  c.sampled = 100;
-  c.sample_ms = ms;
-  c.sample_stage_ms = 0.5 * ms;
+  c.sampled = 10;
+  c.sample_ms = 0.1 * ms;
+  c.sample_stage_ms = 0.05 * ms;
   return c;
 }
 
@@ -112,7 +113,7 @@ TEST(AdaptivePredictor, StopsALosingClassAndSamplesItAgain) {
 TEST(AdaptivePredictor, AHopelessClassStopsAtOnce) {
   AdaptivePredictor a(on());
   ClassFrameCost c = sample_frame(1.0);
-  c.sample_stage_ms = 1.0;  // 10 us per sampled ray: as much as the plain trace
+  c.sample_stage_ms = 0.1;  // 10 us per sampled ray: as much as the plain trace
   const ClassDecision d = a.end_frame(RayClass::kBounce, c);
   EXPECT_EQ(d.reason, Reason::kHopeless);
   EXPECT_EQ(d.next, Probe::kOff);
@@ -230,6 +231,37 @@ TEST(HrppPasses, IndicesCoverWhatTheCountsSay) {
       EXPECT_EQ(gpu::hrpp_pass_ray_count(total, HRPP_PASS_ALL, stride), total);
       EXPECT_EQ(gpu::hrpp_pass_ray_count(total, HRPP_PASS_NONE, stride), 0u);
     }
+}
+
+// A sample costing 10% of the class's plain trace (a GPU's fixed dispatch costs beside a short
+// trace): the warming sample's successor and every retry wait until the budget has covered it,
+// so over a long run the samples cost at most kSampleBudget of the trace time, plus the first
+// (free) sample.
+TEST(AdaptivePredictor, DearSamplesWaitForTheBudget) {
+  AdaptivePredictor a(on());
+  ClassFrameCost dear = sample_frame(1.5);  // losing: 15 us per sampled ray against 10
+  dear.sample_ms = 1.0;                     // 10% of the 10 ms trace
+  dear.sample_stage_ms = 0.075;
+  EXPECT_EQ(a.sample_stride(RayClass::kShadow), PredictorConfig{}.sample);
+  ClassDecision d = a.end_frame(RayClass::kShadow, dear);
+  EXPECT_EQ(d.reason, Reason::kBudget);  // warming, but the next sample is not covered yet
+  EXPECT_EQ(d.next, Probe::kOff);
+  // 100 us per sampled ray against a budget of 0.2 us per ray of the class: every 512th block
+  // (the smallest power of two >= 500) keeps the sample's per-ray part within one frame's credit.
+  EXPECT_EQ(d.sample_stride, 512u);
+  EXPECT_EQ(a.sample_stride(RayClass::kShadow), 512u);
+  double sampling_ms = dear.sample_ms, trace_ms = 10.0;
+  int samples = 1;
+  for (int f = 1; f < 400; ++f) {
+    const bool sampling = a.mode(RayClass::kShadow) == Probe::kSample;
+    d = a.end_frame(RayClass::kShadow, sampling ? dear : off_frame());
+    samples += sampling ? 1 : 0;
+    sampling_ms += sampling ? dear.sample_ms : 0.0;
+    trace_ms += 10.0;
+    EXPECT_NE(d.next, Probe::kAll) << f;
+  }
+  EXPECT_GE(samples, 3);  // it does sample again
+  EXPECT_LE(sampling_ms - dear.sample_ms, AdaptivePredictor::kSampleBudget * trace_ms);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
+#include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/vulkan_context.h"
 #include "gpu_test_context.h"
@@ -209,6 +210,20 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
                       static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
         }
   EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// hrpp_predict's workgroup is one subgroup where that divides the trace kernels' 64 lanes (each
+// invocation then takes 64 / subgroup times the trace's rays: the tests here run it at 8 lanes
+// on lavapipe), else 64.
+TEST(HrppPredictor, PredictWorkgroupIsOneSubgroup) {
+  EXPECT_EQ(predict_workgroup_size(8), 8u);
+  EXPECT_EQ(predict_workgroup_size(32), 32u);
+  EXPECT_EQ(predict_workgroup_size(64), 64u);
+  EXPECT_EQ(predict_workgroup_size(1), 1u);
+  EXPECT_EQ(predict_workgroup_size(128), 64u);
+  EXPECT_EQ(predict_workgroup_size(24), 64u);
+  EXPECT_EQ(predict_workgroup_size(0), 64u);
+  EXPECT_EQ(predict_workgroup_size(context().info().subgroup_size), context().info().subgroup_size);
 }
 
 // The HRPP stage's queue: every ray is answered once, by its prediction or by the trace of the

@@ -1,127 +1,280 @@
 #!/usr/bin/env bash
-# The figures a machine with a real GPU adds beside lavapipe's, in one run:
-#   1. hrpp bench on bunny, lamborghini and dragon: the Vulkan device against Embree on all the
-#      machine's threads, the same rays (issue 12's GPU/Embree ratios), answers checked against
-#      the CPU reference (--strict); on bunny's rays, also hrpp trace and the independent Embree
-#      harness (bench_embree_harness, beside hrpp or in the build tree's bench/), then the
-#      query kinds' order in one process and the rays per invocation;
-#   2. tools/hrpp_bench.py: HRPP on against off per ray class and frame on the stand-ins, with
-#      the default (adaptive) predictor;
-#   3. the GPU test binaries (label gpu): the device's answers against the CPU reference;
-#   4. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off), one pair per scene.
-# Each step has its own time limit, so a slow or failing one leaves the others' figures.
-# Everything is written under --out (log.txt, bench_SCENE.json, hrpp_bench_*.json, tests.txt).
+# The one check of a machine with a real GPU: the figures it adds beside lavapipe's, in one run
+# of at most --deadline seconds (default 480), written into one directory (--out) and, when $OUT
+# is set (the device machine's folder of files that come back), packed into one archive there,
+# $OUT/gpu_figures.tar.gz. Steps, each with its own time limit, so a slow or failing one leaves
+# the others' figures:
+#   1. the machine: device, driver, subgroup size, float denormals, every memory type and heap
+#      (vulkaninfo --summary when it is there: the kit carries one), where each role's buffers
+#      live under --memory staged and mapped;
+#   2. hrpp bench on bunny, lamborghini and dragon with --memory staged and with --memory mapped:
+#      the device against Embree on all the machine's threads per query kind, answers checked
+#      against the CPU reference (--strict);
+#   3. the query kinds' order in one process (--kinds ao, primary,ao, ao,primary, diffuse,ao) for
+#      both memory modes, and on bunny's rays hrpp trace against the independent Embree harness;
+#   4. per-kernel times: hrpp render bunny with HRPP on under each memory mode (render --stats);
+#   5. tools/hrpp_bench.py at its defaults (the adaptive predictor): HRPP on against off;
+#   6. every GPU test binary (CTest label gpu), each alone;
+#   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off).
+# Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
-# Usage: tools/gpu_figures.sh [--bin DIR] [--tests DIR] [--out DIR] [--repeat N]
+# On the GPU machine (no network, a fresh checkout), from the repository's root:
+#   tools/gpu_figures.sh                      # uses build/portable/gpu_kit.tar.xz when there
+# Made beforehand on a Debian 12 machine, after `cmake --preset portable && cmake --build
+# --preset portable`:
+#   tools/gpu_figures.sh --pack               # writes build/portable/gpu_kit.tar.xz
+# The kit holds the portable build's hrpp, bench_embree_harness and GPU test binaries (stripped),
+# every shared library they need beyond glibc and libstdc++ (Embree, TBB, the Vulkan loader,
+# glvnd's libGLX and libGLdispatch, which NVIDIA's driver loads), the Khronos validation layer,
+# vulkaninfo, and the dragon when scenes/fetched has it. Run there, the script unpacks it in
+# place, points LD_LIBRARY_PATH, VK_LAYER_PATH and (when unset) VK_DRIVER_FILES at it and the
+# NVIDIA driver, and links the build's source path to this checkout when they differ, since the
+# test binaries name their data by the path they were built at.
+#
+# Usage: tools/gpu_figures.sh [--kit FILE] [--bin DIR] [--tests DIR] [--out DIR] [--repeat N]
 #                             [--deadline S] [--quick]
-#   --bin DIR     where hrpp is (default build/release/host)
-#   --tests DIR   where the GPU test binaries are (default build/release/tests; none: skip)
+#        tools/gpu_figures.sh --pack [--build DIR] [--kit FILE]
+#   --kit FILE    the kit to use or write (default build/portable/gpu_kit.tar.xz)
+#   --bin DIR     where hrpp is (default: the kit's, else build/portable/host, else
+#                 build/release/host)
+#   --tests DIR   where the GPU test binaries are (default: beside --bin; none: skip)
 #   --out DIR     where the figures go (default build/gpu_figures)
 #   --repeat N    hrpp bench's timed runs per tracer and batch (default 5)
-#   --deadline S  start no step after S seconds, and cut a running one there (default 3600)
-#   --quick       small sizes (a dry run of the script on lavapipe)
+#   --deadline S  start no step after S seconds, and cut a running one there (default 480)
+#   --quick       small sizes and one scene: a run of the whole script on lavapipe in about a
+#                 minute (the test suite's gpu_figures_quick)
+#   --pack        write the kit (above) from --build (default build/portable)
 # PYTHON names the Python that runs tools/hrpp_bench.py (default python3, with numpy; without
 # OpenImageIO it reads the uncompressed EXR files of a portable build).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
-bin=build/release/host
-tests=build/release/tests
+kit=build/portable/gpu_kit.tar.xz
+bin=""
+tests=""
 out=build/gpu_figures
 repeat=5
-deadline=3600
+deadline=480
 quick=0
+pack=0
+build=build/portable
 while [[ $# -gt 0 ]]; do
   case "$1" in
+    --kit) kit="${2:?--kit needs a file}"; shift 2 ;;
     --bin) bin="${2:?--bin needs a directory}"; shift 2 ;;
     --tests) tests="${2:?--tests needs a directory}"; shift 2 ;;
     --out) out="${2:?--out needs a directory}"; shift 2 ;;
     --repeat) repeat="${2:?--repeat needs a number}"; shift 2 ;;
     --deadline) deadline="${2:?--deadline needs seconds}"; shift 2 ;;
     --quick) quick=1; shift ;;
+    --pack) pack=1; shift ;;
+    --build) build="${2:?--build needs a directory}"; shift 2 ;;
     --help|-h) sed -n '2,/^set /p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu_figures: unknown option $1 (--help)" >&2; exit 2 ;;
   esac
 done
 [[ "$repeat" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --repeat $repeat: not a count" >&2; exit 2; }
 [[ "$deadline" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --deadline $deadline: not seconds" >&2; exit 2; }
-hrpp="$bin/hrpp"
-[ -x "$hrpp" ] || { echo "gpu_figures: no hrpp at $hrpp (--bin)" >&2; exit 2; }
-mkdir -p "$out"
-log="$out/log.txt"
-exec > >(tee -a "$log") 2>&1
 
-step() { echo; echo "=== $* ($(date -u +%T), ${SECONDS} s, load $(cut -d' ' -f1 /proc/loadavg))"; }
-# limit S CMD...: runs CMD for at most S seconds and never past the deadline; 124 when cut.
-limit() {
-  local s=$1 left=$((deadline - SECONDS)); shift
-  [ "$left" -le 0 ] && { echo "skipped: past the ${deadline} s deadline"; return 124; }
-  timeout $((s < left ? s : left)) "$@"
+# The GPU test binaries, as tests/CMakeLists.txt declares them (label gpu).
+gpu_tests() { grep -oP 'hrpp_test\(\K\w+(?= gpu)' tests/CMakeLists.txt; }
+
+# --pack: the kit, paths relative to the repository's root.
+pack_kit() {
+  local lib b
+  [ -x "$build/host/hrpp" ] || { echo "gpu_figures: no hrpp in $build/host (--build)" >&2; exit 2; }
+  stage=$(mktemp -d)
+  trap 'rm -rf "$stage"' EXIT
+  mkdir -p "$stage/$build"/{host,bench,tests,lib,layers}
+  local bins=("$build/host/hrpp")
+  [ -x "$build/bench/bench_embree_harness" ] && bins+=("$build/bench/bench_embree_harness")
+  for t in $(gpu_tests); do [ -x "$build/tests/$t" ] && bins+=("$build/tests/$t"); done
+  for b in "${bins[@]}"; do strip -o "$stage/$b" "$b"; done
+  command -v vulkaninfo >/dev/null && cp "$(command -v vulkaninfo)" "$stage/$build/host/"
+  # Every library they load but glibc's and the C++ runtime (the GPU machine has newer ones).
+  for lib in $(ldd "${bins[@]}" "$stage/$build/host/"* 2>/dev/null | grep -oP '=> \K/\S+' | sort -u); do
+    case "$(basename "$lib")" in
+      libc.so*|libm.so*|libpthread.so*|libdl.so*|librt.so*|ld-linux*|libresolv.so*) ;;
+      libstdc++.so*|libgcc_s.so*) ;;
+      *) cp -L "$lib" "$stage/$build/lib/" ;;
+    esac
+  done
+  for lib in libVkLayer_khronos_validation.so libGLX.so.0 libGLdispatch.so.0; do
+    cp -L "/usr/lib/x86_64-linux-gnu/$lib" "$stage/$build/lib/" 2>/dev/null ||
+      echo "gpu_figures: $lib not found (Debian packages vulkan-validationlayers, libglx0)" >&2
+  done
+  cp /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json "$stage/$build/layers/" 2>/dev/null
+  pwd > "$stage/$build/source_dir"
+  if [ -f scenes/fetched/stanford_dragon.glb ]; then
+    mkdir -p "$stage/scenes/fetched" && cp scenes/fetched/stanford_dragon.glb "$stage/scenes/fetched/"
+  fi
+  XZ_OPT=-T0 tar -cJf "$kit" -C "$stage" .
+  echo "gpu_figures: wrote $kit ($(du -h "$kit" | cut -f1)); on the GPU machine: tools/gpu_figures.sh"
 }
 
+if [ "$pack" = 1 ]; then
+  pack_kit
+  exit 0
+fi
+
+# untar -t | -x: lists or unpacks the kit (xz, or Python's lzma where there is no xz).
+untar() {
+  if command -v xz >/dev/null; then
+    tar "${1}Jf" "$kit"
+  else
+    "${PYTHON:-python3}" - "$1" "$kit" <<'PY'
+import sys, tarfile
+with tarfile.open(sys.argv[2]) as t:
+    if sys.argv[1] == "-t":
+        print("\n".join(t.getnames()))
+    else:
+        t.extractall()
+PY
+  fi
+}
+
+# The kit, when there and no --bin was given: unpacked in place, its libraries and layer used.
+use_kit() {
+  local kdir src
+  kdir=$(untar -t | grep -oP '^\./\K.*(?=/host/hrpp$)')  # the whole list: no SIGPIPE
+  [ -n "$kdir" ] || return 1
+  untar -x || return 1
+  bin="$kdir/host"
+  export LD_LIBRARY_PATH="$PWD/$kdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  export VK_LAYER_PATH="$PWD/$kdir/layers"
+  if [ -z "${VK_DRIVER_FILES:-}" ]; then
+    for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json \
+               /usr/share/vulkan/icd.d/nvidia_icd.json /etc/vulkan/icd.d/nvidia_icd.json; do
+      [ -f "$icd" ] && { export VK_DRIVER_FILES="$icd"; break; }
+    done
+  fi
+  # The test binaries read scenes/ and tests/data/ by the source path they were built at.
+  src=$(cat "$kdir/source_dir")
+  if [ "$src" != "$PWD" ] && [ ! -e "$src" ]; then
+    mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src" ||
+      echo "gpu_figures: cannot link $src to this checkout: tests reading scene files fail"
+  fi
+}
+
+if [ -z "$bin" ]; then
+  if [ -f "$kit" ]; then
+    use_kit || { echo "gpu_figures: $kit: not a kit of tools/gpu_figures.sh --pack" >&2; exit 2; }
+  elif [ -x build/portable/host/hrpp ]; then
+    bin=build/portable/host
+  else
+    bin=build/release/host
+  fi
+fi
+[ -n "$tests" ] || tests="$bin/../tests"
+hrpp="$bin/hrpp"
+[ -x "$hrpp" ] || { echo "gpu_figures: no hrpp at $hrpp (--bin, --kit)" >&2; exit 2; }
+rm -rf "$out"
+mkdir -p "$out"
+log="$out/log.txt"
+exec 3>&1 4>&2 > >(tee -a "$log") 2>&1
+tee_pid=$!
+
+failed=()
+step() { echo; echo "=== $* ($(date -u +%T), ${SECONDS} s, load $(cut -d' ' -f1 /proc/loadavg))"; }
+# limit S NAME CMD...: runs CMD for at most S seconds and never past the deadline; a failure
+# (124: cut) is reported and remembered under NAME.
+limit() {
+  local s=$1 name=$2 left=$((deadline - SECONDS)) rc; shift 2
+  if [ "$left" -le 0 ]; then
+    echo "skipped: past the ${deadline} s deadline"
+    failed+=("$name (skipped)")
+    return 124
+  fi
+  timeout $((s < left ? s : left)) "$@"
+  rc=$?
+  [ "$rc" = 0 ] || { echo "exit $rc"; failed+=("$name (exit $rc)"); }
+  return "$rc"
+}
+
+scenes=(bunny lamborghini dragon)
+[ -f scenes/fetched/stanford_dragon.glb ] || scenes=(bunny lamborghini)
+modes=(staged mapped)
 if [ "$quick" = 1 ]; then
-  bench_args=(--rays 65536 --repeat 1 --check-rays 4096)
-  order_args=(--rays 65536 --repeat 1)
-  hb_args=(--quick --scenes cornell,bunny)
+  scenes=(bunny)
+  bench_args=(--rays 16384 --repeat 1 --check-rays 1024)
+  order_args=(--rays 16384 --repeat 1 --check-rays 256)
+  render_args=(--size 64x64 --spp 2)
+  hb_args=(--quick --scenes cornell)
 else
-  bench_args=(--repeat "$repeat" --check-rays 100000)
-  order_args=(--repeat "$repeat")
+  bench_args=(--repeat "$repeat" --check-rays 20000)
+  order_args=(--repeat "$repeat" --check-rays 1000)
+  render_args=(--size 1024x1024 --spp 4)
   hb_args=(--repeat 2)
 fi
 
 step "machine"
 nproc; uname -r
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
-"$hrpp" --version 2>/dev/null || true
+vulkaninfo=$(command -v vulkaninfo || echo "$bin/vulkaninfo")
+[ -x "$vulkaninfo" ] && timeout 30 "$vulkaninfo" --summary > "$out/vulkaninfo.txt" 2>&1 &&
+  grep -E "deviceName|driverName|driverInfo|apiVersion" "$out/vulkaninfo.txt"
+[ -x "$vulkaninfo" ] && timeout 30 "$vulkaninfo" 2>/dev/null |
+  sed -n '/VkPhysicalDeviceMemoryProperties/,/^VkPhysicalDeviceFeatures/p' > "$out/memory_types.txt"
 
 rays=$(mktemp -d)
 trap 'rm -rf "$rays"' EXIT
-for scene in bunny lamborghini dragon; do
-  step "hrpp bench $scene"
-  save=(); [ "$scene" = bunny ] && save=(--save-rays "$rays")
-  limit 150 "$hrpp" bench "$scene" "${bench_args[@]}" "${save[@]}" --strict \
-    --json "$out/bench_$scene.json"
-  echo "exit $?"
+for scene in "${scenes[@]}"; do
+  for mode in "${modes[@]}"; do
+    step "hrpp bench $scene --memory $mode"
+    save=(); [ "$scene" = bunny ] && [ "$mode" = staged ] && save=(--save-rays "$rays")
+    limit 60 "bench $scene $mode" "$hrpp" bench "$scene" --memory "$mode" "${bench_args[@]}" \
+      "${save[@]}" --strict --json "$out/bench_${scene}_$mode.json"
+  done
 done
 
-# bench/README.md, "Is hrpp bench's Embree figure right?": Embree alone on the same rays.
-harness="$bin/bench_embree_harness"  # beside hrpp, or in the build tree's bench/
-[ -x "$harness" ] || harness="$bin/../bench/bench_embree_harness"
-if [ -x "$harness" ] && [ -f "$rays/triangles.bin" ]; then
-  for kind in primary ao diffuse; do
-    step "bunny $kind: hrpp trace and the independent Embree harness on the same rays"
-    any=(); [ "$kind" = ao ] && any=(--any-hit)
-    limit 60 "$hrpp" trace bunny --rays "$rays/$kind.rays" --hits "$rays/hits" "${any[@]}" --repeat 5
-    limit 60 "$harness" --triangles "$rays/triangles.bin" \
-      --rays "$rays/$kind.rays" "${any[@]}" --repeat 5
+if [ -f "$rays/ao.rays" ]; then
+  for mode in "${modes[@]}"; do
+    step "bunny --memory $mode: the order of the query kinds in one process"
+    for kinds in ao primary,ao ao,primary diffuse,ao; do
+      echo "--kinds $kinds"
+      limit 30 "order $kinds $mode" "$hrpp" bench bunny --memory "$mode" --kinds "$kinds" \
+        "${order_args[@]}" --no-embree --json "$out/order_${kinds/,/_}_$mode.json" > "$rays/out"
+      grep -E "^(memory|primary|ao|diffuse) |  gpu " "$rays/out"
+    done
   done
+  # bench/README.md, "Is hrpp bench's Embree figure right?": Embree alone on the same rays.
+  harness="$bin/bench_embree_harness"
+  [ -x "$harness" ] || harness="$bin/../bench/bench_embree_harness"
+  if [ -x "$harness" ] && [ -f "$rays/triangles.bin" ]; then
+    for kind in primary ao; do
+      step "bunny $kind: hrpp trace and the independent Embree harness on the same rays"
+      any=(); [ "$kind" = ao ] && any=(--any-hit)
+      limit 30 "trace $kind" "$hrpp" trace bunny --rays "$rays/$kind.rays" --hits "$rays/hits" \
+        "${any[@]}" --repeat 5 --stats "$out/trace_$kind.json"
+      limit 30 "harness $kind" "$harness" --triangles "$rays/triangles.bin" \
+        --rays "$rays/$kind.rays" "${any[@]}" --repeat 5
+    done
+  fi
 fi
 
-if [ -f "$rays/ao.rays" ]; then
-  step "bunny: the order of the query kinds in one process, and rays per invocation"
-  for kinds in ao primary,ao ao,primary; do
-    echo "--kinds $kinds"
-    limit 60 "$hrpp" bench bunny --kinds "$kinds" "${order_args[@]}" --no-embree \
-      --check-rays 1000 | grep -E "^(memory|primary|ao) |  gpu "
-  done
-  for n in 1 4 16 64; do
-    echo "--rays-per-invocation $n"
-    limit 60 "$hrpp" trace bunny --rays "$rays/ao.rays" --hits "$rays/hits" --any-hit \
-      --repeat 5 --rays-per-invocation "$n" | grep -E "^kernel"
-  done
-fi
+for mode in "${modes[@]}"; do
+  step "per-kernel times: hrpp render bunny --hrpp on --memory $mode"
+  limit 60 "render $mode" "$hrpp" render bunny --hrpp on --memory "$mode" "${render_args[@]}" \
+    --out "$out/render_$mode.exr" --stats "$out/render_$mode.json"
+  rm -f "$out/render_$mode.exr"
+done
 
 step "hrpp_bench.py, the default predictor"
-limit 240 "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" "${hb_args[@]}" \
-  --json "$out/hrpp_bench_default.json"
-echo "exit $?"
+limit 120 "hrpp_bench default" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  "${hb_args[@]}" --json "$out/hrpp_bench_default.json"
+
 if [ -d "$tests" ]; then
-  step "GPU tests (each binary alone, 120 s at most)"
+  step "GPU tests (each binary alone)"
   : > "$out/tests.txt"
-  # The binaries of label gpu, as tests/CMakeLists.txt declares them.
-  for t in $(grep -oP 'hrpp_test\(\K\w+(?= gpu)' tests/CMakeLists.txt); do
+  for t in $(gpu_tests); do
     [ -x "$tests/$t" ] || { echo "$t: not built" | tee -a "$out/tests.txt"; continue; }
-    limit 120 "$tests/$t" --gtest_brief=1 > "$out/$t.log" 2>&1
+    filter=()
+    # --quick: every binary starts and lists its tests; one runs a few.
+    if [ "$quick" = 1 ]; then
+      filter=(--gtest_list_tests)
+      [ "$t" = gpu_trace_test ] && filter=(--gtest_filter='VulkanContext.*')
+    fi
+    limit 90 "$t" "$tests/$t" --gtest_brief=1 "${filter[@]}" > "$out/$t.log" 2>&1
     rc=$?
     summary=$(grep -E "^\[  (PASSED|FAILED)  \]" "$out/$t.log" | tr '\n' ' ')
     echo "$t: exit $rc $summary" | tee -a "$out/tests.txt"
@@ -129,9 +282,21 @@ if [ -d "$tests" ]; then
     [ "$rc" = 0 ] && rm -f "$out/$t.log"  # a failing binary keeps its whole log
   done
 fi
+
 step "hrpp_bench.py, every ray predicted (--hrpp-adaptive off)"
-limit 240 "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" "${hb_args[@]}" --repeat 1 \
-  --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
-echo "exit $?"
+limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
 
 step "done"
+if [ "${#failed[@]}" -gt 0 ]; then
+  echo "failed: ${failed[*]}"
+else
+  echo "every step passed"
+fi
+exec 1>&3 2>&4
+wait "$tee_pid"  # the log is whole before it is packed
+if [ -n "${OUT:-}" ]; then
+  tar -czf "$OUT/gpu_figures.tar.gz" -C "$(dirname "$out")" "$(basename "$out")"
+  echo "packed into $OUT/gpu_figures.tar.gz"
+fi
+[ "${#failed[@]}" = 0 ]

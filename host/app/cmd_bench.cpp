@@ -207,8 +207,7 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
   try {
     auto ctx = std::make_unique<VulkanContext>(o.shared.vulkan);
     const DeviceInfo& d = ctx->info();
-    std::printf("vulkan      %s (%s, %s, subgroup %u)\n", d.name.c_str(), d.type_name(),
-                d.driver.c_str(), d.subgroup_size);
+    std::printf("vulkan      %s\n", d.summary().c_str());
     // Where the tracers' buffers live (--memory): to look into a GPU's slower later query kinds
     // (bench/README.md, "On a real GPU").
     const MemoryPlacement& placement = ctx->memory().report().placement;
@@ -223,6 +222,7 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     machine["vulkan_heap_bytes"] = d.heap_bytes;
     machine["vulkan_device"] = d.name;
     machine["vulkan_driver"] = d.driver;
+    machine["vulkan_denorm_preserve"] = d.denorm_preserve;
     machine["vulkan_device_type"] = d.type_name();
     return ctx;
   } catch (const Error& e) {

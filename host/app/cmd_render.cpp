@@ -176,8 +176,7 @@ void run_render(RenderOptions& o) {
   }
 
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
-  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
-              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
+  std::printf("device      %s\n", ctx.info().summary().c_str());
   std::printf("%s", render_stats_text(o.render, result).c_str());
   std::printf("hrpp        %s\n%s",
               o.render.predictor.enabled ? describe(o.render.predictor).c_str() : "off",

@@ -74,8 +74,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
                    double median, const TraversalCounters& c, bool sorted) {
   const double n = static_cast<double>(rays);
   const auto per_ray = [n](std::uint64_t v) { return n > 0 ? static_cast<double>(v) / n : 0.0; };
-  std::printf("device      %s (%s, %s, subgroup %u)\n", ctx.info().name.c_str(),
-              ctx.info().type_name(), ctx.info().driver.c_str(), ctx.info().subgroup_size);
+  std::printf("device      %s\n", ctx.info().summary().c_str());
   std::printf("rays        %zu %s queries, %llu hit%s\n", rays,
               o.query == QueryKind::kAny ? "any-hit" : "closest-hit",
               static_cast<unsigned long long>(c.hits),
@@ -157,7 +156,11 @@ void run_trace(const TraceOptions& o) {
                         {"leaves_visited", c.leaves_visited},
                         {"triangles_tested", c.triangles_tested},
                         {"hrpp", hrpp_json},
-                        {"memory", memory_json(ctx.memory().report())}};
+                        {"memory", memory_json(ctx.memory().report())},
+                        {"device",
+                         {{"name", ctx.info().name},
+                          {"subgroup_size", ctx.info().subgroup_size},
+                          {"denorm_preserve", ctx.info().denorm_preserve}}}};
     if (o.shared.tracer.count_steps) {
       j["interior_steps"] = c.interior_steps;
       j["lane_use"] = lane_use(c, ctx.info().subgroup_size);

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu/float_controls.h"
 #include "gpu/storage_buffer.h"
 #include "gpu/texel_view.h"
 #include "gpu/vulkan_context.h"
@@ -24,7 +25,7 @@ struct ComputePipeline::State {
   std::vector<VkDescriptorType> types;  // per binding
 
   // The constructor's steps, in order; each throws naming the kernel.
-  void create_module(std::span<const std::uint32_t> spirv);
+  void create_module(std::span<const std::uint32_t> spirv, bool denorm_preserve);
   void create_layouts();
   void create_pipeline(std::span<const SpecializationConstant> specialization);
   void create_descriptor_set();
@@ -49,7 +50,14 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
           std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
           push_constant_bytes, specialization) {}
 
-void ComputePipeline::State::create_module(std::span<const std::uint32_t> spirv) {
+// With DenormPreserve where the device offers it (gpu/float_controls.h).
+void ComputePipeline::State::create_module(std::span<const std::uint32_t> spirv,
+                                           bool denorm_preserve) {
+  std::vector<std::uint32_t> preserving;
+  if (denorm_preserve) {
+    preserving = with_denorm_preserve(spirv);
+    spirv = preserving;
+  }
   VkShaderModuleCreateInfo mci{};
   mci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
   mci.codeSize = spirv.size_bytes();
@@ -144,7 +152,7 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
   s.name = kernel_name(kernel);
   s.push_bytes = push_constant_bytes;
   s.types.assign(binding_types.begin(), binding_types.end());
-  s.create_module(spirv);
+  s.create_module(spirv, ctx.info().denorm_preserve);
   s.create_layouts();
   s.create_pipeline(specialization);
   s.create_descriptor_set();

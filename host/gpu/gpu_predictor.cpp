@@ -55,12 +55,24 @@ std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uin
                      texel_bytes(sets * ways * nodes * sizeof(std::uint32_t))}};
 }
 
+}  // namespace
+
+std::uint32_t predict_workgroup_size(std::uint32_t subgroup_size) {
+  const bool divides = subgroup_size > 0 && subgroup_size <= HRPP_TRACE_WORKGROUP_SIZE &&
+                       HRPP_TRACE_WORKGROUP_SIZE % subgroup_size == 0;
+  return divides ? subgroup_size : HRPP_TRACE_WORKGROUP_SIZE;
+}
+
+namespace {
+
 // One ray class's table and its kernels (bound to the table and to the class's query arrays).
 // hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
-// counting traversal only in the variant that counts.
+// counting traversal only in the variant that counts, one subgroup per workgroup.
 ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up, bool counts) {
-  const SpecializationConstant spec[] = {{HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
-                                         {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u}};
+  const SpecializationConstant spec[] = {
+      {HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
+      {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u},
+      {HRPP_SPEC_PREDICT_WORKGROUP, predict_workgroup_size(ctx.info().subgroup_size)}};
   return ComputePipeline(ctx, Kernel::hrpp_predict,
                          embedded_spirv(query_kind(c) == QueryKind::kAny ? Kernel::hrpp_predict_any
                                                                          : Kernel::hrpp_predict),
@@ -165,6 +177,7 @@ struct GpuPredictor::State {
   PerClass<std::unique_ptr<Table>> tables;
   std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
   PerClass<Probe> probing{};         // how each class's next trace runs the stage
+  PerClass<std::uint32_t> sample_stride{};  // a sample's stride (set_probing; 0: config.sample)
   PerClass<Probe> recorded{};        // how its last recorded trace ran it
   PerClass<std::uint32_t> clock{};   // use stamps (LRU): rays of the class traced so far
 
@@ -187,6 +200,10 @@ struct GpuPredictor::State {
   }
 
   bool batched() const { return config.batch > 0; }
+
+  std::uint32_t stride_of(RayClass c) const {
+    return sample_stride[c] != 0 ? sample_stride[c] : config.sample;
+  }
 
   // probing[c], with a sample read as off in batched mode (it has none).
   Probe probing_now(RayClass c) const {
@@ -390,8 +407,9 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
   }
 }
 
-void GpuPredictor::set_probing(RayClass c, Probe mode) {
+void GpuPredictor::set_probing(RayClass c, Probe mode, std::uint32_t sample_stride) {
   s_->probing[c] = s_->config.predicts(c) ? mode : Probe::kOff;
+  s_->sample_stride[c] = sample_stride;
 }
 
 Probe GpuPredictor::probing(RayClass c) const { return s_->probing_now(c); }
@@ -464,7 +482,7 @@ void GpuPredictor::State::record_sample(VkCommandBuffer cmd, RayClass c,
                                         const gpu::TracePushConstants& trace_pc,
                                         KernelTimer* timer) {
   start_queue(cmd, c, count);
-  record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, config.sample, Phase::kSample);
+  record_pass(cmd, c, count, trace_pc, HRPP_PASS_SAMPLE, timer, stride_of(c), Phase::kSample);
   const gpu::StagePushConstants none = stage_push(trace_pc, HRPP_PASS_NONE);
   record_dispatch(cmd, table(c).predict(), &none, 1, timer,
                   TimerLabel{Kernel::hrpp_predict, Phase::kSampleEmpty, c});
@@ -505,8 +523,8 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   out.queued = queue_trace.rays;
   const std::uint64_t answered = state.resolved + std::uint64_t{state.resolve_done};
   const std::uint32_t pass = sampled ? HRPP_PASS_SAMPLE : HRPP_PASS_ALL;
-  if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->config.sample) || state.resolve_done != out.queued || state.aborted != 0 ||
-      traced.aborted != 0)
+  if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->stride_of(c)) ||
+      state.resolve_done != out.queued || state.aborted != 0 || traced.aborted != 0)
     throw Error(std::string("hrpp_predict / ") + q.trace.name() + " / hrpp_resolve: only " +
                 std::to_string(answered) + " of " + std::to_string(state.ray_count) +
                 " rays answered (" + std::to_string(state.aborted + traced.aborted) +

@@ -45,6 +45,10 @@ struct RayCountSource {
   VkDeviceSize args_offset = 0;
 };
 
+// hrpp_predict's workgroup size on a device of `subgroup_size` lanes (HRPP_SPEC_PREDICT_WORKGROUP):
+// one subgroup where that divides the trace kernels' workgroup, else the trace kernels' size.
+std::uint32_t predict_workgroup_size(std::uint32_t subgroup_size);
+
 // What a predicted trace did, read back after the submit.
 struct PredictedTrace {
   TraversalCounters counters;           // the whole class: verification + the queue's trace
@@ -80,9 +84,10 @@ class GpuPredictor {
   // Routing: how each class's traces run through the stage from the next record on (the
   // adaptive predictor's switch, host/hrpp/adaptive_predictor.h). Initially every class the
   // configuration names probes (Probe::kAll), the others are off for good. A sample (not in
-  // batched mode: there it reads as off) runs the stage over every config().sample-th ray, then
-  // the tracer's plain trace over every ray: the hits are HRPP off's, the counters the sample's.
-  void set_probing(RayClass c, Probe mode);
+  // batched mode: there it reads as off) runs the stage over every `sample_stride`-th block of
+  // rays (0: config().sample), then the tracer's plain trace over every ray: the hits are HRPP
+  // off's, the counters the sample's.
+  void set_probing(RayClass c, Probe mode, std::uint32_t sample_stride = 0);
   Probe probing(RayClass c) const;
   // False when the class's next trace needs its ray count on the host (batched mode).
   bool records_indirect(RayClass c) const;

@@ -59,6 +59,16 @@ const char* DeviceInfo::type_name() const {
   }
 }
 
+const char* DeviceInfo::denormals_text() const {
+  return denorm_preserve ? "denormals kept"
+                         : "denormals may flush (no shaderDenormPreserveFloat32)";
+}
+
+std::string DeviceInfo::summary() const {
+  return name + " (" + type_name() + ", " + driver + ", subgroup " + std::to_string(subgroup_size) +
+         ", " + denormals_text() + ")";
+}
+
 namespace {
 
 // The Vulkan objects of a context, made in order by the constructor's steps below.
@@ -264,9 +274,12 @@ void apply_heap_cap(DeviceInfo* info) {
 DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index, MemoryMode memory) {
   VkPhysicalDeviceSubgroupProperties sub{};
   sub.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+  VkPhysicalDeviceFloatControlsProperties floats{};
+  floats.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES;
+  floats.pNext = &sub;
   VkPhysicalDeviceDriverProperties driver{};
   driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
-  driver.pNext = &sub;
+  driver.pNext = &floats;
   VkPhysicalDeviceProperties2 p2{};
   p2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
   p2.pNext = &driver;
@@ -289,6 +302,7 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index, MemoryMode memory)
   info.float64 = f2.features.shaderFloat64;
   info.int64 = f2.features.shaderInt64;
   info.int64_atomics = f12.shaderBufferInt64Atomics;
+  info.denorm_preserve = floats.shaderDenormPreserveFloat32;
   info.max_storage_buffer_range = p.limits.maxStorageBufferRange;
   info.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   info.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];

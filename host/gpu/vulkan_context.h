@@ -41,6 +41,9 @@ struct DeviceInfo {
   bool float64 = false;             // shaderFloat64 (required: watertight double fallback)
   bool int64 = false;               // shaderInt64
   bool int64_atomics = false;       // shaderBufferInt64Atomics
+  // shaderDenormPreserveFloat32: the kernels keep float subnormals (gpu/float_controls.h);
+  // false: the device may flush them, and C++'s answers on subnormals may differ.
+  bool denorm_preserve = false;
   std::uint64_t max_storage_buffer_range = 0;  // bytes one storage-buffer binding may span
   std::uint32_t max_texel_buffer_elements = 0;  // texels one texel-buffer view may span
   std::uint64_t max_memory_allocation_size = 0;  // bytes of one allocation (one buffer here)
@@ -64,6 +67,10 @@ struct DeviceInfo {
   bool timestamps = false;           // the compute queue writes timestamps
 
   const char* type_name() const;
+  // What the device promises about float subnormals.
+  const char* denormals_text() const;
+  // The device line: "NAME (TYPE, DRIVER, subgroup N, DENORMALS)".
+  std::string summary() const;
 };
 
 class VulkanContext {

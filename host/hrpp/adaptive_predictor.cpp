@@ -38,9 +38,12 @@ void add_kernel_times(ClassFrameCost& cost, const std::map<TimerLabel, double>& 
 }
 
 AdaptivePredictor::AdaptivePredictor(const PredictorConfig& config)
-    : adaptive_(config.adapts()), passes_(config.pilot >= 2 ? 2 : 1) {
+    : adaptive_(config.adapts()),
+      passes_(config.pilot >= 2 ? 2 : 1),
+      min_stride_(std::max(config.sample, 1u)) {
   for (RayClass c : kRayClasses) {
     State& s = state_[c];
+    s.stride = min_stride_;
     s.enabled = config.predicts(c);
     if (s.enabled) s.mode = adaptive_ ? Probe::kSample : Probe::kAll;
   }
@@ -69,6 +72,7 @@ void AdaptivePredictor::judge_sample(State& s, const ClassFrameCost& cost,
   };
   const double predicted_ms = variable(cost.sample_ms, 3) * static_cast<double>(cost.rays) +
                               3.0 * passes_ * rounds * d.dispatch_ms;
+  s.stride = stride_for(s, variable(cost.sample_ms, 3));
   d.gain_ms = off * static_cast<double>(cost.rays) - predicted_ms;
   const bool hopeless = cost.sampled > 0 && variable(cost.sample_stage_ms, 2) >= off;
   const bool warming = !s.warmed;
@@ -114,6 +118,33 @@ void AdaptivePredictor::judge_all(State& s, const ClassFrameCost& cost, ClassDec
   s.retry_after = kRetryEvery;
 }
 
+std::uint32_t AdaptivePredictor::stride_for(const State& s, double variable_ms) const {
+  // Sampling every stride-th block takes about 1/stride of the rays: its per-ray part costs
+  // variable_ms / stride per ray of the class against a budget of kSampleBudget × off per ray.
+  const double budget = kSampleBudget * s.off_ms_per_ray;
+  std::uint32_t stride = min_stride_;
+  while (stride < kStrideMax && variable_ms > budget * stride) stride *= 2;
+  return std::max(stride, min_stride_);
+}
+
+void AdaptivePredictor::book_budget(State& s, const ClassFrameCost& cost) {
+  s.credit_ms += kSampleBudget * s.off_ms_per_ray * static_cast<double>(cost.rays);
+  if (cost.mode == Probe::kSample) {
+    s.sample_ms = cost.sample_ms + cost.empty_dispatch_ms;
+    s.credit_ms -= s.sample_ms;
+  }
+  // Saved up for one sample at most: the budget holds over any stretch of frames.
+  s.credit_ms = std::min(s.credit_ms, s.sample_ms);
+}
+
+void AdaptivePredictor::defer_unaffordable_sample(State& s, ClassDecision& d) {
+  if (s.mode != Probe::kSample || s.credit_ms >= s.sample_ms) return;
+  s.mode = Probe::kOff;
+  s.frames_off = 0;
+  s.retry_after = 1;
+  d.reason = Reason::kBudget;
+}
+
 ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cost) {
   State& s = state_[c];
   ClassDecision d;
@@ -128,19 +159,24 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   } else if (cost.rays == 0) {
     d.reason = Reason::kIdle;  // nothing to judge
   } else if (cost.mode == Probe::kSample) {
+    book_budget(s, cost);
     judge_sample(s, cost, d);
     s.frames_off = 0;
   } else if (cost.mode == Probe::kAll) {
+    book_budget(s, cost);
     judge_all(s, cost, d);
     s.frames_off = 0;
   } else {
+    book_budget(s, cost);
     d.reason = Reason::kOff;
     if (s.mode == Probe::kOff && ++s.frames_off >= s.retry_after) {
       s.mode = Probe::kSample;
       d.reason = Reason::kRetry;
     }
   }
+  if (s.enabled && adaptive_) defer_unaffordable_sample(s, d);
   d.off_ms_per_ray = s.off_ms_per_ray;
+  d.sample_stride = s.stride;
   d.confidence = s.confidence;
   d.next = s.mode;
   return d;

@@ -20,6 +20,19 @@
 //     to kRetryMax frames).
 // A class starts by sampling, so a class that loses costs its samples only (a sample frame pays
 // the stage on 1/sample of the rays on top of a plain trace), never a whole predicted frame.
+// Sampling budget: a class samples only while its samples have cost at most kSampleBudget of its
+// plain trace time. Each frame credits kSampleBudget × (plain cost per ray × the frame's rays);
+// each sample debits what it added (the stage on the sample with its queue's trace, and the
+// empty dispatches). A sample is due (warming, retry) only when the credit covers the last
+// sample's cost; until then the class stays off (reason `budget`). So on a device where a
+// sample's dispatches weigh much against the trace (a GPU: fixed costs of tens of microseconds
+// beside traces of a few milliseconds) the samples are spaced out, and where they are cheap
+// (lavapipe) the schedule is the retry schedule above. The first sample is free: nothing is
+// measured before it. The sample's size follows from its measured cost too: after each sample
+// the stride (every stride-th block of rays; PredictorConfig::sample at first) becomes the
+// smallest power of two, at least PredictorConfig::sample and at most kStrideMax, at which the
+// sample's per-ray part costs at most kSampleBudget of the frame's plain trace, so one frame's
+// credit pays for it; what remains is its dispatches' fixed cost, which the spacing covers.
 // Adaptive off (--hrpp-adaptive off): every enabled class is at `all` every frame. The
 // decisions are reported per frame in the render stats.
 #pragma once
@@ -52,8 +65,9 @@ enum class Reason : std::uint8_t {
   kLoss,        // prediction cost time
   kOff,         // off, waiting before the next retry
   kRetry,       // off long enough: sample again
+  kBudget,      // a sample is due but the sampling budget has not covered its cost yet
 };
-inline constexpr NameTable<Reason, 10> kReasonNames = {{{Reason::kDisabled, "disabled"},
+inline constexpr NameTable<Reason, 11> kReasonNames = {{{Reason::kDisabled, "disabled"},
                                                         {Reason::kFixed, "fixed"},
                                                         {Reason::kIdle, "idle"},
                                                         {Reason::kWarming, "warming"},
@@ -62,7 +76,8 @@ inline constexpr NameTable<Reason, 10> kReasonNames = {{{Reason::kDisabled, "dis
                                                         {Reason::kGain, "gain"},
                                                         {Reason::kLoss, "loss"},
                                                         {Reason::kOff, "off"},
-                                                        {Reason::kRetry, "retry"}}};
+                                                        {Reason::kRetry, "retry"},
+                                                        {Reason::kBudget, "budget"}}};
 constexpr const char* reason_name(Reason r) { return name_in(kReasonNames, r); }
 
 // What one frame of a ray class did and cost on the device.
@@ -92,6 +107,7 @@ struct ClassDecision {
   double gain_ms = 0;         // sample and all frames: estimated time saved over the class's
                               // rays (negative: lost)
   double dispatch_ms = 0;     // sample frames: the fixed cost of one dispatch
+  std::uint32_t sample_stride = 0;  // the stride of the class's next sample
   int confidence = 0;         // 0..3 after this frame
   Probe next = Probe::kOff;
   Reason reason = Reason::kIdle;
@@ -103,11 +119,16 @@ class AdaptivePredictor {
   static constexpr int kRetryMax = 64;   // the longest wait after losing samples
   static constexpr int kConfidenceMax = 3;
   static constexpr int kConfidenceOn = 2;
+  // The share of a class's plain trace time its samples may cost (kSampleBudget, above).
+  static constexpr double kSampleBudget = 0.02;
+  static constexpr std::uint32_t kStrideMax = 1024;  // a sample's sparsest stride
 
   explicit AdaptivePredictor(const PredictorConfig& config);
 
   // How the class runs the HRPP stage in the coming frame.
   Probe mode(RayClass c) const { return state_[c].mode; }
+  // Every how many blocks of rays the class's next sample takes one (GpuPredictor::set_probing).
+  std::uint32_t sample_stride(RayClass c) const { return state_[c].stride; }
   // Takes a frame's cost of the class and decides the next frame.
   ClassDecision end_frame(RayClass c, const ClassFrameCost& cost);
 
@@ -121,12 +142,23 @@ class AdaptivePredictor {
     int retry_after = kRetryEvery;  // frames off before the next sample
     int losses = 0;                 // losing samples since the last gain
     double off_ms_per_ray = 0.0;
+    double credit_ms = 0.0;    // the sampling budget left (negative: spent ahead)
+    double sample_ms = 0.0;    // what the last sample cost on top of the plain trace
+    std::uint32_t stride = 0;  // the next sample's stride
   };
+  // Books the frame's budget credit and, for a sample frame, its cost.
+  static void book_budget(State& s, const ClassFrameCost& cost);
+  // A sample due next frame waits for the budget: off, retried as soon as it is covered.
+  static void defer_unaffordable_sample(State& s, ClassDecision& d);
+  // The stride at which a sample's per-ray cost `variable_ms` (per sampled ray) fits the budget.
+  std::uint32_t stride_for(const State& s, double variable_ms) const;
   void judge_sample(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
   void judge_all(State& s, const ClassFrameCost& cost, ClassDecision& d) const;
 
   bool adaptive_;
-  int passes_;  // HRPP stage passes per trace in a predicted frame (2 with the pilot schedule)
+  int passes_;
+  std::uint32_t min_stride_;  // PredictorConfig::sample  // HRPP stage passes per trace in a
+                              // predicted frame (2 with the pilot schedule)
   PerClass<State> state_;
 };
 

@@ -37,8 +37,8 @@ json class_json(const RayClassStats& s, bool hrpp_on) {
 json decision_json(const ClassDecision& d) {
   return json{{"mode", probe_name(d.mode)},   {"reason", reason_name(d.reason)},
               {"gain_ms", d.gain_ms},         {"off_ms_per_ray", d.off_ms_per_ray},
-              {"dispatch_ms", d.dispatch_ms}, {"confidence", d.confidence},
-              {"next", probe_name(d.next)}};
+              {"dispatch_ms", d.dispatch_ms}, {"sample_stride", d.sample_stride},
+              {"confidence", d.confidence},   {"next", probe_name(d.next)}};
 }
 
 // The per-class figures of a frame or a render.
@@ -95,6 +95,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                  {"type", device.type_name()},
                  {"driver", device.driver},
                  {"subgroup_size", device.subgroup_size},
+                 {"denorm_preserve", device.denorm_preserve},
                  {"timestamps", device.timestamps}};
   j["features"] = s.features;
   j["scene"] = {{"triangles", s.triangles},

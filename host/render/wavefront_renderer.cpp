@@ -389,7 +389,8 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
                      Kernel::trace_any, Kernel::render_accumulate})
       frame.kernels_ms[TimerLabel{k}] = 0.0;
     if (s_->hrpp)
-      for (RayClass c : kRayClasses) s_->hrpp->set_probing(c, s_->adaptive.mode(c));
+      for (RayClass c : kRayClasses)
+        s_->hrpp->set_probing(c, s_->adaptive.mode(c), s_->adaptive.sample_stride(c));
     for (std::uint32_t first = 0; first < pixels; first += s_->wave)
       s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
     frame.wall_s =

@@ -19,7 +19,8 @@
 
 #include "hrpp_interface.h"
 
-layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
+layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_x_id = HRPP_SPEC_PREDICT_WORKGROUP,
+       local_size_y = 1, local_size_z = 1) in;
 layout(push_constant) uniform PushConstants { StagePushConstants pc; };
 layout(constant_id = HRPP_SPEC_VERIFY_INTERIOR) const bool kVerifyInterior = true;
 layout(constant_id = HRPP_SPEC_COUNT_BASELINE) const bool kCountBaseline = true;
@@ -160,7 +161,10 @@ void main() {
   // every ray), and HRPP_PASS_NONE has no ray at all.
   if (gl_WorkGroupID.x * pc.trace_group_rays >= count) return;
   uint resolved_count = 0u, aborted = 0u;
-  for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
+  // The workgroup's trace_group_rays rays over its working lanes (serial: one per subgroup).
+  const uint lanes = hrpp.serial != 0u ? gl_NumSubgroups : gl_WorkGroupSize.x;
+  const uint rays_per_lane = (pc.trace_group_rays + lanes - 1u) / lanes;
+  for (uint k = 0u; k < rays_per_lane; ++k) {
     // One atomicAdd per subgroup for all its active lanes (any subgroup size).
     const uvec4 lanes = subgroupBallot(true);
     uint base = 0u;

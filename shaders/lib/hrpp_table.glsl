@@ -49,9 +49,11 @@ layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_REQUESTS) restric
     HrppRequestBuffer {
   InsertRequest hrpp_requests[];
 };
+// The class's PredictorCounters (64-bit counts) as 32-bit words, low word first: a kernel adds
+// to the low word and carries into the high one (hrpp_add_counter), exact without 64-bit atomics.
 layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_COUNTERS) restrict buffer
     HrppCounterBuffer {
-  PredictorCounters hrpp_counters;
+  uint hrpp_counter_words[];
 };
 
 const uint64_t kHrppEmptyTag = ~uint64_t(0);
@@ -134,7 +136,9 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
 }
 
 void hrpp_add_counter(uint counter, uint value) {
-  if (value != 0u) atomicAdd(hrpp_counters.c[counter], uint64_t(value));
+  if (value == 0u) return;
+  const uint before = atomicAdd(hrpp_counter_words[2u * counter], value);
+  if (before + value < before) atomicAdd(hrpp_counter_words[2u * counter + 1u], 1u);
 }
 
 // A kernel's counts of a counter list (HRPP_*_COUNTERS, shaders/shared/hrpp_types.h): it declares

@@ -7,12 +7,42 @@
 // That is the correctly rounded float result even when the double operation is a double ULP or
 // two off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint
 // between two floats, and a double ULP is at most 2^-52 of the value. Subnormal inputs or results stay exact only
-// where the device keeps float denormals (lavapipe does).
+// where the device keeps float denormals (lavapipe does; elsewhere ComputePipeline asks for
+// DenormPreserve when the device offers it, host/gpu/float_controls.h).
+// The shared shading headers (shaders/shared/) call these by the same names as C++, where
+// glsl_cpp.h defines them as plain division, std::sqrt and glm's normalize, length and refract;
+// the vector forms below compute what glm computes, in glm's order and with each step rounded:
+// dot(v, v) = (x·x + y·y) + z·z, inversesqrt(x) = 1 / sqrt(x), normalize(v) = v · inversesqrt(dot).
 #ifndef HRPP_IEEE_MATH_GLSL
 #define HRPP_IEEE_MATH_GLSL
 
 float ieee_div(float a, float b) { return float(double(a) / double(b)); }
 
 float ieee_sqrt(float x) { return float(sqrt(double(x))); }
+
+vec3 ieee_div(vec3 a, float b) { return vec3(ieee_div(a.x, b), ieee_div(a.y, b), ieee_div(a.z, b)); }
+
+float ieee_inversesqrt(float x) { return ieee_div(1.0, ieee_sqrt(x)); }
+
+float ieee_dot(vec3 a, vec3 b) {
+  precise float d = a.x * b.x + a.y * b.y + a.z * b.z;
+  return d;
+}
+
+float ieee_length(vec3 v) { return ieee_sqrt(ieee_dot(v, v)); }
+
+vec3 ieee_normalize(vec3 v) {
+  precise vec3 n = v * ieee_inversesqrt(ieee_dot(v, v));
+  return n;
+}
+
+// GLSL's refract (glm's too): eta·i - (eta·dot(n, i) + sqrt(k))·n, or 0 where k < 0.
+vec3 ieee_refract(vec3 i, vec3 n, float eta) {
+  precise float d = ieee_dot(n, i);
+  precise float k = 1.0 - eta * eta * (1.0 - d * d);
+  if (k < 0.0) return vec3(0.0);
+  precise vec3 r = eta * i - (eta * d + ieee_sqrt(k)) * n;
+  return r;
+}
 
 #endif  // HRPP_IEEE_MATH_GLSL

@@ -22,7 +22,7 @@ const float kMirrorRoughness = 0.02f;
 // JCGT 6(1), 2017).
 HRPP_INLINE void basis(vec3 n, HRPP_OUT(vec3) t, HRPP_OUT(vec3) b) {
   const float s = n.z >= 0.0f ? 1.0f : -1.0f;
-  const float a = -1.0f / (s + n.z);
+  const float a = ieee_div(-1.0f, s + n.z);
   const float c = n.x * n.y * a;
   t = vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
   b = vec3(c, s + n.y * n.y * a, -n.y);
@@ -31,9 +31,9 @@ HRPP_INLINE void basis(vec3 n, HRPP_OUT(vec3) t, HRPP_OUT(vec3) b) {
 HRPP_INLINE vec3 cosine_hemisphere(vec3 n, float u1, float u2) {
   vec3 t, b;
   basis(n, t, b);
-  const float r = sqrt(u1);
+  const float r = ieee_sqrt(u1);
   const float phi = 2.0f * kPi * u2;
-  return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0f, 1.0f - u1)) * n);
+  return ieee_normalize(r * cos(phi) * t + r * sin(phi) * b + ieee_sqrt(max(0.0f, 1.0f - u1)) * n);
 }
 
 HRPP_INLINE vec3 fresnel_schlick(vec3 f0, float cos_theta) {
@@ -46,42 +46,42 @@ HRPP_INLINE vec3 fresnel_schlick(vec3 f0, float cos_theta) {
 HRPP_INLINE float fresnel_dielectric(float cos_i, float eta) {
   const float sin2_t = eta * eta * max(0.0f, 1.0f - cos_i * cos_i);
   if (sin2_t >= 1.0f) return 1.0f;  // total internal reflection
-  const float cos_t = sqrt(1.0f - sin2_t);
-  const float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-  const float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  const float cos_t = ieee_sqrt(1.0f - sin2_t);
+  const float rs = ieee_div(eta * cos_i - cos_t, eta * cos_i + cos_t);
+  const float rp = ieee_div(cos_i - eta * cos_t, cos_i + eta * cos_t);
   return 0.5f * (rs * rs + rp * rp);
 }
 
 HRPP_INLINE float ggx_d(float n_h, float a2) {
   const float d = n_h * n_h * (a2 - 1.0f) + 1.0f;
-  return a2 / (kPi * d * d);
+  return ieee_div(a2, kPi * d * d);
 }
 
 // Smith G1 for GGX.
 HRPP_INLINE float ggx_g1(float n_v, float a2) {
-  return 2.0f * n_v / (n_v + sqrt(a2 + (1.0f - a2) * n_v * n_v));
+  return ieee_div(2.0f * n_v, n_v + ieee_sqrt(a2 + (1.0f - a2) * n_v * n_v));
 }
 
 // GGX metal: f(wo, wi) · cos(wi) for light sampling.
 HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float alpha) {
   const float n_o = dot(n, wo), n_i = dot(n, wi);
   if (n_o <= 0.0f || n_i <= 0.0f) return vec3(0.0f);
-  const vec3 h = normalize(wo + wi);
+  const vec3 h = ieee_normalize(wo + wi);
   const float a2 = alpha * alpha;
   const float d = ggx_d(max(dot(n, h), 0.0f), a2);
   const float g = ggx_g1(n_o, a2) * ggx_g1(n_i, a2);
-  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * (d * g / (4.0f * n_o));
+  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * ieee_div(d * g, 4.0f * n_o);
 }
 
 // GGX metal: the solid-angle pdf with which ggx_sample draws wi (visible normals):
 // G1(wo) D(h) / (4 n·wo).
 HRPP_INLINE float ggx_pdf(vec3 n, vec3 wo, vec3 wi, float alpha) {
   const float n_o = dot(n, wo);
-  const vec3 h = normalize(wo + wi);
+  const vec3 h = ieee_normalize(wo + wi);
   const float n_h = dot(n, h);
   if (n_o <= 0.0f || n_h <= 0.0f || dot(wo, h) <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
-  return ggx_g1(n_o, a2) * ggx_d(n_h, a2) / (4.0f * n_o);
+  return ieee_div(ggx_g1(n_o, a2) * ggx_d(n_h, a2), 4.0f * n_o);
 }
 
 // GGX metal: samples wi from the visible normals; returns f·cos/pdf = F · G1(wi), or 0 when
@@ -92,19 +92,19 @@ HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, flo
   basis(n, t, b);
   const vec3 v = vec3(dot(wo, t), dot(wo, b), dot(wo, n));
   // Heitz 2018, listing 1: stretch, sample the projected disk, unstretch.
-  const vec3 vh = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
+  const vec3 vh = ieee_normalize(vec3(alpha * v.x, alpha * v.y, v.z));
   const float len2 = vh.x * vh.x + vh.y * vh.y;
   const vec3 t1 =
-      len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
+      len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * ieee_inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
   const vec3 t2 = cross(vh, t1);
-  const float r = sqrt(u1);
+  const float r = ieee_sqrt(u1);
   const float phi = 2.0f * kPi * u2;
   const float p1 = r * cos(phi);
   float p2 = r * sin(phi);
   const float s = 0.5f * (1.0f + vh.z);
-  p2 = (1.0f - s) * sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
-  const vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
-  const vec3 m = normalize(vec3(alpha * nh.x, alpha * nh.y, max(0.0f, nh.z)));
+  p2 = (1.0f - s) * ieee_sqrt(max(0.0f, 1.0f - p1 * p1)) + s * p2;
+  const vec3 nh = p1 * t1 + p2 * t2 + ieee_sqrt(max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  const vec3 m = ieee_normalize(vec3(alpha * nh.x, alpha * nh.y, max(0.0f, nh.z)));
   const vec3 h = m.x * t + m.y * b + m.z * n;
   wi = reflect(-wo, h);
   const float n_i = dot(n, wi);

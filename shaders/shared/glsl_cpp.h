@@ -6,8 +6,10 @@
 // translation unit), out and inout parameters through HRPP_OUT / HRPP_INOUT, structs filled
 // member by member (GLSL's T(...) needs C++20 parenthesised aggregates, which clang has only
 // from 16), and no `precise` (C++ is built with -ffp-contract=off: no fused multiply-adds).
-// What still differs is the device's own sqrt, sin, cos and pow; tests/cpu_render_test.cpp
-// measures the images' agreement.
+// Division, square roots, normalize, length and refract go through the ieee_* names: correctly
+// rounded on the device (shaders/lib/ieee_math.glsl), C++'s own operations here. What still
+// differs is the device's sin, cos and pow, and any contraction into fused multiply-adds;
+// tests/cpu_render_test.cpp measures the images' agreement.
 #ifndef HRPP_GLSL_CPP_H
 #define HRPP_GLSL_CPP_H
 
@@ -42,12 +44,21 @@ using glm::unpackUnorm4x8;
 using std::cos;
 using std::sin;
 using std::sqrt;
+
+inline float ieee_div(float a, float b) { return a / b; }
+inline glm::vec3 ieee_div(glm::vec3 a, float b) { return a / b; }
+inline float ieee_sqrt(float x) { return std::sqrt(x); }
+inline float ieee_inversesqrt(float x) { return glm::inversesqrt(x); }
+inline float ieee_length(glm::vec3 v) { return glm::length(v); }
+inline glm::vec3 ieee_normalize(glm::vec3 v) { return glm::normalize(v); }
+inline glm::vec3 ieee_refract(glm::vec3 i, glm::vec3 n, float eta) { return glm::refract(i, n, eta); }
 }  // namespace hrpp::gpu
 
 #define HRPP_INLINE inline
 #define HRPP_OUT(T) T&
 #define HRPP_INOUT(T) T&
 #else
+#include "ieee_math.glsl"
 #define HRPP_INLINE
 #define HRPP_OUT(T) out T
 #define HRPP_INOUT(T) inout T

@@ -35,6 +35,12 @@
 // (an inlined traversal costs even where no lane runs it, measured on lavapipe).
 #define HRPP_SPEC_VERIFY_INTERIOR 0  // go-up > 0: predicted nodes may be interior nodes
 #define HRPP_SPEC_COUNT_BASELINE 1   // count what a full traversal of each probed ray visits
+// hrpp_predict's workgroup size (local_size_x_id): the device's subgroup size where it divides
+// HRPP_TRACE_WORKGROUP_SIZE (gpu_predictor.cpp, predict_workgroup_size), so a workgroup is one
+// subgroup (8 lanes on lavapipe, 32 on NVIDIA, 64 on many AMD parts). A workgroup still takes
+// StagePushConstants::trace_group_rays rays, as one of the trace kernel's does: the dispatch
+// sizes (the trace's own indirect arguments among them) stay those of the trace.
+#define HRPP_SPEC_PREDICT_WORKGROUP 4
 
 // The table's buffers at base + these offsets (the stage: base HRPP_STAGE_BINDING_TABLE;
 // hrpp_insert: base 0): params, 64-bit tags, use stamps, node slots, requests, counters.

@@ -35,14 +35,14 @@ HRPP_INLINE Ray camera_ray(RenderParams params, uint pixel, uint sample_index) {
   const uint x = pixel % params.width;
   const uint y = pixel / params.width;
   const vec2 j = pixel_jitter(params, pixel, sample_index);
-  const float sx = (float(x) + j.x) / float(params.width);
-  const float sy = (float(y) + j.y) / float(params.height);
+  const float sx = ieee_div(float(x) + j.x, float(params.width));
+  const float sy = ieee_div(float(y) + j.y, float(params.height));
   const float tan_half = params.cam_position.w;
   const float aspect = params.cam_forward.w;
   const vec3 d = vec3(params.cam_forward) +
                  (2.0f * sx - 1.0f) * tan_half * aspect * vec3(params.cam_right) +
                  (1.0f - 2.0f * sy) * tan_half * vec3(params.cam_up);  // image rows top down
-  return ray_from(vec3(params.cam_position), normalize(d), float(HRPP_RAY_TMAX_FAR));
+  return ray_from(vec3(params.cam_position), ieee_normalize(d), float(HRPP_RAY_TMAX_FAR));
 }
 
 // A path of pixel and sample at depth `depth` carrying `throughput`; specular: 1 after a delta
@@ -108,8 +108,8 @@ HRPP_INLINE VertexSamples vertex_samples(PathState path, uint seed, uint sampler
 // it neither overflows nor divides by zero; w(a, b) + w(b, a) = 1 for any a, b > 0.
 HRPP_INLINE float mis_power(float a, float b) {
   if (!(a > 0.0f)) return 0.0f;
-  const float r = b / a;
-  return 1.0f / (1.0f + r * r);
+  const float r = ieee_div(b, a);
+  return ieee_div(1.0f, 1.0f + r * r);
 }
 
 // A BSDF ray leaves from its vertex moved off the surface (offset_ray.glsl: up to 256 ULPs of
@@ -154,8 +154,8 @@ HRPP_INLINE float emission_weight(uint strategy, PathState path, bool bsdf_sees,
 HRPP_INLINE float hit_light_pdf(ShadeTriangle t, float pick, vec3 dir, float dist) {
   if (!(pick > 0.0f)) return 0.0f;
   const vec3 c = cross(t.v1 - t.v0, t.v2 - t.v0);
-  const float area2 = length(c);
-  return pick * triangle_solid_angle_pdf(area2, dot(c, dir) / area2, dist);
+  const float area2 = ieee_length(c);
+  return pick * triangle_solid_angle_pdf(area2, ieee_div(dot(c, dir), area2), dist);
 }
 
 const uint kLobeDiffuse = 0u;
@@ -185,14 +185,14 @@ HRPP_INLINE Lobe choose_lobe(GpuMaterial m, vec3 albedo, float u_lobe) {
 HRPP_INLINE vec3 eval_lobe_cos(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
   if (dot(wi, s.ng) <= 0.0f) return vec3(0.0f);
   if (kMetal && lobe.kind == kLobeMetal) return ggx_eval_cos(s.ns, wo, wi, lobe.albedo, lobe.alpha);
-  return lobe.albedo * (max(dot(s.ns, wi), 0.0f) / kPi);
+  return lobe.albedo * ieee_div(max(dot(s.ns, wi), 0.0f), kPi);
 }
 
 // The pdf with which the lobe's sampling (sample_bounce) draws wi (solid angle; delta: 0).
 HRPP_INLINE float lobe_pdf(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
   if (lobe.delta) return 0.0f;
   if (kMetal && lobe.kind == kLobeMetal) return ggx_pdf(s.ns, wo, wi, lobe.alpha);
-  return max(dot(s.ns, wi), 0.0f) / kPi;
+  return ieee_div(max(dot(s.ns, wi), 0.0f), kPi);
 }
 
 // Next-event estimation: what light sample ls (of a light picked with probability prob) adds
@@ -204,7 +204,7 @@ HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec
   const float w = ls.pdf > 0.0f ? nee_weight(strategy, bsdf_sees, prob * ls.pdf,
                                              lobe_pdf(lobe, s, wo, ls.wi))
                                 : 1.0f;
-  return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li * (w / prob);
+  return path.throughput * eval_lobe_cos(lobe, s, wo, ls.wi) * ls.li * ieee_div(w, prob);
 }
 
 // A shadow ray is traced only when it carries light; one turned away from the light (offsets
@@ -232,14 +232,14 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   b.pdf = 0.0f;
   b.leave_normal = s.ng;
   if (kGlass && lobe.kind == kLobeGlass) {
-    const float eta = s.front ? 1.0f / m.ior : m.ior;
+    const float eta = s.front ? ieee_div(1.0f, m.ior) : m.ior;
     const float cos_i = dot(s.ns, wo);
     const float f = fresnel_dielectric(abs(cos_i), eta);
     if (u1 < f) {
       b.wi = reflect(-wo, s.ns);
       b.weight = vec3(1.0f);
     } else {
-      b.wi = refract(-wo, s.ns, eta);
+      b.wi = ieee_refract(-wo, s.ns, eta);
       b.weight = lobe.albedo;
       b.leave_normal = -s.ng;
     }
@@ -254,7 +254,7 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   } else {
     b.wi = cosine_hemisphere(s.ns, u1, u2);
     b.weight = lobe.albedo;
-    b.pdf = max(dot(s.ns, b.wi), 0.0f) / kPi;
+    b.pdf = ieee_div(max(dot(s.ns, b.wi), 0.0f), kPi);
   }
   // A direction on the wrong side of the geometric surface ends the path.
   if (dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
@@ -274,9 +274,9 @@ HRPP_INLINE bool closes_path(PathState path, uint max_depth) { return path.depth
 HRPP_INLINE bool survives(HRPP_INOUT(vec3) throughput, uint next_depth, uint rr_depth, float u_rr) {
   bool alive = max(throughput.r, max(throughput.g, throughput.b)) > 0.0f;
   if (alive && next_depth >= rr_depth) {
-    const float q = min(sqrt(max(throughput.r, max(throughput.g, throughput.b))), 1.0f);
+    const float q = min(ieee_sqrt(max(throughput.r, max(throughput.g, throughput.b))), 1.0f);
     alive = u_rr < q;
-    throughput /= q;
+    throughput = ieee_div(throughput, q);
   }
   return alive;
 }

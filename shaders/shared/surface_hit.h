@@ -30,14 +30,14 @@ HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
   const float w = 1.0f - h.u - h.v;
   SurfaceHit s;
   s.p = w * t.v0 + h.u * t.v1 + h.v * t.v2;  // from barycentrics, not o + t·d (offset_ray.h)
-  const vec3 ng = normalize(cross(t.v1 - t.v0, t.v2 - t.v0));
+  const vec3 ng = ieee_normalize(cross(t.v1 - t.v0, t.v2 - t.v0));
   s.front = dot(ng, dir) < 0.0f;
   s.ng = s.front ? ng : -ng;
   s.ns = s.ng;
   if ((t.vertex_data & HRPP_VERTEX_NORMALS) != 0u) {
     const vec3 n = w * vec3(t.n0) + h.u * vec3(t.n1) + h.v * vec3(t.n2);
     if (dot(n, n) > 0.0f) {
-      s.ns = normalize(n);
+      s.ns = ieee_normalize(n);
       if (dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
     }
   }
@@ -51,7 +51,7 @@ HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
 }
 
 HRPP_INLINE vec3 srgb_to_linear(vec3 c) {
-  return mix(c / 12.92f, pow((c + 0.055f) / 1.055f, vec3(2.4f)), greaterThan(c, vec3(0.04045f)));
+  return mix(ieee_div(c, 12.92f), pow(ieee_div(c + 0.055f, 1.055f), vec3(2.4f)), greaterThan(c, vec3(0.04045f)));
 }
 
 // An RGBA8 texel (R in the low byte; glTF base colour, sRGB) as linear RGB.
