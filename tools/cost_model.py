@@ -104,9 +104,27 @@ def rows_for(obs_list, model):
 
 
 def nnls(a, b):
-    """min |a x - b| with x >= 0 (Lawson and Hanson's active-set method)."""
-    from scipy.optimize import nnls as scipy_nnls
-    return scipy_nnls(a, b)[0]
+    """min |a x - b| with x >= 0: Lawson and Hanson's active-set method (numpy alone, so the
+    model also runs where SciPy is not installed, e.g. a GPU machine's bare Python)."""
+    n = a.shape[1]
+    tol = 10 * np.finfo(float).eps * np.abs(a).sum(axis=0).max() * max(a.shape)
+    active, x = np.zeros(n, bool), np.zeros(n)
+    for _ in range(3 * n):
+        w = a.T @ (b - a @ x)
+        if active.all() or np.where(active, -np.inf, w).max() <= tol:
+            break
+        active[np.argmax(np.where(active, -np.inf, w))] = True
+        while True:  # least squares on the active set, stepping back while it leaves x >= 0
+            z = np.zeros(n)
+            z[active] = np.linalg.lstsq(a[:, active], b, rcond=None)[0]
+            if (z[active] > tol).all():
+                x = z
+                break
+            neg = active & (z <= tol)
+            x = x + np.min(x[neg] / (x[neg] - z[neg])) * (z - x)
+            active &= x > tol
+            x[~active] = 0.0
+    return x
 
 
 def fit(obs_list):
