@@ -15,7 +15,9 @@
 #   4. per-kernel times: hrpp render bunny with HRPP on under each memory mode (render --stats);
 #   5. tools/hrpp_bench.py at its defaults (the adaptive predictor): HRPP on against off;
 #   6. every GPU test binary (CTest label gpu), each alone;
-#   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off).
+#   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off);
+#   8. tools/hrpp_model.py: this device's cost per operation fitted, its held-out error and where
+#      prediction would pay here (docs/EXPERIMENTS.md, "The cost model").
 # Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
 # On the GPU machine (no network, a fresh checkout), from the repository's root:
@@ -44,8 +46,9 @@
 #   --quick       small sizes and one scene: a run of the whole script on lavapipe in about a
 #                 minute (the test suite's gpu_figures_quick)
 #   --pack        write the kit (above) from --build (default build/portable)
-# PYTHON names the Python that runs tools/hrpp_bench.py (default python3, with numpy; without
-# OpenImageIO it reads the uncompressed EXR files of a portable build).
+# PYTHON names the Python that runs tools/hrpp_bench.py and tools/hrpp_model.py (default python3,
+# with numpy; without OpenImageIO they read the uncompressed EXR files of a portable build, and
+# without matplotlib the model draws no figure).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -200,11 +203,13 @@ if [ "$quick" = 1 ]; then
   order_args=(--rays 16384 --repeat 1 --check-rays 256)
   render_args=(--size 64x64 --spp 2)
   hb_args=(--quick --scenes cornell)
+  model_args=(--scenes builtin:cornell,teapot --size 48x48 --spp 1 --repeat 1)
 else
   bench_args=(--repeat "$repeat" --check-rays 20000)
   order_args=(--repeat "$repeat" --check-rays 1000)
   render_args=(--size 1024x1024 --spp 4)
   hb_args=(--repeat 2)
+  model_args=(--size 512x512 --spp 4 --repeat 1)
 fi
 
 step "machine"
@@ -286,6 +291,10 @@ fi
 step "hrpp_bench.py, every ray predicted (--hrpp-adaptive off)"
 limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
   "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
+
+step "hrpp_model.py: this device's costs per operation and where prediction would pay"
+limit 120 "hrpp_model" "${PYTHON:-python3}" tools/hrpp_model.py --hrpp "$hrpp" "${model_args[@]}" \
+  --runs "$rays/model" --json "$out/hrpp_model.json" --figure "$out/hrpp_model.png"
 
 step "done"
 if [ "${#failed[@]}" -gt 0 ]; then
