@@ -48,8 +48,7 @@
 #   --pack        write the kit (above) from --build (default build/portable)
 # PYTHON names the Python that runs tools/hrpp_bench.py and tools/hrpp_model.py (default python3,
 # with numpy; without OpenImageIO hrpp_bench.py reads the uncompressed EXR files of a portable
-# build, and
-# without matplotlib the model draws no figure).
+# build, and without matplotlib the model draws no figure).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
