@@ -145,23 +145,15 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
 
 // The device tracer: the one place that names its backend (with the sizes above:
 // wavefront_paths, check_render_fits).
-// With `host` set, the scene's triangles and shading are freed before the upload and the BVH's
-// arrays after it.
+// With `host` set, the scene's triangles and shading are freed before the upload and each of the
+// BVH's arrays once uploaded.
 std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
                                           const RenderConfig& config, HostCopies host) {
-  if (host.scene) {
-    free_array(host.scene->triangles);
-    free_array(host.scene->shading);
-  }
-  auto tracer = std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
-  if (host.bvh) {
-    free_array(host.bvh->nodes);
-    free_array(host.bvh->leaves);
-    free_array(host.bvh->triangles);
-    free_array(host.bvh->wide_nodes);
-    free_array(host.bvh->wide_float_nodes);
-  }
-  return tracer;
+  if (!host.bvh) return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
+  free_array(host.scene->triangles);
+  free_array(host.scene->shading);
+  return std::make_unique<GpuTracer>(c, *host.bvh, config.tracer, config.predictor,
+                                     GpuTracer::FreeHostArrays{});
 }
 
 // The tracer's hit array of a ray class, sized for `rays` resident rays.
