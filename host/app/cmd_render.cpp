@@ -20,6 +20,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
+#include "common/free_array.h"
 #include "cpu_render/cpu_renderer.h"
 #include "gpu/vulkan_context.h"
 #include "render/image_output.h"
@@ -160,7 +161,7 @@ void run_render(RenderOptions& o) {
   // indexed, before the BVH is built, and the renderer frees the scene's triangles and the BVH's
   // arrays as they reach the device.
   RenderScene rs = make_render_scene(scene, o.render.default_lighting);
-  std::vector<TriangleShading>().swap(scene.shading);
+  free_array(scene.shading);
   GpuBvh bvh =
       make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, NodeLayout::kDfs, o.shared.nodes);
   VulkanContext ctx(o.shared.vulkan);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/free_array.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
@@ -40,11 +41,6 @@ static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
 namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
-
-template <class T>
-void free_array(std::vector<T>& v) {
-  std::vector<T>().swap(v);
-}
 
 // The record a hit-any query's answer leaves in a ray file: prim 0 occluded, -1 free.
 void to_occlusion_records(std::span<gpu::Hit> hits) {

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/free_array.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
@@ -54,16 +55,11 @@ StorageBuffer upload_array(VulkanContext& ctx, const BufferNeed& need, const std
   return b;
 }
 
-// The host arrays WavefrontRenderer::FreeHostCopies frees (null: the caller keeps them).
+// The host arrays WavefrontRenderer's consuming constructor frees (null: the caller keeps them).
 struct HostCopies {
   Scene* scene = nullptr;
   GpuBvh* bvh = nullptr;
 };
-
-template <class T>
-void free_array(std::vector<T>& v) {
-  std::vector<T>().swap(v);
-}
 
 // upload_array, then frees `items` when `free`.
 template <class T>
