@@ -81,7 +81,12 @@ TEST(DeviceMemory, TheLedgerFollowsEveryBufferOfARender) {
       EXPECT_GE(r.buffers.at(n.name), n.bytes) << n.name;
     }
     EXPECT_EQ(r.buffers.at("image"), wave * 16);
-    EXPECT_GE(r.buffers.at("shading triangles"), scene.triangles.size() * 128);
+    // The indexed shading data (render/shade_index.h): a ShadeIndex per triangle, a ShadeVertex
+    // per distinct corner (the box's corners are shared), attributes for none (no normals).
+    EXPECT_GE(r.buffers.at("shading triangles"), scene.triangles.size() * 16);
+    EXPECT_GT(r.buffers.at("shading vertices"), 0u);
+    EXPECT_LT(r.buffers.at("shading vertices"), scene.triangles.size() * 3 * 16);
+    EXPECT_TRUE(r.buffers.count("shading vertex attributes"));
   }
   EXPECT_EQ(ctx.memory().report().total, before);  // all freed
 }

@@ -1,5 +1,6 @@
 // hrpp scene [SCENE] [--json] [--dump-triangles FILE]: what a scene holds and the BVH built
 // over it.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -14,6 +15,9 @@
 #include "bvh/bvh_stats.h"
 #include "bvh/gpu_layout.h"
 #include "common/bytes.h"
+#include "gpu/gpu_tracer.h"
+#include "hrpp/predictor_config.h"
+#include "render/render_scene.h"
 #include "scene/load_scene.h"
 #include "scene/scene_export.h"
 
@@ -28,6 +32,26 @@ struct SceneOptions {
 };
 
 nlohmann::json vec_json(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+
+// Bytes per triangle of the host's scene arrays and of each scene-sized device buffer of a
+// render with HRPP off (the stats' "memory" names; the ray arrays, which scale with the image,
+// are left out).
+constexpr const char* kHostScene = "host scene (triangles and their shading)";
+
+nlohmann::json bytes_per_triangle(const Scene& scene, const GpuBvh& layout) {
+  const double n = static_cast<double>(std::max<std::size_t>(scene.triangles.size(), 1));
+  const RenderScene rs = make_render_scene(scene, DefaultLighting{});
+  const auto per = [&](std::size_t bytes) { return static_cast<double>(bytes) / n; };
+  nlohmann::json j = {
+      {kHostScene, static_cast<double>(sizeof(Triangle) + sizeof(TriangleShading))},
+      {IndexedShading::kTriangleBuffer, per(rs.shading.triangles.size() * sizeof(gpu::ShadeIndex))},
+      {IndexedShading::kVertexBuffer, per(rs.shading.vertices.size() * sizeof(gpu::ShadeVertex))},
+      {IndexedShading::kAttributeBuffer,
+       per(rs.shading.attributes.size() * sizeof(gpu::ShadeAttributes))}};
+  for (const BufferNeed& b : GpuTracer::buffer_needs(layout, PredictorConfig{}, 0))
+    if (b.bytes > 0) j[b.name] = per(b.bytes);
+  return j;
+}
 
 void run_scene(const SceneOptions& o) {
   check_output_path(o.dump_triangles, "--dump-triangles");
@@ -75,6 +99,7 @@ void run_scene(const SceneOptions& o) {
         {"sah_cost", s.sah_cost},
         {"build_ms", s.build_ms},
         {"gpu_bytes", layout.bytes()}}},
+      {"bytes_per_triangle", bytes_per_triangle(scene, layout)},
   };
   if (o.json) {
     std::cout << j.dump(2) << "\n";
@@ -99,6 +124,13 @@ void run_scene(const SceneOptions& o) {
   std::printf("            built in %.1f ms (%d bins, leaves <= %d), GPU layout %s\n",
               s.build_ms, o.shared.bvh.bin_count, o.shared.bvh.max_leaf_size,
               format_bytes(layout.bytes()).c_str());
+  double device = 0.0;
+  for (const auto& [name, b] : j["bytes_per_triangle"].items())
+    if (name != kHostScene) device += b.get<double>();
+  std::printf(
+      "bytes       %.1f per triangle on the device (BVH and shading), %.1f in the host's "
+      "scene\n",
+      device, j["bytes_per_triangle"][kHostScene].get<double>());
 }
 
 }  // namespace

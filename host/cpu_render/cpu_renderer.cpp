@@ -45,7 +45,7 @@ struct PathTracer {
   // One path vertex at a hit (render_shade): adds what it sees to `pixel`; false when the path
   // ends, otherwise ray and path become the continuation's.
   bool shade_hit(gpu::Ray& ray, const gpu::Hit& hit, gpu::PathState& path, glm::vec4& pixel) {
-    const gpu::ShadeTriangle& t = rs.triangles[static_cast<std::size_t>(hit.prim)];
+    const gpu::ShadeTriangle t = rs.shading.triangle(static_cast<std::size_t>(hit.prim));
     const gpu::SurfaceHit s = gpu::make_surface_hit(t, hit, ray.dir);
     const gpu::GpuMaterial& m = rs.materials[s.material];
     const vec3 wo = -ray.dir;

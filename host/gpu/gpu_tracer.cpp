@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/free_array.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
@@ -140,8 +141,9 @@ struct GpuTracer::State {
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on: routes the classes that probe
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
+  // With `release` (the same GpuBvh as `bvh`), each host array is freed once uploaded.
   State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
-        const PredictorConfig& predictor_config)
+        const PredictorConfig& predictor_config, GpuBvh* release = nullptr)
       : ctx(&c),
         config((check_tracer_fits(c, bvh, predictor_config), cfg.resolved_for(c.info()))),
         nodes(c, bvh_buffer_needs(bvh)[0]),
@@ -151,9 +153,6 @@ struct GpuTracer::State {
         leaf_view(c, leaves),
         triangle_view(c, triangles),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
-    nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
-    leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
-    triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
     for (QueryKind kind : kQueryKinds) {
       auto& q = queries[index_of(kind)];
       q = std::make_unique<QueryArrays>(c, kind, cfg.count_steps, bvh.format());
@@ -163,7 +162,7 @@ struct GpuTracer::State {
         k->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
       }
     }
-    if (predictor_config.enabled)
+    if (predictor_config.enabled)  // reads the host's arrays, not yet the device's
       predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
                                                  triangle_view);
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
@@ -171,6 +170,22 @@ struct GpuTracer::State {
     probe.tmin = 0.0f;
     probe.dir = {1.0f, 0.0f, 0.0f};
     probe.tmax = 1e30f;
+    upload_bvh(bvh, release);
+  }
+
+  // The node array first, then leaves and triangle records, each freed on the host (with
+  // `release`) before the next is copied: the host holds at most one array twice.
+  void upload_bvh(const GpuBvh& bvh, GpuBvh* release) {
+    nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
+    if (release) {
+      free_array(release->nodes);
+      free_array(release->wide_nodes);
+      free_array(release->wide_float_nodes);
+    }
+    leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
+    if (release) free_array(release->leaves);
+    triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
+    if (release) free_array(release->triangles);
   }
 
   QueryArrays& query(RayClass c) { return *queries[index_of(query_kind(c))]; }
@@ -322,6 +337,10 @@ struct GpuTracer::State {
 GpuTracer::GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config,
                      const PredictorConfig& predictor)
     : s_(std::make_unique<State>(ctx, bvh, config, predictor)) {}
+
+GpuTracer::GpuTracer(VulkanContext& ctx, GpuBvh& bvh, const GpuTracerConfig& config,
+                     const PredictorConfig& predictor, FreeHostArrays)
+    : s_(std::make_unique<State>(ctx, bvh, config, predictor, &bvh)) {}
 
 GpuTracer::~GpuTracer() = default;
 GpuTracer::GpuTracer(GpuTracer&&) noexcept = default;

@@ -44,6 +44,10 @@ class GpuTracer final : public DeviceTracer {
   // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
             const PredictorConfig& predictor = {});
+  // The same, freeing each of `bvh`'s arrays once the device holds it (it keeps its bounds).
+  struct FreeHostArrays {};
+  GpuTracer(VulkanContext& ctx, GpuBvh& bvh, const GpuTracerConfig& config,
+            const PredictorConfig& predictor, FreeHostArrays);
   ~GpuTracer() override;
   GpuTracer(GpuTracer&&) noexcept;
   GpuTracer& operator=(GpuTracer&&) noexcept;

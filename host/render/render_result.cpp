@@ -10,7 +10,7 @@ RenderResult make_render_result(const RenderConfig& config, const RenderScene& r
   out.height = config.height;
   RenderStats& stats = out.stats;
   stats.features = rs.features.names_on();
-  stats.triangles = rs.triangles.size();
+  stats.triangles = rs.triangle_count;
   stats.emissive_triangles = rs.emissive_triangles;
   stats.delta_lights = rs.delta_lights;
   stats.lighting = rs.lighting;

@@ -1,10 +1,14 @@
 #include "render/render_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
+#include "common/error.h"
 #include "scene/load_scene.h"
+#include "surface_hit.h"
 
 namespace hrpp {
 
@@ -13,7 +17,6 @@ static_assert(sizeof(gpu::PathState) == 32);
 static_assert(sizeof(gpu::ShadowRecord) == 16);
 static_assert(sizeof(gpu::RenderQueues) == 64);
 static_assert(sizeof(gpu::RenderPushConstants) == 16);
-static_assert(sizeof(gpu::ShadeTriangle) == 8 * 16);  // 8 texels (render_shade.comp)
 // Read as 2, 1, 3 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).
 static_assert(sizeof(gpu::Ray) == 32 && sizeof(gpu::Hit) == 16);
 static_assert(sizeof(gpu::GpuMaterial) == 48);
@@ -119,33 +122,25 @@ void add_materials(const Scene& scene, RenderScene& out) {
   }
 }
 
-// The shading triangles and a light per emissive one (its power into `power`); returns the
-// radius of the scene's bounding sphere.
-float add_triangles(const Scene& scene, RenderScene& out, std::vector<float>& power) {
+// Whether triangle t of emission e is a light (next-event estimation samples it).
+bool is_triangle_light(const Triangle& t, const glm::vec3& e) {
+  return emits(e) && !is_degenerate(t);
+}
+
+std::uint32_t material_of(const Scene& scene, const TriangleShading& s) {
+  return s.material < scene.materials.size() ? s.material : 0;
+}
+
+// A light per emissive triangle (its power into `power`); returns the radius of the scene's
+// bounding sphere.
+float add_triangle_lights(const Scene& scene, RenderScene& out, std::vector<float>& power) {
   glm::vec3 lo(3e38f), hi(-3e38f);
-  out.triangles.resize(scene.triangles.size());
   for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
-    const TriangleShading& s = scene.shading[i];
-    gpu::ShadeTriangle& g = out.triangles[i];
-    g.v0 = t.v0;
-    g.v1 = t.v1;
-    g.v2 = t.v2;
-    g.material = s.material < scene.materials.size() ? s.material : 0;
-    const bool normals =
-        s.n0 != glm::vec3(0.0f) || s.n1 != glm::vec3(0.0f) || s.n2 != glm::vec3(0.0f);
-    const bool colors = s.c0 != kNoVertexColor || s.c1 != kNoVertexColor || s.c2 != kNoVertexColor;
-    g.vertex_data = (normals ? HRPP_VERTEX_NORMALS : 0u) | (colors ? HRPP_VERTEX_COLORS : 0u);
-    // Colours below 2^24: exact as float values.
-    g.n0 = glm::vec4(s.n0, static_cast<float>(s.c0));
-    g.n1 = glm::vec4(s.n1, static_cast<float>(s.c1));
-    g.n2 = glm::vec4(s.n2, static_cast<float>(s.c2));
-    g.uv01 = glm::vec4(s.uv0, s.uv1);
-    g.uv2 = glm::vec4(s.uv2, 0.0f, 0.0f);
     lo = glm::min(lo, glm::min(t.v0, glm::min(t.v1, t.v2)));
     hi = glm::max(hi, glm::max(t.v0, glm::max(t.v1, t.v2)));
-    const glm::vec3 e = out.materials[g.material].emission;
-    if (!emits(e) || is_degenerate(t)) continue;
+    const glm::vec3 e = out.materials[material_of(scene, scene.shading[i])].emission;
+    if (!is_triangle_light(t, e)) continue;
     // Two-sided emitter: flux 2π · L · area.
     const float area = 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
     gpu::GpuLight l{};
@@ -155,11 +150,66 @@ float add_triangles(const Scene& scene, RenderScene& out, std::vector<float>& po
     l.edge2 = t.v2 - t.v0;
     l.color = e;
     out.lights.push_back(l);
-    g.light = static_cast<std::uint32_t>(out.lights.size());  // 1 + its index
     power.push_back(2.0f * kPi * luminance(e) * area);
     ++out.emissive_triangles;
   }
   return 0.5f * glm::length(hi - lo);
+}
+
+ShadeCorner shade_corner(const glm::vec3& p, const glm::vec3& n, std::uint32_t color,
+                         const glm::vec2& uv, std::uint32_t light) {
+  ShadeCorner c{};
+  c.vertex.position = p;
+  c.vertex.light = light;
+  c.attributes.normal_color = glm::vec4(n, static_cast<float>(color));  // below 2^24: exact
+  c.attributes.uv = glm::vec4(uv, 0.0f, 0.0f);
+  return c;
+}
+
+// Whether any of the corners' attributes differs from the defaults in a byte.
+bool has_attributes(const std::array<ShadeCorner, 3>& c) {
+  const gpu::ShadeAttributes d = gpu::default_shade_attributes();
+  for (const ShadeCorner& k : c)
+    if (std::memcmp(&k.attributes, &d, sizeof(d)) != 0) return true;
+  return false;
+}
+
+// HRPP_VERTEX_NORMALS | HRPP_VERTEX_COLORS: which the triangle has.
+std::uint32_t vertex_data(const TriangleShading& s) {
+  const bool normals =
+      s.n0 != glm::vec3(0.0f) || s.n1 != glm::vec3(0.0f) || s.n2 != glm::vec3(0.0f);
+  const bool colors = s.c0 != kNoVertexColor || s.c1 != kNoVertexColor || s.c2 != kNoVertexColor;
+  return (normals ? HRPP_VERTEX_NORMALS : 0u) | (colors ? HRPP_VERTEX_COLORS : 0u);
+}
+
+// The indexed shading data, in two passes: the triangles with attributes, whose vertices so come
+// first (IndexedShading::attributes), then the others. Emissive triangles are lights 1, 2, ...
+// in triangle order (add_triangle_lights's) while the scene has lights.
+void add_shading(const Scene& scene, RenderScene& out) {
+  if (out.materials.size() > HRPP_SHADE_MATERIAL_MASK)
+    throw Error("scene '" + scene.name + "': over 2^29 materials");
+  const bool lights = !out.lights.empty();
+  out.shading.triangles.resize(scene.triangles.size());
+  ShadeVertexTable table(out.shading);
+  for (const bool with_attributes : {true, false}) {
+    std::uint32_t next_light = 1;
+    for (std::size_t i = 0; i < scene.triangles.size(); ++i) {
+      const Triangle& t = scene.triangles[i];
+      const TriangleShading& s = scene.shading[i];
+      const std::uint32_t material = material_of(scene, s);
+      const bool light = lights && is_triangle_light(t, out.materials[material].emission);
+      const std::array<ShadeCorner, 3> c = {
+          shade_corner(t.v0, s.n0, s.c0, s.uv0, light ? next_light++ : 0u),
+          shade_corner(t.v1, s.n1, s.c1, s.uv1, 0u), shade_corner(t.v2, s.n2, s.c2, s.uv2, 0u)};
+      if (has_attributes(c) != with_attributes) continue;
+      gpu::ShadeIndex& g = out.shading.triangles[i];
+      g.corner0 = table.insert(c[0], with_attributes);
+      g.corner1 = table.insert(c[1], with_attributes);
+      g.corner2 = table.insert(c[2], with_attributes);
+      g.material_data = material | (with_attributes ? HRPP_SHADE_ATTRIBUTES : 0u) |
+                        vertex_data(s) << HRPP_SHADE_DATA_SHIFT;
+    }
+  }
 }
 
 // Point, spot and directional lights (power into `power`) and the environment.
@@ -241,6 +291,7 @@ void add_default_lighting(const DefaultLighting& d, RenderScene& out) {
 RenderScene make_render_scene(const Scene& scene, const DefaultLighting& lighting,
                               std::size_t texel_budget_bytes) {
   RenderScene out;
+  out.triangle_count = scene.triangles.size();
   add_materials(scene, out);
   if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
   if (out.features.on[HRPP_FEATURE_TEXTURES]) add_textures(scene, texel_budget_bytes, out);
@@ -248,12 +299,11 @@ RenderScene make_render_scene(const Scene& scene, const DefaultLighting& lightin
   if (out.textures.empty()) out.textures.push_back(gpu::GpuTexture{});
 
   std::vector<float> power;
-  const float radius = add_triangles(scene, out, power);
+  const float radius = add_triangle_lights(scene, out, power);
   out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
   add_scene_lights(scene, radius, out, power);
   make_light_cdf(power, out);
-  if (out.lights.empty())
-    for (gpu::ShadeTriangle& t : out.triangles) t.light = 0;  // no light with power
+  add_shading(scene, out);  // emissive triangles are lights only while a light has power
   if (out.lights.empty() && !emits(out.environment)) add_default_lighting(lighting, out);
   out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
   return out;

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "render/render_config.h"
+#include "render/shade_index.h"
 #include "render_interface.h"
 #include "scene/scene.h"
 
@@ -27,7 +28,8 @@ struct RenderFeatures {
 };
 
 struct RenderScene {
-  std::vector<gpu::ShadeTriangle> triangles;  // by triangle id
+  std::size_t triangle_count = 0;
+  IndexedShading shading;  // by triangle id (WavefrontRenderer may free it once uploaded)
   std::vector<gpu::GpuMaterial> materials;
   std::vector<gpu::GpuLight> lights;  // cdf ascending, last = 1
   std::vector<gpu::GpuTexture> textures;

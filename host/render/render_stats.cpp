@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "common/bytes.h"
+#include "common/peak_rss.h"
 #include "hrpp/predictor_stats.h"
 #include "hrpp_types.h"
 
@@ -166,15 +167,26 @@ std::string render_stats_text(const RenderConfig& config, const RenderResult& re
   return out;
 }
 
-json memory_json(const MemoryReport& memory) {
+json memory_json(const MemoryReport& memory, std::size_t triangles) {
   json buffers = json::object();
   for (const auto& [name, bytes] : memory.buffers) buffers[name] = bytes;
-  return json{{"buffers", buffers},
-              {"total_bytes", memory.total},
-              {"peak_bytes", memory.peak},
-              {"heap_bytes", memory.heap},
-              {"mode", memory.placement.mode},
-              {"placement", placement_json(memory.placement)}};
+  json j{{"buffers", buffers},
+         {"total_bytes", memory.total},
+         {"peak_bytes", memory.peak},
+         {"heap_bytes", memory.heap},
+         {"mode", memory.placement.mode},
+         {"placement", placement_json(memory.placement)}};
+  if (triangles == 0) return j;
+  const double n = static_cast<double>(triangles);
+  const auto per = [&](std::uint64_t bytes) { return static_cast<double>(bytes) / n; };
+  json per_buffer = json::object();
+  for (const auto& [name, bytes] : memory.buffers) per_buffer[name] = per(bytes);
+  const std::uint64_t rss = peak_rss_bytes();
+  j["bytes_per_triangle"] = per_buffer;
+  j["total_bytes_per_triangle"] = per(memory.total);
+  j["host_peak_rss_bytes"] = rss;
+  j["host_peak_rss_bytes_per_triangle"] = per(rss);
+  return j;
 }
 
 json placement_json(const MemoryPlacement& placement) {
@@ -192,7 +204,7 @@ std::string placement_text(const MemoryPlacement& placement) {
   return s;
 }
 
-std::string memory_text(const MemoryReport& memory) {
+std::string memory_text(const MemoryReport& memory, std::size_t triangles) {
   std::string largest;
   std::uint64_t most = 0;
   for (const auto& [name, bytes] : memory.buffers)
@@ -204,7 +216,16 @@ std::string memory_text(const MemoryReport& memory) {
                   " buffers (peak " + format_bytes(memory.peak) + ", device heap " +
                   format_bytes(memory.heap) + ")";
   if (!largest.empty()) s += "; largest " + largest + " " + format_bytes(most);
-  return s + "; " + placement_text(memory.placement);
+  s += "; " + placement_text(memory.placement);
+  if (triangles == 0) return s;
+  const std::uint64_t rss = peak_rss_bytes();
+  char per[96];
+  std::snprintf(per, sizeof per, "; %.1f bytes/triangle, host peak RSS ",
+                static_cast<double>(memory.total) / static_cast<double>(triangles));
+  s += per + format_bytes(rss);
+  std::snprintf(per, sizeof per, " (%.1f bytes/triangle)",
+                static_cast<double>(rss) / static_cast<double>(triangles));
+  return s + per;
 }
 
 }  // namespace hrpp

@@ -18,12 +18,16 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
 
 // The "memory" object of the stats: bytes allocated per named device buffer ("buffers"), their
 // total, the peak total, the device heap they were checked against (gpu/memory_plan.h), the
-// memory mode and where each role's buffers live ("mode", "placement": placement_json).
-nlohmann::json memory_json(const MemoryReport& memory);
+// memory mode and where each role's buffers live ("mode", "placement": placement_json). With
+// `triangles` (the scene's), also each buffer's and the total's bytes per triangle
+// ("bytes_per_triangle", "total_bytes_per_triangle") and the host's peak resident memory
+// ("host_peak_rss_bytes", "host_peak_rss_bytes_per_triangle"; common/peak_rss.h).
+nlohmann::json memory_json(const MemoryReport& memory, std::size_t triangles = 0);
 
 // One terminal line: "<total> in <n> buffers (peak <peak>, heap <heap>); largest <name> <size>;
-// <placement_text>".
-std::string memory_text(const MemoryReport& memory);
+// <placement_text>", with `triangles`, then "; <b> bytes/triangle, host peak RSS <rss> (<b>
+// bytes/triangle)".
+std::string memory_text(const MemoryReport& memory, std::size_t triangles = 0);
 
 // {"device": {"type", "heap", "flags", "mapped"}, "host_shared": {...}} (gpu/memory_placement.h).
 nlohmann::json placement_json(const MemoryPlacement& placement);

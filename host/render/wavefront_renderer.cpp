@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/free_array.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
@@ -32,10 +33,11 @@ namespace {
 constexpr auto kBindingTypes = [] {
   std::array<VkDescriptorType, HRPP_RENDER_BINDING_COUNT> t{};
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  for (int b : {HRPP_RENDER_BINDING_SHADE_TRIANGLES, HRPP_RENDER_BINDING_HITS,
-                HRPP_RENDER_BINDING_MATERIALS, HRPP_RENDER_BINDING_LIGHTS,
-                HRPP_RENDER_BINDING_RAY_TEXELS, HRPP_RENDER_BINDING_PATH_TEXELS,
-                HRPP_RENDER_BINDING_SHADOW_HITS})
+  for (int b :
+       {HRPP_RENDER_BINDING_SHADE_TRIANGLES, HRPP_RENDER_BINDING_SHADE_VERTICES,
+        HRPP_RENDER_BINDING_SHADE_ATTRIBUTES, HRPP_RENDER_BINDING_HITS,
+        HRPP_RENDER_BINDING_MATERIALS, HRPP_RENDER_BINDING_LIGHTS, HRPP_RENDER_BINDING_RAY_TEXELS,
+        HRPP_RENDER_BINDING_PATH_TEXELS, HRPP_RENDER_BINDING_SHADOW_HITS})
     t[b] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
@@ -53,12 +55,27 @@ StorageBuffer upload_array(VulkanContext& ctx, const BufferNeed& need, const std
   return b;
 }
 
+// The host arrays WavefrontRenderer's consuming constructor frees (null: the caller keeps them).
+struct HostCopies {
+  Scene* scene = nullptr;
+  GpuBvh* bvh = nullptr;
+};
+
+// upload_array, then frees `items` when `free`.
+template <class T>
+StorageBuffer upload_then_free(VulkanContext& ctx, const BufferNeed& need, std::vector<T>& items,
+                               bool free) {
+  StorageBuffer b = upload_array(ctx, need, items);
+  if (free) free_array(items);
+  return b;
+}
+
 // The render's own buffers (the tracer's are GpuTracer::buffer_needs): the scene's shading data
 // (triangles, materials and lights read through texel views only), the image and the wavefront's
 // arrays.
 struct RenderBufferNeeds {
   BufferNeed params, paths, next_paths, next_rays, shadows, image, queues;
-  BufferNeed shade_triangles, materials, lights, textures, texels;
+  BufferNeed shade_triangles, shade_vertices, shade_attributes, materials, lights, textures, texels;
 
   RenderBufferNeeds(const RenderScene& rs, const RenderConfig& c, std::uint32_t wave)
       : params{"render parameters", sizeof(gpu::RenderParams)},
@@ -68,15 +85,21 @@ struct RenderBufferNeeds {
         shadows{"shadow records", std::size_t{wave} * sizeof(gpu::ShadowRecord)},
         image{"image", std::size_t{c.width} * c.height * sizeof(glm::vec4)},
         queues{"render queues", sizeof(gpu::RenderQueues)},
-        shade_triangles(array_need(rs.triangles, "shading triangles", BufferBinding::kTexelOnly)),
+        shade_triangles(array_need(rs.shading.triangles, IndexedShading::kTriangleBuffer,
+                                   BufferBinding::kTexelOnly)),
+        shade_vertices(array_need(rs.shading.vertices, IndexedShading::kVertexBuffer,
+                                  BufferBinding::kTexelOnly)),
+        shade_attributes(array_need(rs.shading.attributes, IndexedShading::kAttributeBuffer,
+                                    BufferBinding::kTexelOnly)),
         materials(array_need(rs.materials, "materials", BufferBinding::kTexelOnly)),
         lights(array_need(rs.lights, "lights", BufferBinding::kTexelOnly)),
         textures(array_need(rs.textures, "texture table", BufferBinding::kStorage)),
         texels(array_need(rs.texels, "texels", BufferBinding::kStorage)) {}
 
   std::vector<BufferNeed> all() const {
-    return {params, paths, next_paths, next_rays, shadows, image, queues,
-            shade_triangles, materials, lights, textures, texels};
+    return {params,    paths,  next_paths,      next_rays,      shadows,
+            image,     queues, shade_triangles, shade_vertices, shade_attributes,
+            materials, lights, textures,        texels};
   }
 };
 
@@ -118,9 +141,15 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
 
 // The device tracer: the one place that names its backend (with the sizes above:
 // wavefront_paths, check_render_fits).
+// With `host` set, the scene's triangles and shading are freed before the upload and each of the
+// BVH's arrays once uploaded.
 std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
-                                          const RenderConfig& config) {
-  return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
+                                          const RenderConfig& config, HostCopies host) {
+  if (!host.bvh) return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
+  free_array(host.scene->triangles);
+  free_array(host.scene->shading);
+  return std::make_unique<GpuTracer>(c, *host.bvh, config.tracer, config.predictor,
+                                     GpuTracer::FreeHostArrays{});
 }
 
 // The tracer's hit array of a ray class, sized for `rays` resident rays.
@@ -153,8 +182,9 @@ struct WavefrontRenderer::State {
   DeviceTracer& tracer;
   GpuPredictor* hrpp;  // HRPP on: the tracer's stage, which routes each class (else nullptr)
   StorageBuffer params, paths, next_paths, next_rays, shadows, image, queues;
-  StorageBuffer shade_triangles, materials, lights, textures, texels;
-  TexelView shade_view, material_view, light_view;
+  StorageBuffer shade_triangles, shade_vertices, shade_attributes, materials, lights, textures,
+      texels;
+  TexelView shade_view, shade_vertex_view, shade_attribute_view, material_view, light_view;
   TexelView ray_view, hit_view, shadow_hit_view, path_view;  // over the tracer's arrays, `paths`
   std::unique_ptr<RaySorter> sorter;  // --reorder: the bounce rays' order (a ray index list)
   std::array<SpecializationConstant, HRPP_FEATURE_COUNT> spec;
@@ -162,13 +192,14 @@ struct WavefrontRenderer::State {
   KernelTimer timer;
   AdaptivePredictor adaptive;
 
-  State(VulkanContext& c, const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
+  State(VulkanContext& c, const Scene& scene, RenderScene render_scene, const GpuBvh& bvh,
+        const RenderConfig& config, HostCopies host = {})
       : ctx(c),
         cfg((check_render_config(config, scene), config)),
-        rs(make_render_scene(scene, config.default_lighting)),
+        rs(std::move(render_scene)),
         wave(wavefront_paths(c, config)),
         needs(check_render_fits(c, scene, bvh, config, wave, RenderBufferNeeds(rs, config, wave))),
-        device(make_tracer(c, bvh, config)),
+        device(make_tracer(c, bvh, config, host)),
         tracer(*device),
         hrpp(tracer.predictor()),
         params(c, needs.params),
@@ -178,12 +209,19 @@ struct WavefrontRenderer::State {
         shadows(c, needs.shadows),
         image(c, needs.image),
         queues(c, needs.queues, MemoryRole::kHostShared),  // read after every bounce
-        shade_triangles(upload_array(c, needs.shade_triangles, rs.triangles)),
+        shade_triangles(
+            upload_then_free(c, needs.shade_triangles, rs.shading.triangles, host.bvh != nullptr)),
+        shade_vertices(
+            upload_then_free(c, needs.shade_vertices, rs.shading.vertices, host.bvh != nullptr)),
+        shade_attributes(upload_then_free(c, needs.shade_attributes, rs.shading.attributes,
+                                          host.bvh != nullptr)),
         materials(upload_array(c, needs.materials, rs.materials)),
         lights(upload_array(c, needs.lights, rs.lights)),
         textures(upload_array(c, needs.textures, rs.textures)),
         texels(upload_array(c, needs.texels, rs.texels)),
         shade_view(c, shade_triangles),
+        shade_vertex_view(c, shade_vertices),
+        shade_attribute_view(c, shade_attributes),
         material_view(c, materials),
         light_view(c, lights),
         ray_view(c, tracer.ray_buffer(RayClass::kCamera, wave)),
@@ -215,6 +253,8 @@ struct WavefrontRenderer::State {
       p->bind(HRPP_RENDER_BINDING_IMAGE, image);
       p->bind(HRPP_RENDER_BINDING_QUEUES, queues);
       p->bind(HRPP_RENDER_BINDING_SHADE_TRIANGLES, shade_view);
+      p->bind(HRPP_RENDER_BINDING_SHADE_VERTICES, shade_vertex_view);
+      p->bind(HRPP_RENDER_BINDING_SHADE_ATTRIBUTES, shade_attribute_view);
       p->bind(HRPP_RENDER_BINDING_MATERIALS, material_view);
       p->bind(HRPP_RENDER_BINDING_LIGHTS, light_view);
       p->bind(HRPP_RENDER_BINDING_TEXTURES, textures);
@@ -364,7 +404,13 @@ struct WavefrontRenderer::State {
 
 WavefrontRenderer::WavefrontRenderer(VulkanContext& ctx, const Scene& scene, const GpuBvh& bvh,
                                      const RenderConfig& config)
-    : s_(std::make_unique<State>(ctx, scene, bvh, config)) {}
+    : s_(std::make_unique<State>(ctx, scene, make_render_scene(scene, config.default_lighting), bvh,
+                                 config)) {}
+
+WavefrontRenderer::WavefrontRenderer(VulkanContext& ctx, Scene& scene, RenderScene rs, GpuBvh& bvh,
+                                     const RenderConfig& config)
+    : s_(std::make_unique<State>(ctx, scene, std::move(rs), bvh, config,
+                                 HostCopies{&scene, &bvh})) {}
 
 WavefrontRenderer::~WavefrontRenderer() = default;
 

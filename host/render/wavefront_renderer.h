@@ -33,6 +33,13 @@ class WavefrontRenderer {
   // Throws hrpp::Error on a bad configuration (naming the field) or when an array does not fit.
   WavefrontRenderer(VulkanContext& ctx, const Scene& scene, const GpuBvh& bvh,
                     const RenderConfig& config);
+  // The same from a render scene made beforehand (make_render_scene, after which the caller may
+  // free the scene's shading), freeing each host array as soon as the device holds its copy, so
+  // the host never holds the scene, the BVH and their device copies at once: the scene's
+  // triangles before the BVH's upload, the BVH's arrays after it, the render scene's shading
+  // after its own. `scene` keeps its name, materials, lights and cameras; `bvh` its bounds.
+  WavefrontRenderer(VulkanContext& ctx, Scene& scene, RenderScene rs, GpuBvh& bvh,
+                    const RenderConfig& config);
   ~WavefrontRenderer();
   WavefrontRenderer(const WavefrontRenderer&) = delete;
   WavefrontRenderer& operator=(const WavefrontRenderer&) = delete;

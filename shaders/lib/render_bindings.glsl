@@ -4,6 +4,7 @@
 #define HRPP_RENDER_BINDINGS_GLSL
 
 #include "render_interface.h"
+#include "surface_hit.h"
 
 layout(local_size_x = HRPP_RENDER_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
@@ -45,6 +46,8 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_QUEUES) restrict buffer Qu
   RenderQueues queues;
 };
 layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_TRIANGLES) uniform usamplerBuffer shade_triangles;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_VERTICES) uniform usamplerBuffer shade_vertices;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_ATTRIBUTES) uniform usamplerBuffer shade_attributes;
 layout(set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) uniform usamplerBuffer material_texels;
 layout(set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) uniform usamplerBuffer light_texels;
 layout(set = 0, binding = HRPP_RENDER_BINDING_RAY_TEXELS) uniform usamplerBuffer ray_texels;
@@ -81,16 +84,25 @@ PathState load_path(uint i) {
 
 vec4 float_texel(usamplerBuffer b, uint i) { return uintBitsToFloat(texel_at(b, i)); }
 
+ShadeVertex load_shade_vertex(uint i) {
+  const uvec4 a = texel_at(shade_vertices, i);
+  return ShadeVertex(uintBitsToFloat(a.xyz), a.w);
+}
+
+ShadeAttributes load_shade_attributes(uint i, bool stored) {
+  if (!stored) return default_shade_attributes();
+  return ShadeAttributes(float_texel(shade_attributes, 2u * i),
+                         float_texel(shade_attributes, 2u * i + 1u));
+}
+
+// Triangle i's shading data: its ShadeIndex and its corners' records.
 ShadeTriangle load_shade_triangle(uint i) {
-  const uvec4 a = texel_at(shade_triangles, 8u * i);
-  const uvec4 b = texel_at(shade_triangles, 8u * i + 1u);
-  const uvec4 c = texel_at(shade_triangles, 8u * i + 2u);
-  return ShadeTriangle(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
-                       uintBitsToFloat(c.xyz), c.w, float_texel(shade_triangles, 8u * i + 3u),
-                       float_texel(shade_triangles, 8u * i + 4u),
-                       float_texel(shade_triangles, 8u * i + 5u),
-                       float_texel(shade_triangles, 8u * i + 6u),
-                       float_texel(shade_triangles, 8u * i + 7u));
+  const uvec4 c = texel_at(shade_triangles, i);
+  const bool stored = (c.w & HRPP_SHADE_ATTRIBUTES) != 0u;
+  return shade_triangle_of(ShadeIndex(c.x, c.y, c.z, c.w), load_shade_vertex(c.x),
+                           load_shade_vertex(c.y), load_shade_vertex(c.z),
+                           load_shade_attributes(c.x, stored), load_shade_attributes(c.y, stored),
+                           load_shade_attributes(c.z, stored));
 }
 
 GpuMaterial load_material(uint i) {

@@ -29,7 +29,7 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_SHADOWS 7          // ShadowRecord per shadow ray
 #define HRPP_RENDER_BINDING_IMAGE 8            // vec4 radiance sum per pixel
 #define HRPP_RENDER_BINDING_QUEUES 9           // RenderQueues
-#define HRPP_RENDER_BINDING_SHADE_TRIANGLES 10  // uniform texel buffer: ShadeTriangle
+#define HRPP_RENDER_BINDING_SHADE_TRIANGLES 10  // uniform texel buffer: ShadeIndex per triangle
 #define HRPP_RENDER_BINDING_MATERIALS 11       // uniform texel buffer: GpuMaterial
 #define HRPP_RENDER_BINDING_LIGHTS 12          // uniform texel buffer: GpuLight
 #define HRPP_RENDER_BINDING_TEXTURES 13        // GpuTexture
@@ -37,7 +37,9 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_RAY_TEXELS 15      // uniform texel buffer over RAYS (shade reads)
 #define HRPP_RENDER_BINDING_PATH_TEXELS 16     // uniform texel buffer over PATHS (shade reads)
 #define HRPP_RENDER_BINDING_SHADOW_HITS 17     // the tracer's hit-any hits (uniform texel buffer)
-#define HRPP_RENDER_BINDING_COUNT 18
+#define HRPP_RENDER_BINDING_SHADE_VERTICES 18  // uniform texel buffer: ShadeVertex
+#define HRPP_RENDER_BINDING_SHADE_ATTRIBUTES 19  // uniform texel buffer: ShadeAttributes
+#define HRPP_RENDER_BINDING_COUNT 20
 // Read-only arrays are uniform texel buffers (R32G32B32A32_UINT): on lavapipe a texel fetch
 // gathers the lanes' 16-byte records at once where a storage-buffer load with per-lane
 // addresses is a loop over the lanes (host/gpu/texel_view.h).
@@ -148,8 +150,8 @@ struct RenderPushConstants {
   uint bounce;       // shade: depth of the paths it shades
 };
 
-// Shading data of one triangle (by triangle id), read as 8 16-byte texels:
-//   v0.xyz material | v1.xyz vertex_data | v2.xyz light | n0 | n1 | n2 | uv0 uv1 | uv2 0 0
+// Shading data of one triangle (by triangle id) as the shading code reads it, assembled from
+// its ShadeIndex and three ShadeVertex records (shade_triangle_of).
 // n0.w, n1.w, n2.w: the vertex colours (HRPP_VERTEX_COLORS) as the float value of 0xBBGGRR
 // (below 2^24, so exact).
 #define HRPP_VERTEX_NORMALS 1u
@@ -166,6 +168,36 @@ struct ShadeTriangle {
   vec4 n2;
   vec4 uv01;
   vec4 uv2;
+};
+
+// The shading data as stored: indexed, so a corner that triangles share is stored once.
+// ShadeIndex, one 16-byte texel per triangle id: its corners' vertex indices and
+// material | HRPP_SHADE_ATTRIBUTES | vertex_data << HRPP_SHADE_DATA_SHIFT (materials below 2^29).
+// A vertex is a ShadeVertex and, when the scene has any normal, colour or uv (the triangle's
+// HRPP_SHADE_ATTRIBUTES), a ShadeAttributes of the same index; without, the attributes are
+// ShadeAttributes' defaults (no normal, white, uv 0), which the shading reads without a fetch.
+#define HRPP_SHADE_DATA_SHIFT 30u
+#define HRPP_SHADE_ATTRIBUTES 0x20000000u
+#define HRPP_SHADE_MATERIAL_MASK 0x1FFFFFFFu
+#define HRPP_NO_VERTEX_COLOR 16777215.0f // 0xFFFFFF as a float: white (scene.h kNoVertexColor)
+struct ShadeIndex {
+  uint corner0;
+  uint corner1;
+  uint corner2;
+  uint material_data;
+};
+
+// One texel. `light` is the triangle's (ShadeTriangle::light) in its corner 0 and 0 in corners 1
+// and 2, so an emissive triangle's corner 0 is shared only by triangles with the same light.
+struct ShadeVertex {
+  vec3 position;
+  uint light;
+};
+
+// Two texels: normal.xyz colour (ShadeTriangle::n0) | uv.xy 0 0.
+struct ShadeAttributes {
+  vec4 normal_color;
+  vec4 uv;
 };
 
 struct GpuMaterial {

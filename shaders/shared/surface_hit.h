@@ -12,6 +12,33 @@
 namespace hrpp::gpu {
 #endif
 
+// The attributes of a vertex the scene stores none for.
+HRPP_INLINE ShadeAttributes default_shade_attributes() {
+  ShadeAttributes a;
+  a.normal_color = vec4(0.0f, 0.0f, 0.0f, HRPP_NO_VERTEX_COLOR);
+  a.uv = vec4(0.0f);
+  return a;
+}
+
+// The ShadeTriangle of a ShadeIndex and its corners' records (corner k: vertex vk, attributes ak).
+HRPP_INLINE ShadeTriangle shade_triangle_of(ShadeIndex i, ShadeVertex v0, ShadeVertex v1,
+                                            ShadeVertex v2, ShadeAttributes a0,
+                                            ShadeAttributes a1, ShadeAttributes a2) {
+  ShadeTriangle t;
+  t.v0 = v0.position;
+  t.material = i.material_data & HRPP_SHADE_MATERIAL_MASK;
+  t.v1 = v1.position;
+  t.vertex_data = i.material_data >> HRPP_SHADE_DATA_SHIFT;
+  t.v2 = v2.position;
+  t.light = v0.light;
+  t.n0 = a0.normal_color;
+  t.n1 = a1.normal_color;
+  t.n2 = a2.normal_color;
+  t.uv01 = vec4(a0.uv.x, a0.uv.y, a1.uv.x, a1.uv.y);
+  t.uv2 = a2.uv;
+  return t;
+}
+
 struct SurfaceHit {
   vec3 p;
   vec3 ng;  // unit geometric normal facing the incoming ray
