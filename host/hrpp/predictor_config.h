@@ -67,9 +67,13 @@ TableConfig table_preset(std::string_view name);
 
 struct PredictorConfig {
   bool enabled = false;
-  HashConfig hash;
+  // Per ray class: its key (--hash, --hash-bits) and the go-up level of what its table stores
+  // (--go-up). The defaults here are the paper's (hrpp at N = 6, leaves); the CLI's --hrpp on
+  // default is host/app/hrpp_options.h's.
+  PerClass<HashConfig> hash;
   PredictorMode mode = PredictorMode::kSpeculative;
-  std::uint32_t go_up = 0;
+  PerClass<std::uint32_t> go_up{};
+  PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
   TableConfig table;
   // Insert order. 0: inserts happen during the trace, as rays finish (fast, not reproducible).
   // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
@@ -99,13 +103,36 @@ struct PredictorConfig {
   std::uint32_t sample = 32;
 
   bool predicts(RayClass c) const { return enabled && classes[c]; }
+  // The same key or go-up level for every class.
+  void set_hash(const HashConfig& h) { hash = {{h, h, h}}; }
+  void set_go_up(std::uint32_t level) { go_up = {{level, level, level}}; }
+  // Whether class c's table may hold interior nodes (subtrees to verify).
+  bool stores_subtrees(RayClass c) const { return go_up[c] > 0 || go_up_size[c] > 0.0f; }
   // Whether the adaptive predictor decides per frame: batches (the deterministic order, for
   // reproducible counts) cannot sample, so with them every enabled class probes every ray.
   bool adapts() const { return adaptive && batch == 0; }
 };
 
-// The kernels' parameters of the hit-all or hit-any predictor. Throws hrpp::Error for a table
-// whose sets is not a power of two or whose sizes are 0, or a bad hash precision.
-gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box);
+// One per-class setting as --hash writes it: "v" when every predicting class has the same value
+// (camera's when none predicts), else "class=v,..." over the predicting classes in class order.
+template <class T, class Text>
+std::string per_class_text(const PredictorConfig& config, const PerClass<T>& values, Text text) {
+  std::string list;
+  bool uniform = true;
+  const T* first = nullptr;
+  for (RayClass c : kRayClasses) {
+    if (!config.predicts(c)) continue;
+    if (first && !(values[c] == *first)) uniform = false;
+    if (!first) first = &values[c];
+    list += (list.empty() ? "" : ",") + std::string(ray_class_name(c)) + "=" + text(values[c]);
+  }
+  if (!first) return text(values[RayClass::kCamera]);
+  return uniform ? text(*first) : list;
+}
+
+// The kernels' parameters of class c's predictor. Throws hrpp::Error for a table whose sets is
+// not a power of two or whose sizes are 0, or a bad hash precision or go-up level.
+gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayClass c,
+                                           const Aabb& scene_box);
 
 }  // namespace hrpp
