@@ -86,7 +86,9 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   EXPECT_EQ(h.at("keys").at("camera").at("hash"), "hrpp");
   EXPECT_EQ(h.at("keys").at("camera").at("hash_bits"), 4u);
   EXPECT_EQ(h.at("mode"), "speculative");
-  EXPECT_EQ(h.at("table_bytes"), 16384u * 2 * (8 + 4 + 4 * 1));  // the tuned preset
+  // The defaults: the tuned preset for camera rays, the beam preset for shadow rays.
+  EXPECT_EQ(h.at("keys").at("camera").at("table_bytes"), 16384u * 2 * (8 + 4 + 4 * 1));
+  EXPECT_EQ(h.at("keys").at("shadow").at("table_bytes"), 4096u * 2 * (8 + 4 + 4 * 4));
   const nlohmann::json& s = h.at("summary");
   EXPECT_EQ(s.at("probes"), 2u * 64 * 64);
   EXPECT_EQ(s.at("predictor_hits").get<std::uint64_t>() + s.at("negatives").get<std::uint64_t>(),
@@ -121,6 +123,7 @@ TEST_F(HrppCli, KeysPerRayClass) {
   EXPECT_EQ(k.at("shadow").at("go_up"), 4u);
   EXPECT_EQ(h.at("hash"), "camera=two-point,bounce=two-point,shadow=light");
   EXPECT_EQ(h.at("go_up"), "camera=0,bounce=0,shadow=4");
+  EXPECT_EQ(h.at("table_nodes"), "camera=1,bounce=1,shadow=4");
   const Result help = run("trace --help");
   EXPECT_NE(help.out.find("class=V"), std::string::npos) << help.out;
   EXPECT_EQ(help.status, 0);
@@ -141,6 +144,11 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
            {"--hrpp on --hash-bits shadow=0", "--hash-bits"},
            {"--hrpp on --go-up bounce=-1", "--go-up"},
            {"--hrpp on --go-up 65", "--go-up"},
+           {"--hrpp on --go-up-size shadow=2", "--go-up-size"},
+           {"--hrpp on --go-up-size shadow=big", "--go-up-size"},
+           {"--hrpp on --table-sets shadow=3", "--table-sets"},
+           {"--hrpp on --table-preset shadow=huge", "--table-preset"},
+           {"--hrpp on --table-policy bounce=mru", "--table-policy"},
            {"--hrpp on --table-sets 3", "--table-sets"},
            {"--hrpp on --table-policy mru", "--table-policy"},
            {"--hrpp on --table-preset huge", "--table-preset"},

@@ -90,7 +90,7 @@ PredictorConfig config(PredictorMode mode, TableConfig table) {
   PredictorConfig p;
   p.enabled = true;
   p.mode = mode;
-  p.table = table;
+  p.set_table(table);
   p.set_hash({HashKind::kIeee, 6});
   return p;
 }
@@ -262,7 +262,7 @@ TEST(HrppPredictor, ShadowKeysKeepAnswersAndMatchTheReference) {
       trace_gpu(p, rays, QueryKind::kAny, &tracer);
       const GpuTraceResult warm = tracer->trace(rays, QueryKind::kAny);
       expect_same_hits(warm.hits, reference.hits, what + " (inserts during the trace)");
-      p.table = {1u << 12, 8, 16, TablePolicy::kNone};
+      p.set_table({1u << 12, 8, 16, TablePolicy::kNone});
       p.batch = 64;
       p.serial = true;
       p.count_baseline = true;

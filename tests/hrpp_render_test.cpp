@@ -43,7 +43,7 @@ PredictorConfig on(PredictorMode mode, const TableConfig& table, std::uint32_t b
   PredictorConfig p;
   p.enabled = true;
   p.mode = mode;
-  p.table = table;
+  p.set_table(table);
   p.set_hash({HashKind::kIeee, bits});
   p.count_baseline = true;
   p.adaptive = false;  // every class probes every frame

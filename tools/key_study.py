@@ -25,15 +25,15 @@ from sweep_collect import errors, read_exr  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
-N4 = ["--table-sets", "4096", "--table-nodes", "4"]  # 4096 x 2 x 4: 224 KiB
+N4 = ["--table-preset", "beam"]  # 4096 x 2 x 4 lru: 224 KiB
 SHADOW = {
     "hrpp N=6 (paper)": ["--hash", "hrpp", "--hash-bits", "6"],
     "grid-spherical N=3 go-up 4": ["--hash", "grid-spherical", "--hash-bits", "3", "--go-up", "4"],
     "light N=6 size 0.02": ["--hash", "shadow=light", "--hash-bits", "6", "--go-up-size", "0.02"],
-    "light-depth N=6 size 0.02 (default)": ["--hash", "shadow=light-depth", "--hash-bits", "6",
-                                            "--go-up-size", "0.02"],
-    "light-depth N=6 size 0.02, 4096x2x4": ["--hash", "shadow=light-depth", "--hash-bits", "6",
-                                            "--go-up-size", "0.02"] + N4,
+    "light-depth N=6 size 0.02": ["--hash", "shadow=light-depth", "--hash-bits", "6",
+                                  "--go-up-size", "0.02"],
+    "light-depth N=6 size 0.02, beam (default)": ["--hash", "shadow=light-depth", "--hash-bits",
+                                                  "6", "--go-up-size", "0.02"] + N4,
 }
 BOUNCE = {
     "hrpp N=6 (paper)": ["--hash", "hrpp", "--hash-bits", "6"],
@@ -42,7 +42,7 @@ BOUNCE = {
     "grid-spherical N=4 go-up 2": ["--hash", "grid-spherical", "--hash-bits", "4", "--go-up", "2"],
     "grid-spherical N=5": ["--hash", "grid-spherical", "--hash-bits", "5"],
     "grid-spherical N=5 go-up 1": ["--hash", "grid-spherical", "--hash-bits", "5", "--go-up", "1"],
-    "grid-spherical N=5, 4096x2x4": ["--hash", "grid-spherical", "--hash-bits", "5"] + N4,
+    "grid-spherical N=5, beam": ["--hash", "grid-spherical", "--hash-bits", "5"] + N4,
     "grid-spherical N=6 (default)": ["--hash", "grid-spherical", "--hash-bits", "6"],
     "two-point N=4 go-up 2": ["--hash", "two-point", "--hash-bits", "4", "--go-up", "2"],
     "two-point N=5 go-up 2": ["--hash", "two-point", "--hash-bits", "5", "--go-up", "2"],
@@ -71,6 +71,7 @@ def main():
     p.add_argument("--classes", default="shadow,bounce")
     p.add_argument("--scenes", default=",".join(SCENES))
     a = p.parse_args()
+    # The tuned table unless a row names one (the shadow class's default is the beam table).
     on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count"]
     rows = {"shadow": [], "bounce": []}
     with tempfile.TemporaryDirectory() as tmp:
@@ -81,7 +82,8 @@ def main():
             for cls in a.classes.split(","):
                 for name, flags in (SHADOW if cls == "shadow" else BOUNCE).items():
                     out = os.path.join(tmp, scene + "-" + cls)
-                    j = render(a, scene, out, on + ["--hrpp-rays", cls] + flags)
+                    table = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
+                    j = render(a, scene, out, on + ["--hrpp-rays", cls] + table + flags)
                     s = j["hrpp_predictor"][cls]
                     if cls == "shadow":
                         occ = j["shadow"]["hits"] / j["shadow"]["rays"]

@@ -92,11 +92,14 @@ PredictorConfig HrppOptions::config() const {
   for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k]};
   c.go_up = go_up;
   c.go_up_size = go_up_size;
-  c.table = table_preset(preset);
-  if (sets) c.table.sets = sets;
-  if (ways) c.table.ways = ways;
-  if (nodes) c.table.nodes = nodes;
-  if (policy) c.table.policy = *policy;
+  for (RayClass k : kRayClasses) {
+    TableConfig& t = c.table[k];
+    t = table_preset(preset[k]);
+    if (sets[k]) t.sets = sets[k];
+    if (ways[k]) t.ways = ways[k];
+    if (nodes[k]) t.nodes = nodes[k];
+    if (policy[k]) t.policy = *policy[k];
+  }
   c.batch = batch;
   c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
@@ -193,21 +196,40 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
              per_class)
       ->default_str(per_class_default(o.go_up_size, format_share))
       ->group(g);
-  cmd->add_option("--table-preset", o.preset,
-                  "Table size per ray class: tuned (16384x2x1 lru, 512 KiB), small (1024x8x8 "
-                  "lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
-                  "study), tiny (4x2x2 lru)")
-      ->transform(one_of(kTablePresetNames))
-      ->default_str(name_in(kTablePresetNames, o.preset))
+  cmd->add_option_function<std::string>(
+         "--table-preset",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--table-preset", o.preset, [](const std::string& n) {
+             return parse_in(kTablePresetNames, n, "unknown preset");
+           });
+         },
+         "Table size: tuned (16384x2x1 lru, 512 KiB), beam (4096x2x4 lru, 224 KiB), small "
+         "(1024x8x8 lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
+         "study), tiny (4x2x2 lru)" +
+             per_class)
+      ->default_str(per_class_default(
+          o.preset, [](TablePreset p) { return std::string(name_in(kTablePresetNames, p)); }))
       ->group(g);
-  cmd->add_option("--table-sets", o.sets, "Sets (a power of two; overrides the preset)")->group(g);
-  cmd->add_option("--table-ways", o.ways, "Ways per set (overrides the preset)")->group(g);
-  cmd->add_option("--table-nodes", o.nodes, "Nodes per entry (overrides the preset)")->group(g);
-  cmd->add_option_function<TablePolicy>(
-         "--table-policy", [&o](const TablePolicy& p) { o.policy = p; },
+  const auto count_option = [&](const char* flag, PerClass<std::uint32_t>& v, const char* what) {
+    const std::string name = flag;
+    cmd->add_option_function<std::string>(
+           name, [&v, name](const std::string& s) { parse_per_class(s, name, v, parse_count); },
+           std::string(what) + " (overrides the preset)" + per_class)
+        ->group(g);
+  };
+  count_option("--table-sets", o.sets, "Sets (a power of two)");
+  count_option("--table-ways", o.ways, "Ways per set");
+  count_option("--table-nodes", o.nodes, "Nodes per entry");
+  cmd->add_option_function<std::string>(
+         "--table-policy",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--table-policy", o.policy, [](const std::string& n) {
+             return std::optional<TablePolicy>(parse_in(kTablePolicyNames, n, "unknown policy"));
+           });
+         },
          "When full: none (drop), lru (evict the least recently used) or fifo (evict the "
-         "oldest key; probe hits write nothing) (overrides the preset)")
-      ->transform(one_of(kTablePolicyNames))
+         "oldest key; probe hits write nothing) (overrides the preset)" +
+             per_class)
       ->group(g);
   cmd->add_option("--hrpp-batch", o.batch,
                   "Deterministic order: rays in batches of K probe the table the previous "
@@ -241,22 +263,27 @@ nlohmann::json class_names(const PredictorConfig& c) {
 // "class=N,..." text.
 template <class Value>
 nlohmann::json per_class_number(const PredictorConfig& c, Value value) {
-  PerClass<std::uint32_t> v;
+  PerClass<std::uint64_t> v;
   for (RayClass k : kRayClasses) v[k] = value(k);
-  const std::string text = per_class_text(c, v, [](std::uint32_t n) { return std::to_string(n); });
+  const std::string text = per_class_text(c, v, [](std::uint64_t n) { return std::to_string(n); });
   if (text.find('=') != std::string::npos) return text;
-  return std::stoul(text);
+  return std::stoull(text);
 }
 
-// Every class's key and go-up level, predicting or not: {"camera": {"hash", "hash_bits",
-// "go_up"}, ...}.
+// Every class's key, go-up rule and table, predicting or not: {"camera": {"hash", "hash_bits",
+// "go_up", "go_up_size", "table_sets", ...}, ...}.
 nlohmann::json class_keys(const PredictorConfig& c) {
   nlohmann::json keys = nlohmann::json::object();
   for (RayClass k : kRayClasses)
     keys[ray_class_name(k)] = {{"hash", hash_kind_name(c.hash[k].kind)},
                                {"hash_bits", c.hash[k].bits},
                                {"go_up", c.go_up[k]},
-                               {"go_up_size", c.go_up_size[k]}};
+                               {"go_up_size", c.go_up_size[k]},
+                               {"table_sets", c.table[k].sets},
+                               {"table_ways", c.table[k].ways},
+                               {"table_nodes", c.table[k].nodes},
+                               {"table_policy", table_policy_name(c.table[k].policy)},
+                               {"table_bytes", c.table[k].bytes()}};
   return keys;
 }
 
@@ -269,11 +296,14 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
           {"go_up", per_class_number(c, [&c](RayClass k) { return c.go_up[k]; })},
           {"go_up_size", per_class_text(c, c.go_up_size, format_share)},
           {"keys", class_keys(c)},
-          {"table_sets", c.table.sets},
-          {"table_ways", c.table.ways},
-          {"table_nodes", c.table.nodes},
-          {"table_policy", table_policy_name(c.table.policy)},
-          {"table_bytes", c.table.bytes()},
+          {"table_sets", per_class_number(c, [&c](RayClass k) { return c.table[k].sets; })},
+          {"table_ways", per_class_number(c, [&c](RayClass k) { return c.table[k].ways; })},
+          {"table_nodes", per_class_number(c, [&c](RayClass k) { return c.table[k].nodes; })},
+          {"table_policy", per_class_text(c, c.table,
+                                          [](const TableConfig& t) {
+                                            return std::string(table_policy_name(t.policy));
+                                          })},
+          {"table_bytes", per_class_number(c, [&c](RayClass k) { return c.table[k].bytes(); })},
           {"ray_classes", class_names(c)},
           {"adaptive", c.adapts()},
           {"count_baseline", c.count_baseline},

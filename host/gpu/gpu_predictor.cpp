@@ -321,7 +321,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   std::uint64_t request_bytes = 0;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
-    const TableConfig& t = config.table;
+    const TableConfig& t = config.table[c];
     for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes)) needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
@@ -534,8 +534,8 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   out.queued = queue_trace.rays;
   const std::uint64_t answered = state.resolved + std::uint64_t{state.resolve_done};
   const std::uint32_t pass = sampled ? HRPP_PASS_SAMPLE : HRPP_PASS_ALL;
-  if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->config.sample) || state.resolve_done != out.queued || state.aborted != 0 ||
-      traced.aborted != 0)
+  if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->config.sample) ||
+      state.resolve_done != out.queued || state.aborted != 0 || traced.aborted != 0)
     throw Error(std::string("hrpp_predict / ") + q.trace.name() + " / hrpp_resolve: only " +
                 std::to_string(answered) + " of " + std::to_string(state.ray_count) +
                 " rays answered (" + std::to_string(state.aborted + traced.aborted) +
@@ -559,7 +559,7 @@ TableOccupancy GpuPredictor::occupancy(RayClass c) const {
   if (!s_->tables[c]) return o;
   const Table& t = s_->table(c);
   o.capacity = std::uint64_t{t.params.sets} * t.params.ways;
-  o.bytes = s_->config.table.bytes();
+  o.bytes = s_->config.table[c].bytes();
   std::vector<std::uint64_t> tags(o.capacity);
   t.tags.download(std::span<std::uint64_t>(tags));
   std::vector<std::uint32_t> slots(o.capacity * t.params.nodes);

@@ -19,6 +19,8 @@ TableConfig table_preset(TablePreset preset) {
       return {1u << 10, 8, 8, TablePolicy::kLru};
     case TablePreset::kTiny:
       return {4, 2, 2, TablePolicy::kLru};
+    case TablePreset::kBeam:
+      return {1u << 12, 2, 4, TablePolicy::kLru};
     case TablePreset::kTuned:
       break;
   }
@@ -31,7 +33,7 @@ TableConfig table_preset(std::string_view name) {
 
 gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayClass c,
                                            const Aabb& scene_box) {
-  const TableConfig& t = config.table;
+  const TableConfig& t = config.table[c];
   if (t.sets == 0 || !std::has_single_bit(t.sets))
     throw Error("--table-sets: " + std::to_string(t.sets) + " is not a power of two");
   if (t.ways == 0 || t.ways > 64) throw Error("--table-ways: must be 1..64");

@@ -47,17 +47,21 @@ struct TableConfig {
   TablePolicy policy = TablePolicy::kLru;
 
   std::uint64_t entries() const { return std::uint64_t{sets} * ways; }
+  friend bool operator==(const TableConfig&, const TableConfig&) = default;
   // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots.
   std::uint64_t bytes() const { return entries() * (8u + 4u + 4u * std::uint64_t{nodes}); }
 };
 
-// Named table sizes (--table-preset); "tuned" (512 KiB) is the default. "unbounded": the
+// Named table sizes (--table-preset, per ray class); "tuned" (512 KiB) is the default of camera
+// and bounce rays, "beam" (4096x2x4 lru, 224 KiB: four occluder subtrees per light-space key)
+// the shadow rays'. "unbounded": the
 // paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
 // counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
 // than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction.
-enum class TablePreset : std::uint8_t { kTuned, kSmall, kUnbounded, kTiny };
-inline constexpr NameTable<TablePreset, 4> kTablePresetNames = {
+enum class TablePreset : std::uint8_t { kTuned, kBeam, kSmall, kUnbounded, kTiny };
+inline constexpr NameTable<TablePreset, 5> kTablePresetNames = {
     {{TablePreset::kTuned, "tuned"},
+     {TablePreset::kBeam, "beam"},
      {TablePreset::kSmall, "small"},
      {TablePreset::kUnbounded, "unbounded"},
      {TablePreset::kTiny, "tiny"}}};
@@ -74,7 +78,7 @@ struct PredictorConfig {
   PredictorMode mode = PredictorMode::kSpeculative;
   PerClass<std::uint32_t> go_up{};
   PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
-  TableConfig table;
+  PerClass<TableConfig> table;   // per ray class (--table-*)
   // Insert order. 0: inserts happen during the trace, as rays finish (fast, not reproducible).
   // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
   // probes the table as the previous batches left it; after the batch its inserts are applied
@@ -106,6 +110,7 @@ struct PredictorConfig {
   // The same key or go-up level for every class.
   void set_hash(const HashConfig& h) { hash = {{h, h, h}}; }
   void set_go_up(std::uint32_t level) { go_up = {{level, level, level}}; }
+  void set_table(const TableConfig& t) { table = {{t, t, t}}; }
   // Whether class c's table may hold interior nodes (subtrees to verify).
   bool stores_subtrees(RayClass c) const { return go_up[c] > 0 || go_up_size[c] > 0.0f; }
   // Whether the adaptive predictor decides per frame: batches (the deterministic order, for
