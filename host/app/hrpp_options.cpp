@@ -131,34 +131,14 @@ std::string per_class_default(const PerClass<T>& v, Text text) {
   return per_class_text(every, v, text);
 }
 
-void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
-  const std::string g = "HRPP (hash-based ray path prediction)";
-  static constexpr NameTable<bool, 2> kOnOff = {{{false, "off"}, {true, "on"}}};
-  cmd->add_option("--hrpp", o.enabled, "Probe a predictor table before traversal: off | on")
-      ->transform(one_of(kOnOff))
-      ->default_str("off")
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--hrpp-rays", [&o](const std::string& list) { o.classes = parse_ray_classes(list); },
-         "Ray classes that predict: a comma-separated subset of " + names_in(kRayClassNames))
-      ->default_str(ray_class_list(o.classes))
-      ->group(g);
-  cmd->add_option("--hrpp-adaptive", o.adaptive,
-                  "render: per frame and ray class, sample first and predict every ray only "
-                  "where a sample saves time, sampling again now and then: on | off (every named "
-                  "class predicts every ray, every frame; also with --hrpp-batch)")
-      ->transform(one_of(kOnOff))
-      ->default_str("on")
-      ->group(g);
-  cmd->add_option("--hrpp-mode", o.mode,
-                  "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
-                  "(its t bounds a full traversal: same answers as --hrpp off)")
-      ->transform(one_of(kPredictorModeNames))
-      ->default_str(predictor_mode_name(o.mode))
-      ->group(g);
-  const std::string per_class =
-      " (V: every ray class; a list of V and class=V, in order, e.g. hrpp,shadow=light; "
-      "classes: camera, bounce, shadow)";
+// What every per-class option's help adds.
+const char* const kPerClass =
+    " (V: every ray class; a list of V and class=V, in order, e.g. hrpp,shadow=light-depth; "
+    "classes: camera, bounce, shadow)";
+
+// --hash, --hash-bits, --go-up, --go-up-size: the key of each ray class and what its table stores.
+void add_key_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
+  const std::string per_class = kPerClass;
   cmd->add_option_function<std::string>(
          "--hash",
          [&o](const std::string& v) {
@@ -196,6 +176,11 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
              per_class)
       ->default_str(per_class_default(o.go_up_size, format_share))
       ->group(g);
+}
+
+// --table-preset, --table-sets, --table-ways, --table-nodes, --table-policy, per ray class.
+void add_table_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
+  const std::string per_class = kPerClass;
   cmd->add_option_function<std::string>(
          "--table-preset",
          [&o](const std::string& v) {
@@ -231,6 +216,35 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
          "oldest key; probe hits write nothing) (overrides the preset)" +
              per_class)
       ->group(g);
+}
+
+void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
+  const std::string g = "HRPP (hash-based ray path prediction)";
+  static constexpr NameTable<bool, 2> kOnOff = {{{false, "off"}, {true, "on"}}};
+  cmd->add_option("--hrpp", o.enabled, "Probe a predictor table before traversal: off | on")
+      ->transform(one_of(kOnOff))
+      ->default_str("off")
+      ->group(g);
+  cmd->add_option_function<std::string>(
+         "--hrpp-rays", [&o](const std::string& list) { o.classes = parse_ray_classes(list); },
+         "Ray classes that predict: a comma-separated subset of " + names_in(kRayClassNames))
+      ->default_str(ray_class_list(o.classes))
+      ->group(g);
+  cmd->add_option("--hrpp-adaptive", o.adaptive,
+                  "render: per frame and ray class, sample first and predict every ray only "
+                  "where a sample saves time, sampling again now and then: on | off (every named "
+                  "class predicts every ray, every frame; also with --hrpp-batch)")
+      ->transform(one_of(kOnOff))
+      ->default_str("on")
+      ->group(g);
+  cmd->add_option("--hrpp-mode", o.mode,
+                  "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
+                  "(its t bounds a full traversal: same answers as --hrpp off)")
+      ->transform(one_of(kPredictorModeNames))
+      ->default_str(predictor_mode_name(o.mode))
+      ->group(g);
+  add_key_options(cmd, o, g);
+  add_table_options(cmd, o, g);
   cmd->add_option("--hrpp-batch", o.batch,
                   "Deterministic order: rays in batches of K probe the table the previous "
                   "batches left; inserts applied after each batch in ray order (0: inserts "
