@@ -24,5 +24,5 @@ layout(push_constant) uniform PushConstants { uint ray_count; };
 void main() {
   const uint i = gl_GlobalInvocationID.x;
   if (i >= ray_count) return;
-  keys[i] = hrpp_hash_ray(rays[i].origin, rays[i].dir, params);
+  keys[i] = hrpp_hash_ray(rays[i].origin, rays[i].dir, rays[i].tmax, params);
 }

@@ -105,7 +105,7 @@ TEST(DeviceMemory, TheUnboundedTableIsThreeBuffersWithinTheStorageRange) {
   config.predictor.enabled = true;
   config.predictor.classes = PerClass<bool>{};  // camera rays only
   config.predictor.classes[RayClass::kCamera] = true;
-  config.predictor.table = table_preset("unbounded");
+  config.predictor.set_table(table_preset("unbounded"));
   WavefrontRenderer renderer(ctx, scene, bvh, config);
   renderer.render();
   const MemoryReport r = ctx.memory().report();
@@ -117,7 +117,7 @@ TEST(DeviceMemory, TheUnboundedTableIsThreeBuffersWithinTheStorageRange) {
     EXPECT_LE(n.bytes, ctx.info().max_storage_buffer_range) << n.name;
     table_bytes += n.bytes;
   }
-  EXPECT_EQ(table_bytes, config.predictor.table.bytes());
+  EXPECT_EQ(table_bytes, config.predictor.table[RayClass::kCamera].bytes());
 }
 
 // A soup of small random triangles whose BVH node array is bigger than lavapipe's 128 MiB

@@ -63,6 +63,11 @@ TEST_F(HrppCli, ExactAndAnyHitWriteTheHitsOfHrppOff) {
             off);
   const std::string any_off = trace("--any-hit", "any_off");
   EXPECT_EQ(trace("--any-hit --hrpp on --hash two-point --hash-bits 4", "any_on"), any_off);
+  // Per-class keys: a light-space key with go-up subtrees for the shadow rays.
+  EXPECT_EQ(trace("--any-hit --hrpp on --hash camera=grid-spherical,shadow=light-depth "
+                  "--hash-bits shadow=4 --go-up shadow=3",
+                  "any_light"),
+            any_off);
   // --hrpp-rays any leaves closest-hit queries alone (no predictor line).
   const fs::path hits = dir_ / "rays_any.bin";
   const Result r = run("trace " + std::string(HRPP_TEST_SCENES_DIR) + "/teapot.scene.json --rays " +
@@ -78,9 +83,12 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   const nlohmann::json j = nlohmann::json::parse(read_file(stats));
   const nlohmann::json& h = j.at("hrpp");
   EXPECT_EQ(h.at("enabled"), true);
-  EXPECT_EQ(h.at("hash"), "hrpp");
+  EXPECT_EQ(h.at("keys").at("camera").at("hash"), "hrpp");
+  EXPECT_EQ(h.at("keys").at("camera").at("hash_bits"), 4u);
   EXPECT_EQ(h.at("mode"), "speculative");
-  EXPECT_EQ(h.at("table_bytes"), 16384u * 2 * (8 + 4 + 4 * 1));  // the tuned preset
+  // The defaults: the tuned preset for camera rays, the beam preset for shadow rays.
+  EXPECT_EQ(h.at("keys").at("camera").at("table_bytes"), 16384u * 2 * (8 + 4 + 4 * 1));
+  EXPECT_EQ(h.at("keys").at("shadow").at("table_bytes"), 4096u * 2 * (8 + 4 + 4 * 4));
   const nlohmann::json& s = h.at("summary");
   EXPECT_EQ(s.at("probes"), 2u * 64 * 64);
   EXPECT_EQ(s.at("predictor_hits").get<std::uint64_t>() + s.at("negatives").get<std::uint64_t>(),
@@ -95,6 +103,32 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   for (const CounterKey& k : kPredictorCounterKeys) EXPECT_TRUE(s.contains(k.key)) << k.key;
 }
 
+// --hash, --hash-bits and --go-up per ray class: "V" sets every class, "class=V" one, in order; the
+// stats JSON has every class's key, and the flat fields in --hash's form.
+TEST_F(HrppCli, KeysPerRayClass) {
+  const fs::path stats = dir_ / "keys.json";
+  trace(
+      "--hrpp on --hash two-point,shadow=light --hash-bits 5,shadow=3 --go-up shadow=4 "
+      "--stats " +
+          stats.string(),
+      "keys");
+  const nlohmann::json h = nlohmann::json::parse(read_file(stats)).at("hrpp");
+  const nlohmann::json& k = h.at("keys");
+  EXPECT_EQ(k.at("camera").at("hash"), "two-point");
+  EXPECT_EQ(k.at("bounce").at("hash"), "two-point");
+  EXPECT_EQ(k.at("shadow").at("hash"), "light");
+  EXPECT_EQ(k.at("camera").at("hash_bits"), 5u);
+  EXPECT_EQ(k.at("shadow").at("hash_bits"), 3u);
+  EXPECT_EQ(k.at("camera").at("go_up"), 0u);
+  EXPECT_EQ(k.at("shadow").at("go_up"), 4u);
+  EXPECT_EQ(h.at("hash"), "camera=two-point,bounce=two-point,shadow=light");
+  EXPECT_EQ(h.at("go_up"), "camera=0,bounce=0,shadow=4");
+  EXPECT_EQ(h.at("table_nodes"), "camera=1,bounce=1,shadow=4");
+  const Result help = run("trace --help");
+  EXPECT_NE(help.out.find("class=V"), std::string::npos) << help.out;
+  EXPECT_EQ(help.status, 0);
+}
+
 TEST_F(HrppCli, BadValuesNameTheFlag) {
   const std::string base = "trace --rays " + rays_.string() + " --hits " + (dir_ / "h.bin").string();
   for (const auto& [flags, needle] : std::vector<std::pair<std::string, std::string>>{
@@ -102,6 +136,19 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
            {"--hrpp on --hrpp-mode fast", "--hrpp-mode"},
            {"--hrpp on --hash md5", "--hash"},
            {"--hrpp on --hash-bits 9", "--hash-bits"},
+           {"--hrpp on --hash shadow=md5", "--hash"},
+           {"--hrpp on --hash sky=light", "--hash"},
+           {"--hrpp on --hash shadow=light,bounce", "--hash"},
+           {"--hrpp on --hash light", "--hash"},  // light keys are for shadow rays only
+           {"--hrpp on --hash-bits shadow=x", "--hash-bits"},
+           {"--hrpp on --hash-bits shadow=0", "--hash-bits"},
+           {"--hrpp on --go-up bounce=-1", "--go-up"},
+           {"--hrpp on --go-up 65", "--go-up"},
+           {"--hrpp on --go-up-size shadow=2", "--go-up-size"},
+           {"--hrpp on --go-up-size shadow=big", "--go-up-size"},
+           {"--hrpp on --table-sets shadow=3", "--table-sets"},
+           {"--hrpp on --table-preset shadow=huge", "--table-preset"},
+           {"--hrpp on --table-policy bounce=mru", "--table-policy"},
            {"--hrpp on --table-sets 3", "--table-sets"},
            {"--hrpp on --table-policy mru", "--table-policy"},
            {"--hrpp on --table-preset huge", "--table-preset"},

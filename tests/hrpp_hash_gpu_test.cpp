@@ -1,6 +1,7 @@
 // host/gpu/gpu_ray_hash + shaders/lib/hrpp_hash.glsl: on the Vulkan device (lavapipe here) every
 // hash kind at every precision gives the key of the C++ mirror (host/hrpp/ray_hash.h) bit for
-// bit, on ~100k random rays (scene-like rays and raw random float bits) plus a hand list of
+// bit, on ~120k random rays (scene-like rays, shadow-like rays that end at a point in the box,
+// and raw random float bits, tmax included: the light-space keys read it) plus a hand list of
 // extreme floats (±0, subnormals, 2^-60 edges, ±max, ±Inf, NaNs with odd payloads and signs),
 // over a normal and a flat scene box; the validation layer reports nothing.
 #include <bit>
@@ -37,20 +38,24 @@ std::vector<gpu::Ray> test_rays(const Aabb& box) {
   const std::vector<float> ex = extremes();
   // Every extreme value in every component, the others ordinary.
   for (float v : ex)
-    for (int c = 0; c < 6; ++c) {
-      float x[6] = {0.25f, 1.5f, -0.75f, 0.6f, -0.3f, 0.74f};
+    for (int c = 0; c < 7; ++c) {
+      float x[7] = {0.25f, 1.5f, -0.75f, 0.6f, -0.3f, 0.74f, 1.7f};
       x[c] = v;
-      rays.push_back({{x[0], x[1], x[2]}, 0.0f, {x[3], x[4], x[5]}, 1e30f});
+      rays.push_back({{x[0], x[1], x[2]}, 0.0f, {x[3], x[4], x[5]}, x[6]});
     }
   std::mt19937 rng(2024);
   std::uniform_int_distribution<std::size_t> pick(0, ex.size() - 1);
   for (int i = 0; i < 20000; ++i)  // components drawn from the extreme list
-    rays.push_back({{ex[pick(rng)], ex[pick(rng)], ex[pick(rng)]}, 0.0f,
-                    {ex[pick(rng)], ex[pick(rng)], ex[pick(rng)]}, 1e30f});
+    rays.push_back({{ex[pick(rng)], ex[pick(rng)], ex[pick(rng)]},
+                    0.0f,
+                    {ex[pick(rng)], ex[pick(rng)], ex[pick(rng)]},
+                    ex[pick(rng)]});
   std::uniform_int_distribution<std::uint32_t> bits;
   for (int i = 0; i < 30000; ++i)  // raw random float bits
-    rays.push_back({{f(bits(rng)), f(bits(rng)), f(bits(rng))}, 0.0f,
-                    {f(bits(rng)), f(bits(rng)), f(bits(rng))}, 1e30f});
+    rays.push_back({{f(bits(rng)), f(bits(rng)), f(bits(rng))},
+                    0.0f,
+                    {f(bits(rng)), f(bits(rng)), f(bits(rng))},
+                    f(bits(rng))});
   std::uniform_real_distribution<float> t(-0.1f, 1.1f), dir(-1.0f, 1.0f);
   const glm::vec3 e = box.extent();
   for (int i = 0; i < 50000; ++i) {  // scene-like: origins around the box, any direction
@@ -60,19 +65,30 @@ std::vector<gpu::Ray> test_rays(const Aabb& box) {
     if (i % 11 == 0) d[i % 3] = 0.0f;  // axis-aligned planes: φ/θ bin edges
     rays.push_back({o, 0.0f, d, 1e30f});
   }
+  for (int i = 0; i < 20000; ++i) {  // shadow-like: from a point to a point of the box
+    const glm::vec3 o = box.lo + glm::vec3(t(rng), t(rng), t(rng)) * e;
+    const glm::vec3 q = box.lo + glm::vec3(t(rng), t(rng), t(rng)) * e;
+    if (i % 2 == 0) {
+      rays.push_back({o, 0.0f, q - o, 0.999f});
+    } else {
+      const float len = glm::length(q - o);
+      rays.push_back({o, 0.0f, (q - o) / len, len});
+    }
+  }
   return rays;
 }
 
 void expect_gpu_equals_mirror(const Aabb& box) {
   const std::vector<gpu::Ray> rays = test_rays(box);
-  for (HashKind kind : {HashKind::kIeee, HashKind::kGridSpherical, HashKind::kTwoPoint})
+  for (const Named<HashKind>& named : kHashKindNames)
     for (std::uint32_t n = 1; n <= HRPP_HASH_BITS_MAX; ++n) {
+      const HashKind kind = named.value;
       const gpu::HashParams params = make_hash_params({kind, n}, box);
       const std::vector<std::uint64_t> gpu_keys = hash_rays_on_gpu(context(), params, rays);
       ASSERT_EQ(gpu_keys.size(), rays.size());
       int mismatches = 0;
       for (std::size_t i = 0; i < rays.size(); ++i) {
-        const std::uint64_t cpu = hash_ray(rays[i].origin, rays[i].dir, params);
+        const std::uint64_t cpu = hash_ray(rays[i].origin, rays[i].dir, rays[i].tmax, params);
         if (cpu == gpu_keys[i]) continue;
         if (++mismatches <= 5)
           ADD_FAILURE() << hash_kind_name(kind) << " N=" << n << " ray " << i << " o=("
@@ -81,8 +97,9 @@ void expect_gpu_equals_mirror(const Aabb& box) {
                         << std::bit_cast<std::uint32_t>(rays[i].origin.z) << ") d=("
                         << std::bit_cast<std::uint32_t>(rays[i].dir.x) << ","
                         << std::bit_cast<std::uint32_t>(rays[i].dir.y) << ","
-                        << std::bit_cast<std::uint32_t>(rays[i].dir.z) << ") cpu " << std::hex
-                        << cpu << " gpu " << gpu_keys[i];
+                        << std::bit_cast<std::uint32_t>(rays[i].dir.z) << ") tmax "
+                        << std::bit_cast<std::uint32_t>(rays[i].tmax) << " cpu " << std::hex << cpu
+                        << " gpu " << gpu_keys[i];
       }
       EXPECT_EQ(mismatches, 0) << hash_kind_name(kind) << " N=" << n;
     }

@@ -1,7 +1,8 @@
 // host/hrpp/ray_hash: the C++ hashes on their edges: keys fit 48 bits, the paper's bit layout and
 // swizzle, sign handling (-0 = +0, negative ≠ positive), special floats (NaNs equal, ≠ Inf,
 // subnormals keep their top mantissa bits), and monotone precision (rays with equal keys at
-// precision N+1 have equal keys at N, for every hash kind).
+// precision N+1 have equal keys at N, for every hash kind); the light-space keys' layout (light
+// end on the coarse grid, octahedral cells of comparable solid angle, the receiver's cell).
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -20,12 +21,15 @@ namespace hrpp {
 namespace {
 
 const Aabb kBox{{-1.25f, -0.5f, -2.0f}, {2.75f, 3.0f, 1.0f}};
-constexpr HashKind kKinds[] = {HashKind::kIeee, HashKind::kGridSpherical, HashKind::kTwoPoint};
+constexpr HashKind kKinds[] = {HashKind::kIeee, HashKind::kGridSpherical, HashKind::kTwoPoint,
+                               HashKind::kLight, HashKind::kLightDepth};
+// The light-space keys' light-end grid precision at precision n.
+std::uint32_t light_bits(std::uint32_t n) { return std::min(n + 1, 8u); }
 
 float f(std::uint32_t bits) { return std::bit_cast<float>(bits); }
 
-std::uint64_t key(HashKind kind, std::uint32_t bits, glm::vec3 o, glm::vec3 d) {
-  return hash_ray(o, d, make_hash_params({kind, bits}, kBox));
+std::uint64_t key(HashKind kind, std::uint32_t bits, glm::vec3 o, glm::vec3 d, float tmax = 1.0f) {
+  return hash_ray(o, d, tmax, make_hash_params({kind, bits}, kBox));
 }
 
 const std::vector<float>& extremes() {
@@ -49,15 +53,19 @@ TEST(RayHash, KeysFit48BitsForEveryKindAndPrecision) {
       for (int i = 0; i < 2000; ++i) {
         const glm::vec3 o{f(any_bits(rng)), ex[pick(rng)], f(any_bits(rng))};
         const glm::vec3 d{ex[pick(rng)], f(any_bits(rng)), ex[pick(rng)]};
-        const std::uint64_t k = key(kind, n, o, d);
+        const std::uint64_t k = key(kind, n, o, d, i % 2 ? ex[pick(rng)] : f(any_bits(rng)));
         EXPECT_LT(k, std::uint64_t{1} << 48) << hash_kind_name(kind) << " N=" << n;
         all |= k;
       }
       // The fields the kinds use: IEEE 3 × 16-bit fields of 2N+1 bits (16 at N = 8), grid 5N,
-      // two-point 6N: random bits must reach the top of the layout.
+      // two-point 6N, light 3C + 2N, light-depth 3C + 2N + 8 (C = min(N + 1, 8)): random bits
+      // must reach the top of the layout.
       const int top = kind == HashKind::kIeee ? 32 + static_cast<int>(n + std::min(n, 7u))
                       : kind == HashKind::kGridSpherical ? static_cast<int>(5 * n) - 1
-                                                         : static_cast<int>(6 * n) - 1;
+                      : kind == HashKind::kTwoPoint      ? static_cast<int>(6 * n) - 1
+                      : kind == HashKind::kLight
+                          ? static_cast<int>(3 * light_bits(n) + 2 * n) - 1
+                          : static_cast<int>(3 * light_bits(n) + 2 * n + 8) - 1;
       EXPECT_NE(all >> top, 0u) << hash_kind_name(kind) << " N=" << n;
       EXPECT_EQ(all >> (top + 1), 0u) << hash_kind_name(kind) << " N=" << n;
     }
@@ -132,6 +140,50 @@ TEST(RayHash, GridHashesQuantiseTheSceneBox) {
   EXPECT_THROW(make_hash_params({HashKind::kIeee, 0}, kBox), Error);
   EXPECT_THROW(make_hash_params({HashKind::kIeee, 9}, kBox), Error);
   EXPECT_THROW(parse_hash_kind("md5"), Error);
+}
+
+// Light-space keys: the light end's coarse cell, the octahedral cell of the direction from the
+// light, the receiver's distance from the light (light-depth).
+TEST(RayHash, LightKeysAreLightEndDirectionAndReceiver) {
+  const glm::vec3 light{0.53f, 2.47f, -0.61f};                       // off every cell boundary
+  const glm::vec3 w = glm::normalize(glm::vec3{0.3f, -1.0f, 0.2f});  // light → receivers
+  for (std::uint32_t n = 1; n <= 8; ++n) {
+    // Receivers on one line from a light point share the light key; light-depth tells apart
+    // receivers at different distances (0.2 and 2.5: 3.6 octaves apart), not ones at nearly the
+    // same (2.5 and 2.51).
+    const glm::vec3 near = light + 0.2f * w, far = light + 2.5f * w;
+    EXPECT_EQ(key(HashKind::kLight, n, near, -w, 0.2f), key(HashKind::kLight, n, far, -w, 2.5f));
+    EXPECT_NE(key(HashKind::kLightDepth, n, near, -w, 0.2f),
+              key(HashKind::kLightDepth, n, far, -w, 2.5f));
+    EXPECT_EQ(key(HashKind::kLightDepth, n, far, -w, 2.5f),
+              key(HashKind::kLightDepth, n, light + 2.51f * w, -w, 2.51f));
+    // Another light: another key. The end is the light cell: a ray ending at the box's high
+    // corner is in the last coarse cell, one ending at its low corner in cell 0.
+    const std::uint64_t cell = (std::uint64_t{1} << (3 * light_bits(n))) - 1;
+    EXPECT_EQ(key(HashKind::kLight, n, kBox.lo + 1.0f, {-1.0f, -1.0f, -1.0f}, 1.0f) & cell, 0u);
+    EXPECT_EQ(key(HashKind::kLight, n, kBox.hi - 1.0f, {1.0f, 1.0f, 1.0f}, 1.0f) & cell, cell);
+    // Octahedral cells of the direction from the light (-d): +z is the diamond's centre, -z
+    // its corner cells.
+    const std::uint32_t half = 1u << (n - 1), last = (1u << n) - 1;
+    const auto octa = [&](glm::vec3 d) {
+      return key(HashKind::kLight, n, {0.0f, 0.0f, 0.0f}, d, 1.0f) >> (3 * light_bits(n));
+    };
+    EXPECT_EQ(octa({0.0f, 0.0f, -1.0f}), half | (std::uint64_t{half} << n));
+    EXPECT_EQ(octa({0.0f, 0.0f, 1.0f}), last | (std::uint64_t{last} << n));
+    EXPECT_EQ(octa({1.0f, 0.0f, 0.0f}), 0u | (std::uint64_t{half} << n));  // -x: a = -1
+  }
+  // Cells of comparable solid angle: uniform directions fill every cell at N = 3, the largest
+  // cell's share at most 3.5 times the smallest's (measured: 3.0).
+  std::mt19937 rng(5);
+  std::normal_distribution<float> g(0.0f, 1.0f);
+  std::map<std::uint64_t, int> count;
+  for (int i = 0; i < 64000; ++i)
+    ++count[key(HashKind::kLight, 3, {0.0f, 0.0f, 0.0f}, {g(rng), g(rng), g(rng)}, 1.0f) >>
+            (3 * light_bits(3))];
+  EXPECT_EQ(count.size(), 64u);
+  int lo = 1 << 30, hi = 0;
+  for (const auto& [cell, c] : count) lo = std::min(lo, c), hi = std::max(hi, c);
+  EXPECT_LT(2 * hi, 7 * lo);
 }
 
 // Rays with equal keys at precision N+1 have equal keys at N: a finer hash only splits entries.

@@ -8,7 +8,10 @@
 //     a table that neither evicts nor drops) the CPU reference reproduces every GPU counter and
 //     every hit, for speculative / exact hit-all and hit-any, go-up 0 and 2;
 //   - speculative hit-all's wrong closest hits are counted, and equal the ones found by
-//     comparing with HRPP off.
+//     comparing with HRPP off;
+//   - shadow rays towards the scene's area light under every hash kind (the light-space keys
+//     included) and go-up 0 and 3: answers equal HRPP off, and the CPU reference reproduces
+//     every counter in the deterministic configuration.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -36,7 +39,31 @@ struct Fixture {
   Scene scene;
   GpuBvh bvh;
   std::vector<gpu::Ray> primary, ao, diffuse;
+  std::vector<gpu::Ray> light;  // shadow rays from the primaries' hits to the area light
 };
+
+// Two shadow rays per primary hit, each to a uniform point of the bunny scene's light (the quad
+// y = 2.5, x and z in [-0.5, 0.5]), offset off the surface by backing up the primary ray and
+// ending just short of the light (as the renderer's shadow rays do).
+std::vector<gpu::Ray> light_rays(const RayBatches& b) {
+  std::vector<gpu::Ray> rays;
+  std::uint32_t state = 12345u;
+  const auto u = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<float>(state >> 8) / 16777216.0f;
+  };
+  for (std::size_t i = 0; i < b.primary.size(); ++i) {
+    const gpu::Hit& h = b.primary_hits[i];
+    if (h.prim < 0) continue;
+    const glm::vec3 p = b.primary[i].origin + (h.t * 0.9999f) * b.primary[i].dir;
+    for (int k = 0; k < 2; ++k) {
+      const glm::vec3 q{u() - 0.5f, 2.5f, u() - 0.5f};
+      const float len = glm::length(q - p);
+      rays.push_back({p, 0.0f, (q - p) / len, len * 0.9999f});
+    }
+  }
+  return rays;
+}
 
 // The bunny scene at 48×48 (primaries twice: the second pass finds the table warm), 2048 AO and
 // diffuse rays.
@@ -54,6 +81,7 @@ const Fixture& bunny() {
     x->primary.insert(x->primary.end(), b.primary.begin(), b.primary.end());
     x->ao = b.ao.rays;
     x->diffuse = b.diffuse.rays;
+    x->light = light_rays(b);
     return x;
   }();
   return *f;
@@ -63,8 +91,8 @@ PredictorConfig config(PredictorMode mode, TableConfig table) {
   PredictorConfig p;
   p.enabled = true;
   p.mode = mode;
-  p.table = table;
-  p.hash = {HashKind::kIeee, 6};
+  p.set_table(table);
+  p.set_hash({HashKind::kIeee, 6});
   return p;
 }
 
@@ -127,7 +155,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
                                table_policy_name(t.policy);
       GpuTracer* tracer = nullptr;
       PredictorConfig p = config(PredictorMode::kExact, t);
-      p.hash.bits = c.bits;
+      p.set_hash({HashKind::kIeee, c.bits});
       trace_gpu(p, *c.rays, c.kind, &tracer);  // a trace's inserts serve the next traces
       const GpuTraceResult on = tracer->trace(*c.rays, c.kind);
       expect_same_hits(on.hits, reference.hits, what);
@@ -170,8 +198,8 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
             continue;                                           // hit-any has one mode
           if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
           PredictorConfig p = config(mode, table);
-          p.go_up = go_up;
-          p.hash.bits = c.bits;
+          p.set_go_up(go_up);
+          p.set_hash({HashKind::kIeee, c.bits});
           p.batch = 64;
           p.serial = true;
           p.count_baseline = true;
@@ -226,6 +254,55 @@ TEST(HrppPredictor, PredictWorkgroupIsOneSubgroup) {
   EXPECT_EQ(predict_workgroup_size(context().info().subgroup_size), context().info().subgroup_size);
 }
 
+// Every hash kind keys shadow rays (the light-space keys among them), with leaves and with
+// go-up subtrees stored: hit-any answers stay HRPP off's, with inserts during the trace and in
+// the deterministic configuration, where the CPU reference reproduces every GPU counter.
+TEST(HrppPredictor, ShadowKeysKeepAnswersAndMatchTheReference) {
+  GpuTracerConfig off_config;
+  off_config.rays_per_invocation = 8;
+  GpuTracer off(context(), bunny().bvh, off_config);
+  const std::vector<gpu::Ray>& rays = bunny().light;
+  ASSERT_GT(rays.size(), 1000u);
+  const GpuTraceResult reference = off.trace(rays, QueryKind::kAny);
+  std::size_t occluded = 0;
+  for (const gpu::Hit& h : reference.hits) occluded += h.prim >= 0;
+  ASSERT_GT(occluded, rays.size() / 10);  // the bunny shadows the floor
+  for (const Named<HashKind>& kind : kHashKindNames)
+    for (const std::uint32_t go_up : {0u, 3u}) {
+      PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("tuned"));
+      p.hash[RayClass::kShadow] = {kind.value, 4};
+      p.go_up[RayClass::kShadow] = go_up;
+      const std::string what = std::string(kind.name) + " go-up " + std::to_string(go_up);
+      GpuTracer* tracer = nullptr;
+      trace_gpu(p, rays, QueryKind::kAny, &tracer);
+      const GpuTraceResult warm = tracer->trace(rays, QueryKind::kAny);
+      expect_same_hits(warm.hits, reference.hits, what + " (inserts during the trace)");
+      p.set_table({1u << 12, 8, 16, TablePolicy::kNone});
+      p.batch = 64;
+      p.serial = true;
+      p.count_baseline = true;
+      const GpuTraceResult gpu = trace_gpu(p, rays, QueryKind::kAny);
+      ReferencePredictor cpu_predictor(bunny().bvh, p);
+      const PredictorTraceResult cpu = cpu_predictor.trace(rays, RayClass::kShadow);
+      expect_same_hits(gpu.hits, reference.hits, what);
+      expect_same_hits(cpu.hits, reference.hits, what + " (CPU reference)");
+      for (int k = 0; k < HRPP_PC_COUNT; ++k)
+        EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
+      EXPECT_EQ(gpu.counters.interior_visited, cpu.counters.interior_visited) << what;
+      EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
+      expect_counters_add_up(gpu.predictor, rays.size(), what);
+      if (is_light_space(kind.value)) {
+        EXPECT_GT(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+      }
+      std::printf("%-22s %zu rays, %zu occluded: TP %llu FP %llu neg %llu\n", what.c_str(),
+                  rays.size(), occluded,
+                  static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
+                  static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
+                  static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]));
+    }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 // The HRPP stage's queue: every ray is answered once, by its prediction or by the trace of the
 // queue, whatever the number of rays (1 ray, part of a subgroup, workgroups of one ray per
 // invocation) and however small the table; the trace kernel traces exactly the rays that were
@@ -242,7 +319,7 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
         const std::string what = std::to_string(n) + " rays " + predictor_mode_name(mode) +
                                  " table " + std::to_string(t.entries());
         PredictorConfig p = config(mode, t);
-        p.hash.bits = 4;  // coarse: many predictor hits even among a few rays
+        p.set_hash({HashKind::kIeee, 4});  // coarse: many predictor hits even among a few rays
         GpuTracer on(context(), bunny().bvh, tc, p);
         on.trace(rays, QueryKind::kClosest);  // fills the table
         const GpuTraceResult r = on.trace(rays, QueryKind::kClosest);
@@ -276,7 +353,7 @@ TEST(HrppPredictor, SampleAnswersAreHrppOffs) {
       const std::vector<gpu::Ray> rays(k.rays->begin(), k.rays->begin() + static_cast<long>(n));
       const std::string what = std::string(k.name) + " " + std::to_string(n) + " rays";
       PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
-      p.hash.bits = 3;  // coarse: predictor hits, wrong ones among them
+      p.set_hash({HashKind::kIeee, 3});  // coarse: predictor hits, wrong ones among them
       GpuTracer on(context(), bunny().bvh, tc, p);
       on.trace(rays, k.kind);  // every ray predicted: fills the table
       on.predictor()->set_probing(ray_file_class(k.kind), Probe::kSample);
@@ -305,7 +382,7 @@ TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {
     if (c.kind == QueryKind::kAny) continue;
     PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
     p.count_baseline = true;
-    p.hash.bits = c.bits - 2;  // loose: more wrong answers to count
+    p.set_hash({HashKind::kIeee, c.bits - 2});  // loose: more wrong answers to count
     const GpuTraceResult on = trace_gpu(p, *c.rays, QueryKind::kClosest);
     const GpuTraceResult reference = off.trace(*c.rays, QueryKind::kClosest);
     std::uint64_t differ = 0;
@@ -314,7 +391,8 @@ TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {
     EXPECT_EQ(on.predictor.c[HRPP_PC_WRONG_CLOSEST], differ) << c.name;
     expect_counters_add_up(on.predictor, c.rays->size(), c.name);
     std::printf("%s speculative N=%u: %llu wrong closest hits of %zu rays\n", c.name,
-                p.hash.bits, static_cast<unsigned long long>(differ), c.rays->size());
+                p.hash[RayClass::kCamera].bits, static_cast<unsigned long long>(differ),
+                c.rays->size());
   }
 }
 

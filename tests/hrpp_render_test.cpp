@@ -3,7 +3,8 @@
 // table and with tables that evict or drop; speculative prediction under a loose hash changes
 // pixels and counts its wrong closest hits; per-class counters add up over a whole render; the
 // batched (deterministic-order) mode, whose shadow traces are not dispatched indirectly, too;
-// the adaptive predictor's sample frames render HRPP off's image.
+// the adaptive predictor's sample frames render HRPP off's image; every shadow key (and go-up
+// level) renders HRPP off's image.
 #include <cstdio>
 #include <string>
 
@@ -42,8 +43,8 @@ PredictorConfig on(PredictorMode mode, const TableConfig& table, std::uint32_t b
   PredictorConfig p;
   p.enabled = true;
   p.mode = mode;
-  p.table = table;
-  p.hash.bits = bits;
+  p.set_table(table);
+  p.set_hash({HashKind::kIeee, bits});
   p.count_baseline = true;
   p.adaptive = false;  // every class probes every frame
   return p;
@@ -79,6 +80,25 @@ TEST(HrppRender, ExactPredictionRendersTheImageOfHrppOff) {
       EXPECT_GT(exact.stats.closest().predictor.c[full], 0u) << what;
     }
   }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// Shadow rays are hit-any: whatever key and go-up level their table uses (the light-space keys
+// included), predicting them renders HRPP off's image bit for bit.
+TEST(HrppRender, EveryShadowKeyRendersTheImageOfHrppOff) {
+  const RenderResult off = render({}, 2);
+  for (const Named<HashKind>& kind : kHashKindNames)
+    for (const std::uint32_t go_up : {0u, 3u}) {
+      PredictorConfig p = on(PredictorMode::kSpeculative, table_preset("tuned"), 4);
+      p.classes = {{false, false, true}};
+      p.hash[RayClass::kShadow] = {kind.value, 4};
+      p.go_up[RayClass::kShadow] = go_up;
+      const std::string what = std::string(kind.name) + " go-up " + std::to_string(go_up);
+      const RenderResult r = render(p, 2);
+      EXPECT_TRUE(r.rgb == off.rgb) << what;
+      expect_counters_add_up(r.stats.shadow(), what);
+      EXPECT_GT(r.stats.shadow().predictor.c[HRPP_PC_PREDICTOR_HITS], 0u) << what;
+    }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

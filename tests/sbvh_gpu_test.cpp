@@ -131,9 +131,9 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
         PredictorConfig p;
         p.enabled = true;
         p.mode = mode;
-        p.table = {1u << 12, 8, 16, TablePolicy::kNone};
-        p.hash = {HashKind::kIeee, any ? 3u : 6u};
-        p.go_up = go_up;
+        p.set_table({1u << 12, 8, 16, TablePolicy::kNone});
+        p.set_hash({HashKind::kIeee, any ? 3u : 6u});
+        p.set_go_up(go_up);
         p.batch = 64;
         p.serial = true;
         p.count_baseline = true;

@@ -28,6 +28,56 @@ PerClass<bool> parse_ray_classes(const std::string& list) {
   return on;
 }
 
+namespace {
+
+// A per-class option's value: a comma-separated list of "V" (every class) and "class=V" (that
+// class), applied in order, V parsed by `parse`: "light" sets every class, "hrpp,shadow=light"
+// every class but shadow to hrpp. Throws hrpp::Error naming `flag`.
+template <class T, class Parse>
+void parse_per_class(const std::string& text, const std::string& flag, PerClass<T>& out,
+                     Parse parse) {
+  try {
+    PerClass<T> next = out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+      const std::size_t end = std::min(text.find(',', start), text.size());
+      const std::string item = text.substr(start, end - start);
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos) {
+        const T v = parse(item);
+        next = {{v, v, v}};
+      } else {
+        next[parse_ray_class(item.substr(0, eq))] = parse(item.substr(eq + 1));
+      }
+      start = end + 1;
+    }
+    out = next;
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    throw Error(what.rfind(flag + ":", 0) == 0 ? what : flag + ": " + what);
+  }
+}
+
+float parse_share(const std::string& v) {
+  std::size_t used = 0;
+  float x = 0.0f;
+  try {
+    x = std::stof(v, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (v.empty() || used != v.size()) throw Error("'" + v + "' is not a number");
+  return x;
+}
+
+std::uint32_t parse_count(const std::string& v) {
+  if (v.empty() || v.size() > 9 || v.find_first_not_of("0123456789") != std::string::npos)
+    throw Error("'" + v + "' is not a non-negative integer");
+  return static_cast<std::uint32_t>(std::stoul(v));
+}
+
+}  // namespace
+
 std::string ray_class_list(const PerClass<bool>& classes) {
   std::string s;
   for (RayClass c : kRayClasses)
@@ -39,21 +89,133 @@ PredictorConfig HrppOptions::config() const {
   PredictorConfig c;
   c.enabled = enabled;
   c.mode = mode;
-  c.hash = {hash, hash_bits};
+  for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k]};
   c.go_up = go_up;
-  c.table = table_preset(preset);
-  if (sets) c.table.sets = sets;
-  if (ways) c.table.ways = ways;
-  if (nodes) c.table.nodes = nodes;
-  if (policy) c.table.policy = *policy;
+  c.go_up_size = go_up_size;
+  for (RayClass k : kRayClasses) {
+    TableConfig& t = c.table[k];
+    t = table_preset(preset[k]);
+    if (sets[k]) t.sets = sets[k];
+    if (ways[k]) t.ways = ways[k];
+    if (nodes[k]) t.nodes = nodes[k];
+    if (policy[k]) t.policy = *policy[k];
+  }
   c.batch = batch;
   c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
   c.count_baseline = count_baseline;
   c.classes = classes;
   c.adaptive = adaptive;  // with batches it does not adapt (PredictorConfig::adapts)
-  (void)make_predictor_params(c, Aabb{});  // checks sizes and precision now, naming the flag
+  for (RayClass k : kRayClasses) {  // checks sizes and precision now, naming the flag
+    (void)make_predictor_params(c, k, Aabb{});
+    if (c.predicts(k) && query_kind(k) != QueryKind::kAny && is_light_space(c.hash[k].kind))
+      throw Error(std::string("--hash: ") + hash_kind_name(c.hash[k].kind) +
+                  " keys shadow rays (it reads the ray's end at the light), not " +
+                  ray_class_name(k) + " rays");
+  }
   return c;
+}
+
+// A share as --go-up-size takes it: "0.02" (shortest round trip is not needed: 6 digits).
+std::string format_share(float x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));
+  return buf;
+}
+
+// The --help default of a per-class option: "camera=V,bounce=W,shadow=X", or "V" if all agree.
+template <class T, class Text>
+std::string per_class_default(const PerClass<T>& v, Text text) {
+  PredictorConfig every;
+  every.enabled = true;
+  return per_class_text(every, v, text);
+}
+
+// What every per-class option's help adds.
+const char* const kPerClass =
+    " (V: every ray class; a list of V and class=V, in order, e.g. hrpp,shadow=light-depth; "
+    "classes: camera, bounce, shadow)";
+
+// --hash, --hash-bits, --go-up, --go-up-size: the key of each ray class and what its table stores.
+void add_key_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
+  const std::string per_class = kPerClass;
+  cmd->add_option_function<std::string>(
+         "--hash",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--hash", o.hash,
+                           [](const std::string& n) { return parse_hash_kind(n); });
+         },
+         "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, two-point; for shadow "
+         "rays also light (the light end on a grid, the direction from the light in octahedral "
+         "cells) and light-depth (light plus the receiver's distance from the light)" +
+             per_class)
+      ->default_str(per_class_default(o.hash, [](HashKind k) { return hash_kind_name(k); }))
+      ->group(g);
+  cmd->add_option_function<std::string>(
+         "--hash-bits",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--hash-bits", o.hash_bits, parse_count);
+         },
+         "Hash precision N (1..8)" + per_class)
+      ->default_str(
+          per_class_default(o.hash_bits, [](std::uint32_t n) { return std::to_string(n); }))
+      ->group(g);
+  cmd->add_option_function<std::string>(
+         "--go-up",
+         [&o](const std::string& v) { parse_per_class(v, "--go-up", o.go_up, parse_count); },
+         "Go-up level: predict the ancestor L levels above the leaf that held the hit" + per_class)
+      ->default_str(per_class_default(o.go_up, [](std::uint32_t n) { return std::to_string(n); }))
+      ->group(g);
+  cmd->add_option_function<std::string>(
+         "--go-up-size",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--go-up-size", o.go_up_size, parse_share);
+         },
+         "Then go further up while the node's box is smaller than this share (0..1) of the "
+         "scene box's largest extent: the same beam width on dense and coarse meshes (0: off)" +
+             per_class)
+      ->default_str(per_class_default(o.go_up_size, format_share))
+      ->group(g);
+}
+
+// --table-preset, --table-sets, --table-ways, --table-nodes, --table-policy, per ray class.
+void add_table_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
+  const std::string per_class = kPerClass;
+  cmd->add_option_function<std::string>(
+         "--table-preset",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--table-preset", o.preset, [](const std::string& n) {
+             return parse_in(kTablePresetNames, n, "unknown preset");
+           });
+         },
+         "Table size: tuned (16384x2x1 lru, 512 KiB), beam (4096x2x4 lru, 224 KiB), small "
+         "(1024x8x8 lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
+         "study), tiny (4x2x2 lru)" +
+             per_class)
+      ->default_str(per_class_default(
+          o.preset, [](TablePreset p) { return std::string(name_in(kTablePresetNames, p)); }))
+      ->group(g);
+  const auto count_option = [&](const char* flag, PerClass<std::uint32_t>& v, const char* what) {
+    const std::string name = flag;
+    cmd->add_option_function<std::string>(
+           name, [&v, name](const std::string& s) { parse_per_class(s, name, v, parse_count); },
+           std::string(what) + " (overrides the preset)" + per_class)
+        ->group(g);
+  };
+  count_option("--table-sets", o.sets, "Sets (a power of two)");
+  count_option("--table-ways", o.ways, "Ways per set");
+  count_option("--table-nodes", o.nodes, "Nodes per entry");
+  cmd->add_option_function<std::string>(
+         "--table-policy",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--table-policy", o.policy, [](const std::string& n) {
+             return std::optional<TablePolicy>(parse_in(kTablePolicyNames, n, "unknown policy"));
+           });
+         },
+         "When full: none (drop), lru (evict the least recently used) or fifo (evict the "
+         "oldest key; probe hits write nothing) (overrides the preset)" +
+             per_class)
+      ->group(g);
 }
 
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
@@ -81,35 +243,8 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->transform(one_of(kPredictorModeNames))
       ->default_str(predictor_mode_name(o.mode))
       ->group(g);
-  cmd->add_option("--hash", o.hash,
-                  "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, "
-                  "two-point")
-      ->transform(one_of(kHashKindNames))
-      ->default_str(hash_kind_name(o.hash))
-      ->group(g);
-  cmd->add_option("--hash-bits", o.hash_bits, "Hash precision N (1..8)")
-      ->capture_default_str()
-      ->group(g);
-  cmd->add_option("--go-up", o.go_up,
-                  "Go-up level: predict the ancestor L levels above the leaf that held the hit")
-      ->capture_default_str()
-      ->group(g);
-  cmd->add_option("--table-preset", o.preset,
-                  "Table size per ray class: tuned (16384x2x1 lru, 512 KiB), small (1024x8x8 "
-                  "lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
-                  "study), tiny (4x2x2 lru)")
-      ->transform(one_of(kTablePresetNames))
-      ->default_str(name_in(kTablePresetNames, o.preset))
-      ->group(g);
-  cmd->add_option("--table-sets", o.sets, "Sets (a power of two; overrides the preset)")->group(g);
-  cmd->add_option("--table-ways", o.ways, "Ways per set (overrides the preset)")->group(g);
-  cmd->add_option("--table-nodes", o.nodes, "Nodes per entry (overrides the preset)")->group(g);
-  cmd->add_option_function<TablePolicy>(
-         "--table-policy", [&o](const TablePolicy& p) { o.policy = p; },
-         "When full: none (drop), lru (evict the least recently used) or fifo (evict the "
-         "oldest key; probe hits write nothing) (overrides the preset)")
-      ->transform(one_of(kTablePolicyNames))
-      ->group(g);
+  add_key_options(cmd, o, g);
+  add_table_options(cmd, o, g);
   cmd->add_option("--hrpp-batch", o.batch,
                   "Deterministic order: rays in batches of K probe the table the previous "
                   "batches left; inserts applied after each batch in ray order (0: inserts "
@@ -138,17 +273,51 @@ nlohmann::json class_names(const PredictorConfig& c) {
   return names;
 }
 
+// A per-class number: the number when every predicting class has the same, else the
+// "class=N,..." text.
+template <class Value>
+nlohmann::json per_class_number(const PredictorConfig& c, Value value) {
+  PerClass<std::uint64_t> v;
+  for (RayClass k : kRayClasses) v[k] = value(k);
+  const std::string text = per_class_text(c, v, [](std::uint64_t n) { return std::to_string(n); });
+  if (text.find('=') != std::string::npos) return text;
+  return std::stoull(text);
+}
+
+// Every class's key, go-up rule and table, predicting or not: {"camera": {"hash", "hash_bits",
+// "go_up", "go_up_size", "table_sets", ...}, ...}.
+nlohmann::json class_keys(const PredictorConfig& c) {
+  nlohmann::json keys = nlohmann::json::object();
+  for (RayClass k : kRayClasses)
+    keys[ray_class_name(k)] = {{"hash", hash_kind_name(c.hash[k].kind)},
+                               {"hash_bits", c.hash[k].bits},
+                               {"go_up", c.go_up[k]},
+                               {"go_up_size", c.go_up_size[k]},
+                               {"table_sets", c.table[k].sets},
+                               {"table_ways", c.table[k].ways},
+                               {"table_nodes", c.table[k].nodes},
+                               {"table_policy", table_policy_name(c.table[k].policy)},
+                               {"table_bytes", c.table[k].bytes()}};
+  return keys;
+}
+
 nlohmann::json predictor_config_json(const PredictorConfig& c) {
   return {{"enabled", c.enabled},
-          {"hash", hash_kind_name(c.hash.kind)},
-          {"hash_bits", c.hash.bits},
+          {"hash",
+           per_class_text(c, c.hash, [](const HashConfig& h) { return hash_kind_name(h.kind); })},
+          {"hash_bits", per_class_number(c, [&c](RayClass k) { return c.hash[k].bits; })},
           {"mode", predictor_mode_name(c.mode)},
-          {"go_up", c.go_up},
-          {"table_sets", c.table.sets},
-          {"table_ways", c.table.ways},
-          {"table_nodes", c.table.nodes},
-          {"table_policy", table_policy_name(c.table.policy)},
-          {"table_bytes", c.table.bytes()},
+          {"go_up", per_class_number(c, [&c](RayClass k) { return c.go_up[k]; })},
+          {"go_up_size", per_class_text(c, c.go_up_size, format_share)},
+          {"keys", class_keys(c)},
+          {"table_sets", per_class_number(c, [&c](RayClass k) { return c.table[k].sets; })},
+          {"table_ways", per_class_number(c, [&c](RayClass k) { return c.table[k].ways; })},
+          {"table_nodes", per_class_number(c, [&c](RayClass k) { return c.table[k].nodes; })},
+          {"table_policy", per_class_text(c, c.table,
+                                          [](const TableConfig& t) {
+                                            return std::string(table_policy_name(t.policy));
+                                          })},
+          {"table_bytes", per_class_number(c, [&c](RayClass k) { return c.table[k].bytes(); })},
           {"ray_classes", class_names(c)},
           {"adaptive", c.adapts()},
           {"count_baseline", c.count_baseline},

@@ -68,9 +68,11 @@ namespace {
 // One ray class's table and its kernels (bound to the table and to the class's query arrays).
 // hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
 // counting traversal only in the variant that counts, one subgroup per workgroup.
-ComputePipeline make_predict(VulkanContext& ctx, RayClass c, std::uint32_t go_up, bool counts) {
+ComputePipeline make_predict(VulkanContext& ctx, RayClass c, const gpu::PredictorParams& p,
+                             bool counts) {
+  const bool interior = p.go_up > 0 || p.go_up_size > 0.0f;
   const SpecializationConstant spec[] = {
-      {HRPP_SPEC_VERIFY_INTERIOR, go_up > 0 ? 1u : 0u},
+      {HRPP_SPEC_VERIFY_INTERIOR, interior ? 1u : 0u},
       {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u},
       {HRPP_SPEC_PREDICT_WORKGROUP, predict_workgroup_size(ctx.info().subgroup_size)}};
   return ComputePipeline(ctx, Kernel::hrpp_predict,
@@ -102,7 +104,7 @@ struct Table {
                  BufferBinding::kStorage, MemoryRole::kHostShared),
         tag_view(ctx, tags),
         slot_view(ctx, slots),
-        predicts{make_predict(ctx, c, p.go_up, false), make_predict(ctx, c, p.go_up, true)},
+        predicts{make_predict(ctx, c, p, false), make_predict(ctx, c, p, true)},
         resolve(ctx, Kernel::hrpp_resolve, embedded_spirv(Kernel::hrpp_resolve), kStageBindingTypes,
                 sizeof(gpu::StagePushConstants)),
         insert(ctx, Kernel::hrpp_insert, embedded_spirv(Kernel::hrpp_insert),
@@ -168,12 +170,28 @@ struct Queue {
   }
 };
 
+// The distinct go-up rules (levels, size) of the predicting classes, in class order.
+using GoUp = std::pair<std::uint32_t, float>;
+GoUp go_up_of(const PredictorConfig& config, RayClass c) {
+  return {config.go_up[c], config.go_up_size[c]};
+}
+std::vector<GoUp> go_up_levels(const PredictorConfig& config) {
+  std::vector<GoUp> levels;
+  for (RayClass c : kRayClasses)
+    if (config.predicts(c) &&
+        std::find(levels.begin(), levels.end(), go_up_of(config, c)) == levels.end())
+      levels.push_back(go_up_of(config, c));
+  return levels;
+}
+
 }  // namespace
 
 struct GpuPredictor::State {
   VulkanContext* ctx;
   PredictorConfig config;
-  StorageBuffer node_of_prim;
+  // The node to insert for each triangle id, one array per go-up level that a predicting class
+  // uses (classes with the same level share it).
+  std::vector<std::pair<GoUp, StorageBuffer>> node_of_prim;
   PerClass<std::unique_ptr<Table>> tables;
   std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
   PerClass<Probe> probing{};         // how each class's next trace runs the stage
@@ -182,6 +200,11 @@ struct GpuPredictor::State {
   PerClass<std::uint32_t> clock{};   // use stamps (LRU): rays of the class traced so far
 
   Table& table(RayClass c) const { return *tables[c]; }
+  const StorageBuffer& node_of_prim_at(const GoUp& level) const {
+    return std::find_if(node_of_prim.begin(), node_of_prim.end(),
+                        [&](const auto& b) { return b.first == level; })
+        ->second;
+  }
   Queue& queue(QueryKind k) const { return *queues[index_of(k)]; }
   Queue& queue(RayClass c) const { return queue(query_kind(c)); }
 
@@ -309,11 +332,13 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
                                                    std::size_t capacity) {
   std::uint64_t prims = 0;  // leaf_of_prim's length: the largest triangle id + 1
   for (const gpu::TriangleRecord& t : bvh.triangles) prims = std::max<std::uint64_t>(prims, t.prim + 1);
-  std::vector<BufferNeed> needs{{"node of triangle", prims * sizeof(std::int32_t)}};
+  std::vector<BufferNeed> needs;
+  for (std::size_t i = 0; i < go_up_levels(config).size(); ++i)
+    needs.push_back({"node of triangle", prims * sizeof(std::int32_t)});
   std::uint64_t request_bytes = 0;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
-    const TableConfig& t = config.table;
+    const TableConfig& t = config.table[c];
     for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes)) needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
@@ -334,27 +359,31 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     throw Error("--hrpp-batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
   s_->ctx = &ctx;
   s_->config = config;
-  gpu::PredictorParams params = make_predictor_params(config, bvh.bounds);
-  params.serial = config.serial ? 1u : 0u;
-  // The node to insert for each triangle id: the go-up level applied once, here.
+  // The node to insert for each triangle id: each go-up level applied once, here.
   const std::vector<std::uint32_t> leaves_of = leaf_of_prim(bvh);
-  std::vector<std::int32_t> node_of(leaves_of.size(), HRPP_EMPTY_NODE);
-  for (std::size_t p = 0; p < leaves_of.size(); ++p)
-    if (leaves_of[p] != kNoLeaf) node_of[p] = prediction_node(bvh, leaves_of[p], config.go_up);
-  s_->node_of_prim = StorageBuffer(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle");
-  s_->node_of_prim.upload(std::span<const std::int32_t>(node_of));
+  for (const GoUp& level : go_up_levels(config)) {
+    std::vector<std::int32_t> node_of(leaves_of.size(), HRPP_EMPTY_NODE);
+    for (std::size_t p = 0; p < leaves_of.size(); ++p)
+      if (leaves_of[p] != kNoLeaf)
+        node_of[p] = prediction_node(bvh, leaves_of[p], level.first, level.second);
+    StorageBuffer b(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle");
+    b.upload(std::span<const std::int32_t>(node_of));
+    s_->node_of_prim.emplace_back(level, std::move(b));
+  }
   for (QueryKind kind : kQueryKinds) {
     s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind);
     s_->bind_bvh(s_->queue(kind).trace, nodes, leaves, triangles);
   }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
+    gpu::PredictorParams params = make_predictor_params(config, c, bvh.bounds);
+    params.serial = config.serial ? 1u : 0u;
     s_->tables[c] = std::make_unique<Table>(ctx, params, c);
     s_->probing[c] = Probe::kAll;
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       s_->bind_bvh(*k, nodes, leaves, triangles);
       k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queue(c).state);
-      k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim);
+      k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim_at(go_up_of(config, c)));
     }
   }
 }
@@ -548,7 +577,7 @@ TableOccupancy GpuPredictor::occupancy(RayClass c) const {
   if (!s_->tables[c]) return o;
   const Table& t = s_->table(c);
   o.capacity = std::uint64_t{t.params.sets} * t.params.ways;
-  o.bytes = s_->config.table.bytes();
+  o.bytes = s_->config.table[c].bytes();
   std::vector<std::uint64_t> tags(o.capacity);
   t.tags.download(std::span<std::uint64_t>(tags));
   std::vector<std::uint32_t> slots(o.capacity * t.params.nodes);

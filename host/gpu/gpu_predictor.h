@@ -59,8 +59,9 @@ struct PredictedTrace {
 class GpuPredictor {
  public:
   // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
-  // node-of-triangle array (a storage buffer: 4 bytes per triangle), each predicting class's
-  // table and the queues. For check_fits (gpu/memory_plan.h).
+  // node-of-triangle arrays (storage buffers: 4 bytes per triangle, one per go-up rule of the
+  // predicting classes), each predicting class's table and the queues. For check_fits
+  // (gpu/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
                                               std::size_t capacity);
 

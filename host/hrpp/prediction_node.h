@@ -18,7 +18,9 @@ inline constexpr std::uint32_t kNoLeaf = 0xFFFFFFFFu;
 std::vector<std::uint32_t> leaf_of_prim(const GpuBvh& bvh);
 
 // Child reference (~leaf, or an interior node index) of the ancestor `go_up` levels above leaf
-// `leaf`; stops at the root.
-int prediction_node(const GpuBvh& bvh, std::uint32_t leaf, std::uint32_t go_up);
+// `leaf`, then further up while that node's box's largest extent is below `size` × the scene
+// box's (bvh.bounds) largest extent (a scale-free go-up: a dense mesh's leaves are small, a
+// coarse mesh's large); stops at the root.
+int prediction_node(const GpuBvh& bvh, std::uint32_t leaf, std::uint32_t go_up, float size = 0.0f);
 
 }  // namespace hrpp

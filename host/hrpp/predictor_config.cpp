@@ -19,6 +19,8 @@ TableConfig table_preset(TablePreset preset) {
       return {1u << 10, 8, 8, TablePolicy::kLru};
     case TablePreset::kTiny:
       return {4, 2, 2, TablePolicy::kLru};
+    case TablePreset::kBeam:
+      return {1u << 12, 2, 4, TablePolicy::kLru};
     case TablePreset::kTuned:
       break;
   }
@@ -29,20 +31,24 @@ TableConfig table_preset(std::string_view name) {
   return table_preset(parse_in(kTablePresetNames, name, "--table-preset: unknown preset"));
 }
 
-gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box) {
-  const TableConfig& t = config.table;
+gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayClass c,
+                                           const Aabb& scene_box) {
+  const TableConfig& t = config.table[c];
   if (t.sets == 0 || !std::has_single_bit(t.sets))
     throw Error("--table-sets: " + std::to_string(t.sets) + " is not a power of two");
   if (t.ways == 0 || t.ways > 64) throw Error("--table-ways: must be 1..64");
   if (t.nodes == 0 || t.nodes > 64) throw Error("--table-nodes: must be 1..64");
-  if (config.go_up > 64) throw Error("--go-up: must be 0..64");
+  if (config.go_up[c] > 64) throw Error("--go-up: must be 0..64");
+  if (!(config.go_up_size[c] >= 0.0f && config.go_up_size[c] <= 1.0f))
+    throw Error("--go-up-size: must be 0..1");
   gpu::PredictorParams p{};
-  p.hash = make_hash_params(config.hash, scene_box);
+  p.hash = make_hash_params(config.hash[c], scene_box);
   p.sets = t.sets;
   p.ways = t.ways;
   p.nodes = t.nodes;
   p.policy = static_cast<std::uint32_t>(t.policy);
-  p.go_up = config.go_up;
+  p.go_up = config.go_up[c];
+  p.go_up_size = config.go_up_size[c];
   p.mode = static_cast<std::uint32_t>(config.mode);
   p.insert_deferred = config.batch > 0 ? 1u : 0u;
   p.count_baseline = config.count_baseline ? 1u : 0u;

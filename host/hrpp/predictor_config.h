@@ -47,17 +47,21 @@ struct TableConfig {
   TablePolicy policy = TablePolicy::kLru;
 
   std::uint64_t entries() const { return std::uint64_t{sets} * ways; }
+  friend bool operator==(const TableConfig&, const TableConfig&) = default;
   // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots.
   std::uint64_t bytes() const { return entries() * (8u + 4u + 4u * std::uint64_t{nodes}); }
 };
 
-// Named table sizes (--table-preset); "tuned" (512 KiB) is the default. "unbounded": the
+// Named table sizes (--table-preset, per ray class); "tuned" (512 KiB) is the default of camera
+// and bounce rays, "beam" (4096x2x4 lru, 224 KiB: four occluder subtrees per light-space key)
+// the shadow rays'. "unbounded": the
 // paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
 // counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
 // than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction.
-enum class TablePreset : std::uint8_t { kTuned, kSmall, kUnbounded, kTiny };
-inline constexpr NameTable<TablePreset, 4> kTablePresetNames = {
+enum class TablePreset : std::uint8_t { kTuned, kBeam, kSmall, kUnbounded, kTiny };
+inline constexpr NameTable<TablePreset, 5> kTablePresetNames = {
     {{TablePreset::kTuned, "tuned"},
+     {TablePreset::kBeam, "beam"},
      {TablePreset::kSmall, "small"},
      {TablePreset::kUnbounded, "unbounded"},
      {TablePreset::kTiny, "tiny"}}};
@@ -67,10 +71,14 @@ TableConfig table_preset(std::string_view name);
 
 struct PredictorConfig {
   bool enabled = false;
-  HashConfig hash;
+  // Per ray class: its key (--hash, --hash-bits) and the go-up level of what its table stores
+  // (--go-up). The defaults here are the paper's (hrpp at N = 6, leaves); the CLI's --hrpp on
+  // default is host/app/hrpp_options.h's.
+  PerClass<HashConfig> hash;
   PredictorMode mode = PredictorMode::kSpeculative;
-  std::uint32_t go_up = 0;
-  TableConfig table;
+  PerClass<std::uint32_t> go_up{};
+  PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
+  PerClass<TableConfig> table;   // per ray class (--table-*)
   // Insert order. 0: inserts happen during the trace, as rays finish (fast, not reproducible).
   // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
   // probes the table as the previous batches left it; after the batch its inserts are applied
@@ -101,13 +109,37 @@ struct PredictorConfig {
   std::uint32_t sample = 128;
 
   bool predicts(RayClass c) const { return enabled && classes[c]; }
+  // The same key or go-up level for every class.
+  void set_hash(const HashConfig& h) { hash = {{h, h, h}}; }
+  void set_go_up(std::uint32_t level) { go_up = {{level, level, level}}; }
+  void set_table(const TableConfig& t) { table = {{t, t, t}}; }
+  // Whether class c's table may hold interior nodes (subtrees to verify).
+  bool stores_subtrees(RayClass c) const { return go_up[c] > 0 || go_up_size[c] > 0.0f; }
   // Whether the adaptive predictor decides per frame: batches (the deterministic order, for
   // reproducible counts) cannot sample, so with them every enabled class probes every ray.
   bool adapts() const { return adaptive && batch == 0; }
 };
 
-// The kernels' parameters of the hit-all or hit-any predictor. Throws hrpp::Error for a table
-// whose sets is not a power of two or whose sizes are 0, or a bad hash precision.
-gpu::PredictorParams make_predictor_params(const PredictorConfig& config, const Aabb& scene_box);
+// One per-class setting as --hash writes it: "v" when every predicting class has the same value
+// (camera's when none predicts), else "class=v,..." over the predicting classes in class order.
+template <class T, class Text>
+std::string per_class_text(const PredictorConfig& config, const PerClass<T>& values, Text text) {
+  std::string list;
+  bool uniform = true;
+  const T* first = nullptr;
+  for (RayClass c : kRayClasses) {
+    if (!config.predicts(c)) continue;
+    if (first && !(values[c] == *first)) uniform = false;
+    if (!first) first = &values[c];
+    list += (list.empty() ? "" : ",") + std::string(ray_class_name(c)) + "=" + text(values[c]);
+  }
+  if (!first) return text(values[RayClass::kCamera]);
+  return uniform ? text(*first) : list;
+}
+
+// The kernels' parameters of class c's predictor. Throws hrpp::Error for a table whose sets is
+// not a power of two or whose sizes are 0, or a bad hash precision or go-up level.
+gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayClass c,
+                                           const Aabb& scene_box);
 
 }  // namespace hrpp

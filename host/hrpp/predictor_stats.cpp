@@ -36,13 +36,24 @@ PredictorSummary summarize(const gpu::PredictorCounters& counters, const Travers
 }
 
 std::string describe(const PredictorConfig& config) {
-  const TableConfig& t = config.table;
-  char buf[320];
-  std::snprintf(buf, sizeof buf,
-                "hash %s N=%u, go-up %u, %s, table %ux%ux%u %s (%s per ray class), %s",
-                hash_kind_name(config.hash.kind), config.hash.bits, config.go_up,
-                predictor_mode_name(config.mode), t.sets, t.ways, t.nodes,
-                table_policy_name(t.policy), format_bytes(t.bytes()).c_str(),
+  const std::string table = per_class_text(config, config.table, [](const TableConfig& t) {
+    return std::to_string(t.sets) + "x" + std::to_string(t.ways) + "x" + std::to_string(t.nodes) +
+           " " + table_policy_name(t.policy) + " (" + format_bytes(t.bytes()) + ")";
+  });
+  char buf[640];
+  const std::string hash = per_class_text(config, config.hash, [](const HashConfig& h) {
+    return std::string(hash_kind_name(h.kind)) + " N=" + std::to_string(h.bits);
+  });
+  PerClass<std::string> levels;
+  for (RayClass c : kRayClasses) {
+    char size[32] = "";
+    if (config.go_up_size[c] > 0.0f)
+      std::snprintf(size, sizeof size, " size %g", static_cast<double>(config.go_up_size[c]));
+    levels[c] = std::to_string(config.go_up[c]) + size;
+  }
+  const std::string go_up = per_class_text(config, levels, [](const std::string& s) { return s; });
+  std::snprintf(buf, sizeof buf, "hash %s, go-up %s, %s, table %s per ray class, %s", hash.c_str(),
+                go_up.c_str(), predictor_mode_name(config.mode), table.c_str(),
                 config.batch == 0 ? "inserts during the trace"
                                   : ("batches of " + std::to_string(config.batch) +
                                      (config.serial ? ", one ray per subgroup" : ""))

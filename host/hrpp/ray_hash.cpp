@@ -107,6 +107,36 @@ std::uint64_t hash_two_point(const glm::vec3& o, const glm::vec3& d, const gpu::
          (std::uint64_t{far_cell} << (3u * n));
 }
 
+std::uint32_t octahedral_cell(const glm::vec3& dir, std::uint32_t n) {
+  const std::uint32_t cells = 1u << n;
+  glm::vec3 u;
+  if (!scaled_direction(dir, u)) return 0u;
+  const float s = std::fabs(u.x) + std::fabs(u.y) + std::fabs(u.z);
+  float a = u.x / s;
+  float b = u.y / s;
+  if (u.z < 0.0f) {
+    const float fa = 1.0f - std::fabs(b);
+    const float fb = 1.0f - std::fabs(a);
+    a = a >= 0.0f ? fa : -fa;
+    b = b >= 0.0f ? fb : -fb;
+  }
+  const float scale = from_bits((126u + n) << 23);
+  const float x = (a + 1.0f) * scale;
+  const float y = (b + 1.0f) * scale;
+  return bin(x, cells) | (bin(y, cells) << n);
+}
+
+std::uint64_t hash_light(const glm::vec3& o, const glm::vec3& d, float tmax,
+                         const gpu::HashParams& h, bool with_depth) {
+  const std::uint32_t n = h.bits, c = h.light_bits;
+  const glm::vec3 oc = flushed(o);
+  const glm::vec3 e = oc + flushed(d) * flushed(tmax);
+  std::uint64_t key = std::uint64_t{grid_cell(e, h.far_lo, h.far_scale, c)} |
+                      (std::uint64_t{octahedral_cell(-d, n)} << (3u * c));
+  if (with_depth) key |= std::uint64_t{(canonical_bits(tmax) >> 21) & 0xFFu} << (3u * c + 2u * n);
+  return key;
+}
+
 // 2^n / extent as a float, 0 for a flat or non-finite extent (one cell along that axis).
 glm::vec3 grid_scale(const glm::vec3& extent, std::uint32_t n) {
   glm::vec3 s;
@@ -132,6 +162,12 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
   p.grid_lo = flushed(box.lo);
   p.grid_scale = grid_scale(extent, config.bits);
   p.reach = std::isfinite(reach) ? flushed(reach) : 0.0f;
+  if (is_light_space(config.kind)) {  // far_* hold the light end's grid over the scene box
+    p.light_bits = std::min(config.bits + 1, 8u);
+    p.far_lo = p.grid_lo;
+    p.far_scale = grid_scale(extent, p.light_bits);
+    return p;
+  }
   p.far_lo = flushed(box.lo - glm::vec3(p.reach));
   p.far_scale = grid_scale(extent + glm::vec3(2.0f * p.reach), config.bits);
   return p;
@@ -146,13 +182,17 @@ std::uint32_t float_hash(float f, std::uint32_t n) {
   return (sign << (n + m_bits)) | ((exponent >> (8u - n)) << m_bits) | (mantissa >> (23u - m_bits));
 }
 
-std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir,
+std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir, float tmax,
                        const gpu::HashParams& params) {
   switch (params.kind) {
     case HRPP_HASH_GRID_SPHERICAL:
       return hash_grid_spherical(origin, dir, params);
     case HRPP_HASH_TWO_POINT:
       return hash_two_point(origin, dir, params);
+    case HRPP_HASH_LIGHT:
+      return hash_light(origin, dir, tmax, params, false);
+    case HRPP_HASH_LIGHT_DEPTH:
+      return hash_light(origin, dir, tmax, params, true);
     default:
       return hash_ieee(origin, dir, params.bits);
   }

@@ -14,27 +14,38 @@
 namespace hrpp {
 
 static_assert(sizeof(gpu::HashParams) == 64);
-static_assert(offsetof(gpu::HashParams, grid_scale) == 16 && offsetof(gpu::HashParams, far_lo) == 32 &&
-              offsetof(gpu::HashParams, reach) == 44);
+static_assert(offsetof(gpu::HashParams, grid_scale) == 16 &&
+              offsetof(gpu::HashParams, far_lo) == 32 && offsetof(gpu::HashParams, reach) == 44 &&
+              offsetof(gpu::HashParams, light_bits) == 60);
 
 enum class HashKind : std::uint32_t {
   kIeee = HRPP_HASH_IEEE,
   kGridSpherical = HRPP_HASH_GRID_SPHERICAL,
   kTwoPoint = HRPP_HASH_TWO_POINT,
+  kLight = HRPP_HASH_LIGHT,
+  kLightDepth = HRPP_HASH_LIGHT_DEPTH,
 };
+
+// The light-space keys read the ray's end (tmax): meant for shadow rays.
+constexpr bool is_light_space(HashKind kind) {
+  return kind == HashKind::kLight || kind == HashKind::kLightDepth;
+}
 
 struct HashConfig {
   HashKind kind = HashKind::kIeee;
   std::uint32_t bits = 6;  // precision N, 1..8 (the paper's Table 1 uses 6)
+
+  friend bool operator==(const HashConfig&, const HashConfig&) = default;
 };
 
-// "hrpp", "grid-spherical", "two-point" (the --hash values); throws hrpp::Error otherwise.
-inline constexpr NameTable<HashKind, 3> kHashKindNames = {
+// The --hash values; parse_hash_kind throws hrpp::Error naming --hash otherwise.
+inline constexpr NameTable<HashKind, HRPP_HASH_KIND_COUNT> kHashKindNames = {
     {{HashKind::kIeee, "hrpp"},  // the paper's IEEE-754 bits
      {HashKind::kGridSpherical, "grid-spherical"},
-     {HashKind::kTwoPoint, "two-point"}}};
+     {HashKind::kTwoPoint, "two-point"},
+     {HashKind::kLight, "light"},
+     {HashKind::kLightDepth, "light-depth"}}};
 constexpr const char* hash_kind_name(HashKind kind) { return name_in(kHashKindNames, kind); }
-// Throws hrpp::Error naming --hash for an unknown name.
 inline HashKind parse_hash_kind(std::string_view name) {
   return parse_in(kHashKindNames, name, "--hash: unknown hash");
 }
@@ -47,7 +58,8 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
 // mantissa bits), on the canonical bits (-0 → +0, NaN → 0x7FC00000).
 std::uint32_t float_hash(float f, std::uint32_t n);
 
-// The key of a ray (< 2^48).
-std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir, const gpu::HashParams& params);
+// The key of a ray (< 2^48); only the light-space keys read tmax (the ray's end).
+std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir, float tmax,
+                       const gpu::HashParams& params);
 
 }  // namespace hrpp

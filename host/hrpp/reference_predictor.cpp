@@ -8,11 +8,11 @@
 
 namespace hrpp {
 ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig& config)
-    : bvh_(&bvh),
-      config_(config),
-      params_(make_predictor_params(config, bvh.bounds)),
-      leaf_of_prim_(leaf_of_prim(bvh)) {
-  for (RayClass c : kRayClasses) tables_[c] = ReferenceTable(params_);
+    : bvh_(&bvh), config_(config), leaf_of_prim_(leaf_of_prim(bvh)) {
+  for (RayClass c : kRayClasses) {
+    params_[c] = make_predictor_params(config, c, bvh.bounds);
+    tables_[c] = ReferenceTable(params_[c]);
+  }
 }
 
 // One class's trace: the stage's steps for one ray at a time (shaders/lib/hrpp_predict.glsl,
@@ -21,6 +21,7 @@ struct ReferencePredictor::Trace {
   const ReferencePredictor& p;
   const QueryKind kind;
   const bool exact;
+  const gpu::PredictorParams& params;  // the class's
   PredictorTraceResult& out;
   std::vector<Insert> inserts;  // of the current batch, applied after it in ray order
 
@@ -96,7 +97,7 @@ struct ReferencePredictor::Trace {
 
   gpu::Hit trace_ray(const gpu::Ray& ray, Table& table, std::uint32_t clock) {
     if (!setup_ray(ray).valid) return full_trace(ray, out.counters);  // misses unprobed
-    const std::uint64_t key = hash_ray(ray.origin, ray.dir, p.params_.hash);
+    const std::uint64_t key = hash_ray(ray.origin, ray.dir, ray.tmax, params.hash);
     const gpu::Hit predicted = predict(ray, table, key, clock);
     if (p.config_.count_baseline) count_baseline(ray, predicted);
     bool traced = false;
@@ -104,7 +105,8 @@ struct ReferencePredictor::Trace {
     if (traced && best.prim >= 0) {
       ++counter(HRPP_PC_INSERT_REQUESTS);
       const std::uint32_t leaf = p.leaf_of_prim_[static_cast<std::size_t>(best.prim)];
-      inserts.push_back({key, prediction_node(*p.bvh_, leaf, p.config_.go_up), clock});
+      inserts.push_back(
+          {key, prediction_node(*p.bvh_, leaf, params.go_up, params.go_up_size), clock});
     }
     return best;
   }
@@ -125,7 +127,7 @@ struct ReferencePredictor::Trace {
 PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
   PredictorTraceResult out;
   out.hits.resize(rays.size());
-  Trace t{*this, query_kind(cls), config_.mode == PredictorMode::kExact, out, {}};
+  Trace t{*this, query_kind(cls), config_.mode == PredictorMode::kExact, params_[cls], out, {}};
   Table& table = tables_[cls];
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
   for (std::size_t first = 0; first < rays.size(); first += batch) {

@@ -58,7 +58,7 @@ class ReferencePredictor {
 
   const GpuBvh* bvh_;
   PredictorConfig config_;
-  gpu::PredictorParams params_;
+  PerClass<gpu::PredictorParams> params_;  // each class's key and go-up level
   std::vector<std::uint32_t> leaf_of_prim_;
   PerClass<Table> tables_;
   PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)

@@ -146,9 +146,56 @@ uint64_t hrpp_hash_two_point(vec3 o, vec3 d, HashParams h) {
          (uint64_t(far_cell) << (3u * n));
 }
 
-uint64_t hrpp_hash_ray(vec3 o, vec3 d, HashParams h) {
+// Octahedral cells of a direction: (a, b) = (u.x, u.y) / (|u.x| + |u.y| + |u.z|) on the scaled
+// direction u (hrpp_scaled_direction), the lower hemisphere folded over the diamond's edges
+// (a, b) → (±(1 - |b|), ±(1 - |a|)) with the signs of a and b, then each of a, b ∈ [-1, 1] binned
+// as bin((x + 1) × 2^(n-1)). Cells within a factor 3 of each other's solid angle, no
+// trigonometry. A zero or non-finite direction is cell 0. Returns a-bin | b-bin << n.
+uint hrpp_octahedral_cell(vec3 dir, uint n) {
+  const uint cells = 1u << n;
+  vec3 u;
+  if (!hrpp_scaled_direction(dir, u)) return 0u;
+  precise float s = abs(u.x) + abs(u.y) + abs(u.z);
+  precise float a = ieee_div(u.x, s);
+  precise float b = ieee_div(u.y, s);
+  if (u.z < 0.0) {
+    precise float fa = 1.0 - abs(b);
+    precise float fb = 1.0 - abs(a);
+    a = a >= 0.0 ? fa : -fa;
+    b = b >= 0.0 ? fb : -fb;
+  }
+  const float scale = uintBitsToFloat((126u + n) << 23);  // 2^(n-1)
+  precise float x = (a + 1.0) * scale;
+  precise float y = (b + 1.0) * scale;
+  return hrpp_bin(x, cells) | (hrpp_bin(y, cells) << n);
+}
+
+// Light-space keys for shadow rays, which run from a receiver o towards a point on a light and
+// end there (tmax): the light end e = o + d × tmax on the grid over the scene box at C =
+// light_bits = min(n + 1, 8) bits per axis (far_lo, far_scale: which light, and which part of an
+// area light; a directional light's rays end far outside, in a border cell) | the octahedral
+// cell of -d (the direction from the light to the receiver, at n bits) << 3C; with `with_depth`
+// also the receiver's distance from the light in quarter octaves, bits 21..28 of tmax (sign,
+// exponent and 2 mantissa bits; 8 bits, wrapping every 64 octaves) << (3C + 2n): the light end
+// and the direction fix the line, the depth where on it the receiver lies (3C + 2n + 8 ≤ 48
+// bits). Receivers in one cone from one part of a light share a key, so they test the occluders
+// that earlier rays of that cone found first.
+uint64_t hrpp_hash_light(vec3 o, vec3 d, float tmax, HashParams h, bool with_depth) {
+  const uint n = h.bits, c = h.light_bits;
+  const vec3 oc = hrpp_flushed(o);
+  precise vec3 e = oc + hrpp_flushed(d) * hrpp_flushed(tmax);
+  uint64_t key = uint64_t(hrpp_grid_cell(e, h.far_lo, h.far_scale, c)) |
+                 (uint64_t(hrpp_octahedral_cell(-d, n)) << (3u * c));
+  if (with_depth) key |= uint64_t((hrpp_canonical_bits(tmax) >> 21) & 0xFFu) << (3u * c + 2u * n);
+  return key;
+}
+
+// The key of a ray with its end tmax (only the light-space keys read it).
+uint64_t hrpp_hash_ray(vec3 o, vec3 d, float tmax, HashParams h) {
   if (h.kind == HRPP_HASH_GRID_SPHERICAL) return hrpp_hash_grid_spherical(o, d, h);
   if (h.kind == HRPP_HASH_TWO_POINT) return hrpp_hash_two_point(o, d, h);
+  if (h.kind == HRPP_HASH_LIGHT) return hrpp_hash_light(o, d, tmax, h, false);
+  if (h.kind == HRPP_HASH_LIGHT_DEPTH) return hrpp_hash_light(o, d, tmax, h, true);
   return hrpp_hash_ieee(o, d, h.bits);
 }
 

@@ -121,7 +121,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
     ray = load_ray(index);
     const RaySetup r = setup_ray(ray);
     if (r.valid) {
-      const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, hrpp.hash);
+      const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, ray.tmax, hrpp.hash);
       entry = QueueEntry(index, HRPP_QUEUE_PROBED, uint(key), uint(key >> 32));
       const Hit predicted = predict(index, r, key, finished);
       if (kCountBaseline && hrpp.count_baseline != 0u) {

@@ -18,6 +18,10 @@ using uint64_t = std::uint64_t;
 #define HRPP_HASH_IEEE 0            // the paper's IEEE-754 bit hash with the xor swizzle
 #define HRPP_HASH_GRID_SPHERICAL 1  // MICRO'21: origin on a 2^N grid, direction as θ/φ bins
 #define HRPP_HASH_TWO_POINT 2       // origin and a point further along the ray, both on grids
+#define HRPP_HASH_LIGHT 3           // light space: the ray's end (the light) on a grid and the
+                                    // direction from it to the origin in octahedral cells
+#define HRPP_HASH_LIGHT_DEPTH 4     // HRPP_HASH_LIGHT plus the receiver's distance from the light
+#define HRPP_HASH_KIND_COUNT 5
 #define HRPP_HASH_BITS_MAX 8
 
 // Keys are < 2^48, so a tag of all ones never equals a key: it marks an empty table entry.
@@ -29,8 +33,10 @@ using uint64_t = std::uint64_t;
 //   grid_lo, grid_scale: origin cell along axis a = (o[a] - grid_lo[a]) * grid_scale[a], where
 //     grid_scale[a] = 2^N / extent[a] of the scene box (0 for a flat axis: one cell);
 //   far_lo, far_scale: the same for the two-point hash's second point, on the scene box grown by
-//     `reach` on every side;
-//   reach: the scene box's largest extent, the max-norm distance of the second point.
+//     `reach` on every side; for the light-space keys, the light end's grid (light_bits per
+//     axis) over the scene box itself;
+//   reach: the scene box's largest extent, the max-norm distance of the second point;
+//   light_bits: the light-space keys' light-end grid precision, min(N + 1, 8); 0 for the others.
 struct HashParams {
   vec3 grid_lo;
   uint kind;  // HRPP_HASH_*
@@ -39,7 +45,7 @@ struct HashParams {
   vec3 far_lo;
   float reach;
   vec3 far_scale;
-  uint pad;
+  uint light_bits;
 };
 
 
@@ -84,7 +90,8 @@ struct PredictorParams {
                          //    visits (savings) and, speculative, whether the answer was wrong
   uint clock;  // use stamp of the dispatch's first ray (LRU); ray i of the dispatch: clock + i
   uint serial;  // 1: one ray per subgroup (the CPU reference's node order; deterministic runs)
-  uint pad1;
+  float go_up_size;  // then further up while the node's box is smaller than this fraction of
+                     // the scene box (host/hrpp/prediction_node.h; 0: levels only)
   uint pad2;
 };
 
