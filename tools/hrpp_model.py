@@ -2,11 +2,12 @@
 """Where would HRPP pay? Fits the device's cost per operation from renders and asks the model.
 
 Renders each stand-in with HRPP off and with every ray predicted under a few predictor settings
-(hash precision 6 and 4, go-up 2, exact mode), then fits the cost of each operation of the
-trace and HRPP kernels (tools/cost_model.py: dispatch, ray, interior node, leaf, triangle test,
-probe, verification, queue entry, insert) from the kernels' timestamps and counters. It checks
-the model on renders it was not fitted on (each scene's runs predicted by a fit on the other
-scenes), then answers per class and stand-in, at the default setting (precision 6):
+(`--hrpp on`'s keys and tables per class; hash precision 4; go-up 2; exact mode), then fits the
+cost of each operation of the trace and HRPP kernels (tools/cost_model.py: dispatch, ray,
+interior node, leaf, triangle test, probe, verification, queue entry, insert) from the kernels'
+timestamps and counters. It checks the model on renders it was not fitted on (each run predicted
+by a fit on the other settings' runs, and by one on the other settings of the other scenes), then
+answers per class and stand-in, at `--hrpp on`'s keys with every ray predicted:
   - break-even answered share: the share of probed rays the prediction must answer for HRPP to
     cost what HRPP off does, at today's probe cost (above 1: never);
   - break-even probe: the probe cost, in interior-node visits of this device, at which HRPP
@@ -40,14 +41,14 @@ STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "drag
 PREDICT_ALL = ["--hrpp", "on", "--hrpp-adaptive", "off"]
 SETTINGS = {
     "off": ["--hrpp", "off"],
-    "n6": PREDICT_ALL,
-    "n4": PREDICT_ALL + ["--hash-bits", "4"],
-    "n6-up2": PREDICT_ALL + ["--go-up", "2"],
-    "n6-exact": PREDICT_ALL + ["--hrpp-mode", "exact"],
+    "keys": PREDICT_ALL,
+    "bits4": PREDICT_ALL + ["--hash-bits", "4"],
+    "up2": PREDICT_ALL + ["--go-up", "2"],
+    "exact": PREDICT_ALL + ["--hrpp-mode", "exact"],
     "default": ["--hrpp", "on"],  # the adaptive predictor: its decisions, not fitted
 }
 FITTED = [k for k in SETTINGS if k != "default"]
-DEFAULT_SETTING = "n6"
+DEFAULT_SETTING = "keys"
 HARDWARE_PROBE = 2.0 / 24.0  # interior-node visits: MICRO'21 predictor lookup / RT node latency
 BEGIN, END = "<!-- BEGIN hrpp_model -->", "<!-- END hrpp_model -->"
 
@@ -134,7 +135,7 @@ def ratio_errors(rows):
 
 
 def answers(obs, costs, runs, scenes):
-    """Per scene and class at the default setting: the model's break-even figures, and what
+    """Per scene and class at `--hrpp on`'s keys: the model's break-even figures, and what
     the adaptive predictor of `--hrpp on` decided."""
     out = []
     for scene in scenes:
@@ -222,7 +223,7 @@ def report_lines(a, costs, held, ans, device, load):
         lines.append(f"| {scheme} | {s['runs']} | {100 * s['error']:.1f}% | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
                      f"{w['measured']:.1f} ms measured, {w['modelled']:.1f} modelled |")
-    lines += ["", "At the default setting (hash precision 6, every ray predicted):", "",
+    lines += ["", "At `--hrpp on`'s keys and tables, every ray predicted (setting `keys`):", "",
               "| scene | class | on/off measured | modelled | answered | break-even answered "
               "| probe today (interior visits) | break-even probe | hardware probe on/off "
               "| `--hrpp on` predicted frames |",
