@@ -191,7 +191,8 @@ def per_ray_rates(obs_list):
 class ClassCosts:
     """A class's costs per ray on one device, from the fitted costs and the counts of an
     HRPP-off run (its traversal) and an HRPP-on run (its prediction rates):
-      C   trace cost per ray of HRPP off (traversal + dispatch share)
+      C   trace cost per ray of HRPP off (traversal + dispatch share); an "interior-node
+          visit", the unit of probe costs, is the traversal's cost per interior node visited
       s   probe: hrpp_predict's cost per probed ray, verification excluded
       v   verification per predictor hit
       r   per queued ray: its extra trace cost (its interior visits cost more once the queue
@@ -206,8 +207,9 @@ class ClassCosts:
         self.trace_only = sum(k[f] * t[f] for f in ("ray", "interior", "leaf", "triangle",
                                                      "interior_memory"))
         self.C = self.trace_only + k["dispatch"] * t["dispatch"]
-        self.interior_cost = (k["interior"] + k["interior_memory"] * t["interior_memory"] /
-                              max(t["interior"], 1e-9))
+        # The unit of probe costs: the traversal's time per interior node visited, its leaves,
+        # triangles and ray set-up included (robust where the fit trades those costs off).
+        self.interior_cost = self.trace_only / t["interior"] if t["interior"] > 0 else 0.0
         self.q = k["queued_interior"] * t["interior"]
         p, res = costs["hrpp_predict"], costs["hrpp_resolve"]
         self.s = p["probe"]

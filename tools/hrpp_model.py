@@ -10,8 +10,9 @@ by a fit on the other settings' runs, and by one on the other settings of the ot
 answers per class and stand-in, at `--hrpp on`'s keys with every ray predicted:
   - break-even answered share: the share of probed rays the prediction must answer for HRPP to
     cost what HRPP off does, at today's probe cost (above 1: never);
-  - break-even probe: the probe cost, in interior-node visits of this device, at which HRPP
-    breaks even at the measured answered share (below 0: at no probe cost);
+  - break-even probe: the probe cost, in interior-node visits of this device (a traversal's
+    time per interior node it visits, leaves and triangles included), at which HRPP breaks even
+    at the measured answered share (below 0: at no probe cost);
   - hardware: on/off if a probe cost what MICRO'21's simulated predictor costs (2 cycles, where
     its RT unit spends 24 on a node: 1/12 of an interior-node visit) and the queue cost nothing
     (the RT unit regroups rays itself).
@@ -198,7 +199,9 @@ def fmt(x, d=2):
 def summary(rows):
     """Max |relative error| of the class times, the runs, and the same for the on/off ratios."""
     ratios = ratio_errors(rows)
-    return {"error": max(abs(r["error"]) for r in rows),
+    errors = sorted(abs(r["error"]) for r in rows)
+    return {"error": errors[-1], "median": errors[len(errors) // 2],
+            "within_10": sum(e <= 0.1 for e in errors), "classes": len(errors),
             "runs": len({(r["scene"], r["setting"]) for r in rows}),
             "ratio_error": max((abs(r["error"]) for r in ratios), default=float("nan")),
             "worst": max(rows, key=lambda r: abs(r["error"]))}
@@ -216,11 +219,13 @@ def report_lines(a, costs, held, ans, device, load):
     lines += ["", "Held out: each run's class times predicted by a fit on the runs of the other "
               "settings (HRPP off and each predictor setting in turn), and by a fit on the other "
               "settings of the other scenes:", "",
-              "| held out | runs | class times within | on/off ratios within | worst class time |",
-              "|---|---|---|---|---|"]
+              "| held out | runs | class times within | median | within 10% | on/off ratios within "
+              "| worst class time |",
+              "|---|---|---|---|---|---|---|"]
     for scheme, rows in held.items():
         s, w = summary(rows), summary(rows)["worst"]
         lines.append(f"| {scheme} | {s['runs']} | {100 * s['error']:.1f}% | "
+                     f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
                      f"{w['measured']:.1f} ms measured, {w['modelled']:.1f} modelled |")
     lines += ["", "At `--hrpp on`'s keys and tables, every ray predicted (setting `keys`):", "",
