@@ -199,7 +199,8 @@ class ClassCosts:
           has taken its neighbours away) + hrpp_resolve's queue entry and insert share
       d   the stage's dispatches per probed ray
     On/off time of the class at answered share a and predictor-hit share h = a + f:
-      (s + d + h v + (1 - a) (C' + r)) / C,   C' = C without its dispatch share."""
+      (s + d + h v + (1 - a) (C' + r) + (C - C')) / C,   C' = C without its dispatch share
+    (the trace's dispatches stay when HRPP is on)."""
 
     def __init__(self, costs, off_rates, on_rates, trace_model):
         k = costs[trace_model]
@@ -228,7 +229,9 @@ class ClassCosts:
         if self.trace_only <= 0:
             return float("nan")  # the fit gave this class's trace no cost: nothing to compare
         if queue:
-            return (s + self.d + h * self.v + (1 - a) * (self.trace_only + self.r)) / self.C
+            dispatch = self.C - self.trace_only
+            return (s + self.d + h * self.v + (1 - a) * (self.trace_only + self.r) +
+                    dispatch) / self.C
         return (s + h * self.v + (1 - a) * self.trace_only) / self.trace_only
 
     def break_even_answered(self):
@@ -236,13 +239,13 @@ class ClassCosts:
         denom = self.trace_only + self.r - self.v
         if denom <= 0:
             return float("inf")
-        return (self.s + self.d + self.f * self.v + self.trace_only + self.r - self.C) / denom
+        return (self.s + self.d + self.f * self.v + self.r) / denom
 
     def break_even_probe(self):
         """The probe cost, in interior-node visits, at which on/off = 1 at the measured answered
         share (<0: no probe cost is cheap enough)."""
         h = self.a + self.f
-        s = self.C - self.d - h * self.v - (1 - self.a) * (self.trace_only + self.r)
+        s = self.trace_only - self.d - h * self.v - (1 - self.a) * (self.trace_only + self.r)
         return s / self.interior_cost if self.interior_cost > 0 else float("nan")
 
     def probe_in_interior_visits(self):
