@@ -291,7 +291,11 @@ def main():
                                         "hrpp_model.png")
     load = os.getloadavg()[0]
     runs = collect(a)
-    load = f"{load:.1f}-{os.getloadavg()[0]:.1f}"
+    load_file = os.path.join(a.runs, "load.txt")  # the load while the renders ran
+    if not (a.reuse and os.path.exists(load_file)):
+        with open(load_file, "w") as f:
+            f.write(f"{load:.1f}-{os.getloadavg()[0]:.1f}\n")
+    load = open(load_file).read().strip()
     first = next(iter(runs.values()))
     device = f"{first['device']['name']} ({first['device']['driver']})"
     obs = all_observations(runs)
