@@ -223,7 +223,8 @@ def report_lines(a, costs, held, ans, device, load):
               "| worst class time |",
               "|---|---|---|---|---|---|---|"]
     for scheme, rows in held.items():
-        s, w = summary(rows), summary(rows)["worst"]
+        s = summary(rows)
+        w = s["worst"]
         lines.append(f"| {scheme} | {s['runs']} | {100 * s['error']:.1f}% | "
                      f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "

@@ -152,6 +152,7 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   // The plain trace ran over every ray (off and sample frames): its cost per ray is the cost
   // without prediction.
   if (cost.mode != Probe::kAll && cost.traced > 0) s.off_ms_per_ray = per_ray(cost.trace_ms, cost.traced);
+  if (s.enabled && adaptive_ && cost.rays > 0) book_budget(s, cost);
   if (!s.enabled) {
     d.reason = Reason::kDisabled;
   } else if (!adaptive_) {
@@ -159,15 +160,12 @@ ClassDecision AdaptivePredictor::end_frame(RayClass c, const ClassFrameCost& cos
   } else if (cost.rays == 0) {
     d.reason = Reason::kIdle;  // nothing to judge
   } else if (cost.mode == Probe::kSample) {
-    book_budget(s, cost);
     judge_sample(s, cost, d);
     s.frames_off = 0;
   } else if (cost.mode == Probe::kAll) {
-    book_budget(s, cost);
     judge_all(s, cost, d);
     s.frames_off = 0;
   } else {
-    book_budget(s, cost);
     d.reason = Reason::kOff;
     if (s.mode == Probe::kOff && ++s.frames_off >= s.retry_after) {
       s.mode = Probe::kSample;
