@@ -33,8 +33,10 @@ the generated tables in RESULTS.md.
                      the bounded-table and error-vs-time grids: about 1.5 hours on 2 cores
   --test             two configurations on the Cornell box at 32x32 (the pipeline test)
   --smoke            every grid at toy sizes (checks the pipeline in a few minutes)
-  --grids LIST       comma-separated subset: table1,precision,goup,spp,bounded,errtime (their
-                     rows replace those grids' rows of the CSV; the other rows stay)
+  --grids LIST       comma-separated subset: table1,paperscale,precision,goup,spp,bounded,errtime
+                     (their rows replace those grids' rows of the CSV; the other rows stay;
+                     paperscale, the 52M-triangle scene at Table 1's setup, runs in --full only:
+                     about 10 GiB of memory and 15 minutes)
   --hrpp PATH        the hrpp binary (default: \$HRPP_BIN, else build/release/host/hrpp,
                      build/sweep/host/hrpp or build/ci/host/hrpp, the first that exists)
   --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log
@@ -104,6 +106,11 @@ if [[ "$MODE" == full && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; the
 fi
 if [[ "$MODE" == quick && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
     "$REPO/tools/fetch-scenes.sh"
+fi
+# The paperscale grid's 52M-triangle scene (--full): written from the fetched meshes.
+if [[ "$MODE" == full && ( -z "$GRIDS" || ",$GRIDS," == *,paperscale,* ) &&
+      ! -f "$REPO/scenes/fetched/big_random.scene.json" ]]; then
+    "$PY" "$REPO/tools/make_big_scene.py" --layout random
 fi
 
 start=$(date +%s)
