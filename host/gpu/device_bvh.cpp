@@ -25,10 +25,10 @@ void upload_plane(StorageBuffer& buffer, std::span<const gpu::TriangleRecord> re
   for (std::size_t first = 0; first < records.size(); first += kChunk) {
     const std::size_t n = std::min(kChunk, records.size() - first);
     for (std::size_t i = 0; i < n; ++i)
-      std::memcpy(texels[i].data(),
-                  reinterpret_cast<const std::byte*>(&records[first + i]) +
-                      plane * TexelView::kTexelBytes,
-                  TexelView::kTexelBytes);
+      std::memcpy(
+          texels[i].data(),
+          reinterpret_cast<const std::byte*>(&records[first + i]) + plane * TexelView::kTexelBytes,
+          TexelView::kTexelBytes);
     buffer.upload(texels.data(), n * sizeof(Texel), first * sizeof(Texel));
   }
 }
@@ -37,8 +37,9 @@ void upload_plane(StorageBuffer& buffer, std::span<const gpu::TriangleRecord> re
 
 std::vector<BufferNeed> DeviceBvh::buffer_needs(const GpuBvh& bvh) {
   constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
-  std::vector<BufferNeed> needs{{"BVH node array", bvh.traced_nodes().size(), kTexel},
-                                {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel}};
+  std::vector<BufferNeed> needs{
+      {"BVH node array", bvh.traced_nodes().size(), kTexel},
+      {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel}};
   for (int k = 0; k < HRPP_TRACE_TRIANGLE_PLANES; ++k)
     needs.push_back({plane_name(k), bvh.triangles.size() * sizeof(Texel), kTexel});
   return needs;

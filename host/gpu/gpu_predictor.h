@@ -60,8 +60,8 @@ struct PredictedTrace {
 class GpuPredictor {
  public:
   // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
-  // node-of-triangle arrays (read through texel views: 4 bytes per triangle, one per go-up rule of the
-  // predicting classes), each predicting class's table and the queues. For check_fits
+  // node-of-triangle arrays (read through texel views: 4 bytes per triangle, one per go-up rule of
+  // the predicting classes), each predicting class's table and the queues. For check_fits
   // (gpu/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
                                               std::size_t capacity);

@@ -62,10 +62,11 @@ void check_fits(const std::string& what, std::span<const BufferNeed> needs,
   for (const BufferNeed& n : needs) check_buffer(n, limits);
   const std::uint64_t sum = total_bytes(needs);
   if (sum <= limits.heap) return;
+  // Ties keep the listing order, so the message does not depend on the sort.
   std::vector<const BufferNeed*> largest;
   for (const BufferNeed& n : needs) largest.push_back(&n);
-  std::sort(largest.begin(), largest.end(),
-            [](const BufferNeed* a, const BufferNeed* b) { return a->bytes > b->bytes; });
+  std::stable_sort(largest.begin(), largest.end(),
+                   [](const BufferNeed* a, const BufferNeed* b) { return a->bytes > b->bytes; });
   largest.resize(std::min<std::size_t>(largest.size(), 3));
   std::string top;
   for (const BufferNeed* n : largest)
