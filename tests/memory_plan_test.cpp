@@ -9,6 +9,7 @@
 #include "error_of.h"
 #include "common/bytes.h"
 #include "common/error.h"
+#include "gpu/device_bvh.h"
 #include "gpu/memory_plan.h"
 
 namespace hrpp {
@@ -53,6 +54,33 @@ TEST(MemoryPlan, EachBindingHasItsOwnLimit) {
   small_alloc.buffer = 999 * kMiB;
   EXPECT_EQ(max_buffer_bytes(BufferBinding::kTexelOnly, small_alloc, &name), 999 * kMiB);
   EXPECT_EQ(name, "maxBufferSize");
+}
+
+// The triangle records are three planes of one texel a triangle (gpu/device_bvh.h): a BVH of n
+// triangles needs n texels of each, where one array of 3-texel records needed 3n, so scenes up
+// to maxTexelBufferElements triangles fit.
+TEST(MemoryPlan, TrianglePlanesNeedOneTexelATriangle) {
+  GpuBvh bvh;
+  bvh.nodes.resize(1);
+  bvh.leaves.resize(1);
+  bvh.triangles.resize(100);
+  const std::vector<BufferNeed> needs = DeviceBvh::buffer_needs(bvh);
+  int planes = 0;
+  for (const BufferNeed& n : needs) {
+    EXPECT_EQ(n.binding, BufferBinding::kTexelOnly) << n.name;
+    if (n.name.rfind("BVH triangle plane", 0) != 0) continue;
+    ++planes;
+    EXPECT_EQ(n.bytes, 100u * 16u) << n.name;
+  }
+  EXPECT_EQ(planes, 3);
+  MemoryLimits m = lavapipe_like();
+  m.texel_elements = 150;  // 100 records fit as planes, not as 300 texels of one array
+  check_fits("the BVH", needs, m);
+  m.texel_elements = 99;
+  EXPECT_NE(test::error_of([&] { check_fits("the BVH", needs, m); })
+                .find("BVH triangle plane 0 is 1.6 KiB (1600 bytes), over the device's "
+                      "maxTexelBufferElements"),
+            std::string::npos);
 }
 
 TEST(MemoryPlan, TexelOnlyArraysPassTheStorageRange) {

@@ -822,6 +822,31 @@ TEST_F(ManifestTest, FitTransformMaterialQuadLightsCameraAndIds) {
   EXPECT_NEAR(s.cameras[0].yfov, glm::radians(30.0f), 1e-6f);
 }
 
+// Objects share a glTF file (loaded once): an object's fit, transform and material change its
+// own copy only, and the scene's arrays are sized once (no slack left by growth).
+TEST_F(ManifestTest, ObjectsSharingAFileGetTheirOwnCopies) {
+  const json j = {
+      {"objects",
+       {{{"gltf", "meshes/part.glb"},
+         {"transform", {{"translate", {0, 0, 5}}}},
+         {"material", {{"type", "glass"}, {"ior", 1.4}}}},
+        {{"gltf", "meshes/part.glb"}},
+        {{"gltf", "meshes/part.glb"}, {"fit", {{"size", 1.0}}}}}},
+      {"lights",
+       {{{"type", "area"}, {"corner", {-0.5, 3, -0.5}}, {"u", {1, 0, 0}}, {"v", {0, 0, 1}},
+         {"radiance", {10, 10, 10}}}}}};
+  const Scene s = manifest(j);
+  ASSERT_EQ(s.triangles.size(), 8u);
+  EXPECT_EQ(s.triangles.capacity(), s.triangles.size());
+  EXPECT_EQ(s.shading.capacity(), s.shading.size());
+  expect_near(s.triangles[0].v0, {-1, 2, 4});
+  EXPECT_FLOAT_EQ(s.materials[s.shading[0].material].transmission, 1.0f);
+  expect_near(s.triangles[2].v0, {-1, 2, -1});  // as in the file
+  EXPECT_EQ(s.materials[s.shading[2].material].name, "own");
+  expect_near(s.triangles[4].v0, {-0.25f, 0, -0.25f});  // largest extent 4 → 1, base at 0
+  EXPECT_EQ(s.materials[s.shading[4].material].name, "own");
+}
+
 TEST_F(ManifestTest, GltfCameraIsKeptAndLoadSceneFindsIt) {
   GltfWriter w;
   const int cam = w.add_camera_perspective(0.7f);
