@@ -2,7 +2,7 @@
 """tools/cost_model.py, the fit of tools/hrpp_model.py, on synthetic renders whose costs are
 known: stats JSON files built from random operation counts and chosen costs per operation, with
 1% multiplicative noise on every kernel time. The fit must recover every cost that carries
-weight within 10%, predict held-out runs' class times within 5%, and the break-even answers
+weight within 10% (the subgroup steps with a predictor hit of both predict kernels among them), predict held-out runs' class times within 5%, and the break-even answers
 must solve their closed forms (the modelled on/off is 1 there). Then, given an hrpp binary,
 tools/hrpp_model.py runs end to end on tiny renders and ends with its summary line.
 Usage: hrpp_model_test.py [HRPP_BINARY WORK_DIR]"""
@@ -27,7 +27,8 @@ TRUE = {
     "trace:shadow": {"dispatch": 15000 * NS, "ray": 80 * NS, "interior": 75 * NS,
                      "leaf": 45 * NS, "triangle": 20 * NS, "queued_interior": 5 * NS, "interior_memory": 5 * NS},
     "hrpp_predict": {"dispatch": 30000 * NS, "probe": 150 * NS, "verify_interior": 70 * NS,
-                     "verify_leaf": 60 * NS, "verify_triangle": 30 * NS},
+                     "verify_leaf": 60 * NS, "verify_triangle": 30 * NS, "hit_steps": 300 * NS,
+                     "hit_steps_any": 500 * NS},
     "hrpp_resolve": {"dispatch": 25000 * NS, "queue_entry": 60 * NS, "insert": 110 * NS},
 }
 
@@ -38,6 +39,7 @@ def synthetic_class(rng, on, dispatches):
     c = {"rays": rays, "trace_dispatches": dispatches}
     answered = int(rays * rng.uniform(0, 0.5)) if on else 0
     traced = rays - answered
+    # Hit rates from a few percent (few subgroup steps verify) to 60% (nearly all do).
     hits = answered + int(rays * rng.uniform(0, 0.1)) if on else 0
     v_int, v_leaf, v_tri = (int(hits * rng.uniform(0, 5)), hits, int(hits * rng.uniform(1, 3))) \
         if on else (0, 0, 0)
@@ -52,15 +54,20 @@ def synthetic_class(rng, on, dispatches):
     return c
 
 
+SUBGROUP = 8
+
+
 def synthetic_stats(rng, on, frames=6):
     """A stats JSON's "frames" with random counts and kernel times from TRUE (1% noise)."""
     node_bytes = int(2**rng.uniform(16, 28))
-    out = {"frames": [], "memory": {"buffers": {"BVH node array": node_bytes}}}
+    out = {"frames": [], "memory": {"buffers": {"BVH node array": node_bytes}},
+           "device": {"subgroup_size": SUBGROUP}}
     for _ in range(frames):
         classes = {}
         for cls in cm.CLASSES:
             c = synthetic_class(rng, on, int(rng.integers(1, 16)))
-            obs = {"class": cls, "counts": cm.class_counts(c, node_bytes)}
+            obs = {"class": cls, "counts": cm.class_counts(c, node_bytes, SUBGROUP,
+                                                           cm.TRACE_KERNEL[cls] == "trace_any")}
             ms = {cm.TRACE_KERNEL[cls]: cm.predict_kernel(TRUE, obs, f"trace:{cls}")}
             if on:
                 for k in cm.STAGE_KERNELS:
@@ -72,10 +79,12 @@ def synthetic_stats(rng, on, frames=6):
 
 
 def weight(obs, model, op):
-    """The median share of its kernel's time that one operation takes."""
+    """The median share of its kernel's time that one operation takes where it occurs (the
+    hit-any steps only in the shadow class's predict kernel, for one)."""
     i = cm.model_features(model).index(op)
     shares = [cm.feature_row(o, model)[i] * TRUE[model][op] / t for o in obs
-              if (t := cm.predict_kernel(TRUE, o, model)) > 0 and model in o["ms"]]
+              if (t := cm.predict_kernel(TRUE, o, model)) > 0 and model in o["ms"]
+              and cm.feature_row(o, model)[i] > 0]
     return float(np.median(shares)) if shares else 0.0
 
 
@@ -85,15 +94,20 @@ def check_fit():
             for s in ("off", "on")}
     obs = [o for key, st in runs.items() for o in cm.observations(st, key)]
     fitted = cm.fit([o for o in obs if o["run"][0] != "scene11"])
-    checked = 0
+    checked = []
     for model, costs in TRUE.items():
         for op, c in costs.items():
             if weight(obs, model, op) < 0.05:
                 continue  # under 5% of the kernel's time somewhere: not identifiable
             got = fitted[model][op]
             assert abs(got / c - 1) < 0.10, f"{model} {op}: fitted {got / NS:.1f} ns, true {c / NS:.1f}"
-            checked += 1
-    assert checked >= 12, f"only {checked} costs carry weight: the synthetic data is too narrow"
+            checked.append((model, op))
+    assert len(checked) >= 12, f"only {len(checked)} costs carry weight: the synthetic data is too narrow"
+    # The subgroup steps with a hit grow with the hit rate but not in proportion to the hits, so
+    # they are told apart from the per-hit costs, for each predict kernel.
+    for op in ("hit_steps", "hit_steps_any"):
+        assert ("hrpp_predict", op) in checked, f"hrpp_predict {op} carries no weight: not checked"
+    checked = len(checked)
     held = cm.class_totals([o for o in obs if o["run"][0] == "scene11"], fitted)
     worst = max(abs(t["modelled"] / t["measured"] - 1) for t in held.values())
     assert worst < 0.05, f"held-out class times off by {worst:.3f}"
