@@ -3,9 +3,11 @@
 known: stats JSON files built from random operation counts and chosen costs per operation, with
 1% multiplicative noise on every kernel time. The fit must recover every cost that carries
 weight within 10% (the subgroup steps with a predictor hit of both predict kernels among them), predict held-out runs' class times within 5%, and the break-even answers
-must solve their closed forms (the modelled on/off is 1 there). Then, given an hrpp binary,
+must solve their closed forms (the modelled on/off is 1 there), and of renders repeated with
+disturbed frames the fit must see each frame's undisturbed time. Then, given an hrpp binary,
 tools/hrpp_model.py runs end to end on tiny renders and ends with its summary line.
 Usage: hrpp_model_test.py [HRPP_BINARY WORK_DIR]"""
+import copy
 import os
 import re
 import subprocess
@@ -17,6 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 TOOLS = os.path.join(HERE, "..", "tools")
 sys.path.insert(0, TOOLS)
 import cost_model as cm  # noqa: E402
+import hrpp_model as hm  # noqa: E402
 
 NS = 1e-6  # ms per ns
 TRUE = {
@@ -132,6 +135,28 @@ def check_break_even(obs):
     print("hrpp_model_test: break-even answers solve on/off = 1")
 
 
+def check_least_disturbed():
+    """Three renders of one run, each disturbed (+30%) in other frames and classes: the
+    observations hrpp_model fits are the undisturbed ones, which no whole render holds."""
+    clean = synthetic_stats(np.random.default_rng(3), True, frames=3)
+    repeats = []
+    for r in range(3):
+        stats = copy.deepcopy(clean)
+        for i, frame in enumerate(stats["frames"]):
+            for j, cls in enumerate(cm.CLASSES):
+                if (i + j) % 3 == r:
+                    ms = frame["classes"][cls]["kernels_ms"]
+                    for k in ms:
+                        ms[k] *= 1.3
+        repeats.append(stats)
+    got = hm.least_disturbed(repeats, ("scene", "on"))
+    want = cm.observations(clean, ("scene", "on"))
+    assert [(o["frame"], o["class"]) for o in got] == [(o["frame"], o["class"]) for o in want]
+    assert all(abs(g["class_ms"] - w["class_ms"]) < 1e-12 for g, w in zip(got, want)), \
+        "a disturbed frame was fitted"
+    print("hrpp_model_test: each frame and class timed by its least disturbed render")
+
+
 def check_command(hrpp, work):
     cmd = [sys.executable, os.path.join(TOOLS, "hrpp_model.py"), "--hrpp", hrpp,
            "--scenes", "builtin:cornell,teapot", "--size", "48x48", "--spp", "1", "--repeat", "1",
@@ -149,6 +174,7 @@ def check_command(hrpp, work):
 
 if __name__ == "__main__":
     check_break_even(check_fit())
+    check_least_disturbed()
     if len(sys.argv) == 3:
         os.makedirs(sys.argv[2], exist_ok=True)
         check_command(sys.argv[1], sys.argv[2])
