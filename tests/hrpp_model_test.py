@@ -4,9 +4,9 @@ known: stats JSON files built from random operation counts and chosen costs per 
 1% multiplicative noise on every kernel time. The fit must recover every cost that carries
 weight within 10% (the subgroup steps with a predictor hit of both predict kernels among them), predict held-out runs' class times within 5%, and the break-even answers
 must solve their closed forms (the modelled on/off is 1 there), and of renders repeated with
-disturbed frames the fit must see each frame's undisturbed time. Then, given an hrpp binary,
-tools/hrpp_model.py runs end to end on tiny renders and ends with its summary line.
-Usage: hrpp_model_test.py [HRPP_BINARY WORK_DIR]"""
+disturbed frames the fit must see each frame's undisturbed time. tools/hrpp_model.py end to end
+on tiny renders is the model grid of tests/sweep_test.sh (tools/sweep.sh --test).
+Usage: hrpp_model_test.py"""
 import copy
 import os
 import re
@@ -157,24 +157,6 @@ def check_least_disturbed():
     print("hrpp_model_test: each frame and class timed by its least disturbed render")
 
 
-def check_command(hrpp, work):
-    cmd = [sys.executable, os.path.join(TOOLS, "hrpp_model.py"), "--hrpp", hrpp,
-           "--scenes", "builtin:cornell,teapot", "--size", "48x48", "--spp", "1", "--repeat", "1",
-           "--runs", os.path.join(work, "runs"), "--figure", os.path.join(work, "model.png"),
-           "--json", os.path.join(work, "model.json"), "--results", os.path.join(work, "R.md")]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
-    last = r.stdout.strip().splitlines()[-1]
-    assert re.fullmatch(r"model: max relative error \d+\.\d+ on 10 held-out runs", last), last
-    assert open(os.path.join(work, "model.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
-    text = open(os.path.join(work, "R.md")).read()
-    assert text.count("<!-- BEGIN hrpp_model -->") == 1 and "| teapot | camera |" in text, text
-    print(f"hrpp_model_test: tools/hrpp_model.py end to end: {last}")
-
-
 if __name__ == "__main__":
     check_break_even(check_fit())
     check_least_disturbed()
-    if len(sys.argv) == 3:
-        os.makedirs(sys.argv[2], exist_ok=True)
-        check_command(sys.argv[1], sys.argv[2])
