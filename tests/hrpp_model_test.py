@@ -4,7 +4,8 @@ known: stats JSON files built from random operation counts and chosen costs per 
 1% multiplicative noise on every kernel time. The fit must recover every cost that carries
 weight within 10% (the subgroup steps with a predictor hit of both predict kernels among them), predict held-out runs' class times within 5%, and the break-even answers
 must solve their closed forms (the modelled on/off is 1 there), and of renders repeated with
-disturbed frames the fit must see each frame's undisturbed time. tools/hrpp_model.py end to end
+disturbed frames the fit must see each frame's undisturbed time (and the renders' spread, one
+against another, comes out as their time ratios). tools/hrpp_model.py end to end
 on tiny renders is the model grid of tests/sweep_test.sh (tools/sweep.sh --test).
 Usage: hrpp_model_test.py"""
 import copy
@@ -155,6 +156,20 @@ def check_least_disturbed():
     assert all(abs(g["class_ms"] - w["class_ms"]) < 1e-12 for g, w in zip(got, want)), \
         "a disturbed frame was fitted"
     print("hrpp_model_test: each frame and class timed by its least disturbed render")
+    # The device's own spread: renders 10% and 20% slower than the first, pair by pair.
+    scaled = []
+    for k in range(3):
+        stats = copy.deepcopy(clean)
+        for frame in stats["frames"]:
+            for c in frame["classes"].values():
+                c["kernels_ms"] = {n: v * (1 + 0.1 * k) for n, v in c["kernels_ms"].items()}
+        scaled.append(stats)
+    # ("default" is the adaptive predictor's setting, which the model does not fit.)
+    twins = hm.twin_rows({("scene", "keys"): scaled, ("scene", "default"): scaled})
+    got = sorted(round(r["error"], 9) for r in twins)
+    assert got == sorted([0.1, 0.2, round(1.2 / 1.1 - 1, 9)] * len(cm.CLASSES)), got
+    assert hm.twin_rows({("scene", "keys"): scaled[:1]}) is None
+    print("hrpp_model_test: the renders' own spread, pair by pair")
 
 
 if __name__ == "__main__":

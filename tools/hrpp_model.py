@@ -143,6 +143,26 @@ def held_out(obs, scheme):
     return rows
 
 
+def twin_rows(runs):
+    """The spread of the device itself: each run's class times in one render against another
+    render of the same run (every pair of its repeats, the earlier one as measured), as held-out
+    rows ("measured": the earlier render, "modelled": the later). None with one render each."""
+    rows = []
+    for key, repeats in sorted(runs.items()):
+        if key[1] not in FITTED:
+            continue
+        totals = [cm.class_totals(least_disturbed([stats], key), {}) for stats in repeats]
+        for i in range(len(totals)):
+            for j in range(i + 1, len(totals)):
+                for (_, cls), t in sorted(totals[i].items()):
+                    u = totals[j].get((key, cls))
+                    if u and t["measured"] > 0:
+                        rows.append({"scene": key[0], "setting": key[1], "class": cls,
+                                     "measured": t["measured"], "modelled": u["measured"],
+                                     "error": u["measured"] / t["measured"] - 1})
+    return rows or None
+
+
 def ratio_errors(rows):
     """Modelled against measured on/off ratios of the held-out class times."""
     by = {(r["scene"], r["setting"], r["class"]): r for r in rows}
@@ -230,7 +250,7 @@ def summary(rows):
             "worst": max(rows, key=lambda r: abs(r["error"]))}
 
 
-def report_lines(a, costs, held, ans, device, load):
+def report_lines(a, costs, held, twins, ans, device, load):
     timed = (f"each frame and class timed by the least of {a.repeat} renders" if a.repeat > 1
              else "one render of each")
     lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed {a.seed}, {timed}; "
@@ -253,6 +273,15 @@ def report_lines(a, costs, held, ans, device, load):
                      f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
                      f"{w['measured']:.1f} ms measured, {w['modelled']:.1f} modelled |")
+    if twins:
+        s, w = summary(twins), summary(twins)["worst"]
+        lines.append(f"| none: another render of the run | {s['runs']} | {100 * s['error']:.1f}% | "
+                     f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
+                     f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
+                     f"{w['measured']:.1f} ms in one render, {w['modelled']:.1f} in another |")
+        lines += ["", "The last row is the device's own spread: each run's class times in one "
+                  "render against another render of it (every pair of repeats, the earlier one "
+                  "as measured), as if a model predicted a render from its twin."]
     lines += ["", "At `--hrpp on`'s keys and tables, every ray predicted (setting `keys`):", "",
               "| scene | class | on/off measured | modelled | answered | break-even answered "
               "| probe today (interior visits) | break-even probe | hardware probe on/off "
@@ -316,15 +345,16 @@ def main():
     obs = all_observations(runs)
     costs = cm.fit(obs)
     held = {scheme: held_out(obs, scheme) for scheme in HOLD_OUT}
+    twins = twin_rows(runs)
     ans = answers(obs, costs, runs, a.scenes)
     os.makedirs(os.path.dirname(a.figure), exist_ok=True)
     if not plot(ans, a.figure):
         a.figure = None
-    lines = report_lines(a, costs, held, ans, device, load)
+    lines = report_lines(a, costs, held, twins, ans, device, load)
     print("\n".join(lines))
     if a.json:
         with open(a.json, "w") as f:
-            json.dump({"costs_ms": costs, "held_out": held,
+            json.dump({"costs_ms": costs, "held_out": held, "twins": twins,
                        "answers": [{k: v for k, v in r.items() if k != "curve"} for r in ans]},
                       f, indent=1)
     if a.results:
@@ -337,6 +367,9 @@ def main():
     for scheme, rows in held.items():
         s = summary(rows)
         print(f"model ({scheme} held out): max relative error {s['error']:.3f} on {s['runs']} runs")
+    if twins:
+        s = summary(twins)
+        print(f"model (another render of the run): max relative error {s['error']:.3f}")
     s = summary(held["setting"])
     print(f"model: max relative error {s['error']:.3f} on {s['runs']} held-out runs")
 
