@@ -3,7 +3,7 @@
 # and the HRPP-off image they are compared with, 32x32): jobs run through GNU parallel, the CSV
 # has the expected columns and one successful row per job, image errors are filled in and the
 # plots are written. The same command runs the keys grid (tools/key_study.py: three keys on the
-# teapot) and the model grid (tools/hrpp_model.py: Cornell box and teapot, one render of each
+# teapot, and the study's setup at 32x32) and the model grid (tools/hrpp_model.py: Cornell box and teapot, one render of each
 # setting), and every grid rewrites its block of the run's RESULTS.md.
 # Usage: sweep_test.sh HRPP_BINARY WORK_DIR
 set -euo pipefail
@@ -44,7 +44,9 @@ assert "Made by `tools/sweep.sh --test`" in keys, keys
 for row in ("| teapot | hrpp N=6 (paper) |", "| teapot | light-depth N=6 size 0.02, beam (default) |",
             "| teapot | grid-spherical N=6 (default) |"):
     assert row in keys, (row, keys)
-assert keys.count("| teapot |") == 4, keys  # the paper's key for both classes, each default
+assert keys.count("| teapot |") == 5, keys  # the paper's key for both classes, each default,
+study = keys.split("The study's setup, 32x32, 1 spp")[1]  # and a row of the study's setup
+assert study.count("| teapot |") == 1 and "answered, beam table (default)" in study, study
 model = results.split("<!-- BEGIN hrpp_model:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in model and "| teapot | camera |" in model, model
 last = open(os.path.join(work, "run", "model.md")).read().strip().splitlines()[-1]

@@ -2,13 +2,16 @@
 """Keys per ray class: the HRPP study of issue 27 (RESULTS.md, "Keys per ray class").
 
 Renders each stand-in once with HRPP off and once per key, predicting one class at a time
-(--hrpp-adaptive off --hrpp-count, same seed), and prints markdown tables (with --results, as
-the block key_study:MODE of that file; tools/sweep.sh runs it as its `keys` grid):
+(--hrpp-adaptive off --hrpp-count, same seed), then at the study's setup (larger, both classes
+predicted in one render, the default keys on two tables), and prints markdown tables (with
+--results, as the block key_study:MODE of that file; tools/sweep.sh runs it as its `keys`
+grid):
   shadow: the occluded share of shadow rays, the share of the occluded ones that prediction
           answered (true positives / occluded), interior-node savings net of verification, and
           the goal (a quarter of the occluded share);
   bounce: savings net of verification, true positives and wrong closest hits per probe, and the
-          image's relMSE against HRPP off (eps 0.01, as tools/sweep_collect.py).
+          image's relMSE against HRPP off (eps 0.01, as tools/sweep_collect.py);
+  study's setup: the same per scene for the default keys on the tuned and the beam table.
 
   tools/key_study.py [--mode full|quick|smoke|test] [--hrpp build/ci/host/hrpp] [--size WxH]
                      [--spp N] [--scenes a,b] [--classes shadow,bounce] [--runs DIR] [--reuse]
@@ -55,14 +58,23 @@ BOUNCE = {
 }
 
 
-# The modes of tools/sweep.sh: size, spp, scenes and the keys tried (None: every key).
+# The study's setup (issue 27): both classes predicted in one render with the default keys, on
+# the tuned table and on the beam table with bounce rays at N = 5.
+STUDY_KEYS = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays",
+              "bounce,shadow", "--hash", "hrpp,bounce=grid-spherical,shadow=light-depth",
+              "--go-up-size", "shadow=0.02"]
+STUDY = {"tuned": STUDY_KEYS + ["--hash-bits", "6", "--table-preset", "tuned"],
+         "beam": STUDY_KEYS + ["--hash-bits", "6,bounce=5", "--table-preset", "beam"]}
+# The modes of tools/sweep.sh: size, spp, scenes and the keys tried (None: every key) of the
+# exploration tables, and size and spp of the study's setup.
 MODES = {
-    "full": dict(size="256x256", spp=4, scenes=SCENES, keys=None),
-    "quick": dict(size="64x64", spp=2, scenes=SCENES, keys=None),
-    "smoke": dict(size="32x32", spp=1, scenes=["teapot", "dragon"], keys=None),
+    "full": dict(size="256x256", spp=4, scenes=SCENES, keys=None, study=("1024x1024", 8)),
+    "quick": dict(size="64x64", spp=2, scenes=SCENES, keys=None, study=("256x256", 2)),
+    "smoke": dict(size="32x32", spp=1, scenes=["teapot", "dragon"], keys=None,
+                  study=("32x32", 1)),
     "test": dict(size="32x32", spp=1, scenes=["teapot"],
                  keys=["hrpp N=6 (paper)", "light-depth N=6 size 0.02, beam (default)",
-                       "grid-spherical N=6 (default)"]),
+                       "grid-spherical N=6 (default)"], study=("32x32", 1)),
 }
 HEADS = {"shadow": ["scene", "shadow key (tuned table unless named)", "occluded",
                     "answered (of occluded)", "net savings", "goal (occluded / 4)"],
@@ -74,15 +86,20 @@ def slug(name):
     return "".join(c if c.isalnum() else "_" for c in name)
 
 
-def render(a, scene, name, flags):
-    """The stats of one render (reused from --runs when --reuse and present); its image path."""
-    out = os.path.join(a.runs, f"{scene}-{slug(name)}")
-    if not (a.reuse and os.path.exists(out + ".json") and os.path.exists(out + ".exr")):
+def render(a, scene, name, flags, size=None):
+    """The stats of one render (reused from --runs when --reuse and present); its image path.
+    `size`: (WxH, spp) in place of --size and --spp."""
+    size, spp = size or (a.size, a.spp)
+    out = os.path.join(a.runs, f"{scene}-{size}-{spp}-{slug(name)}")
+    present = os.path.exists(out + ".json") and os.path.exists(out + ".exr")
+    if not (present and (a.reuse or out in a.made)):  # each render once per invocation
         cmd = [a.hrpp, "render", os.path.join(REPO, "scenes", scene + ".scene.json"), "--size",
-               a.size, "--spp", str(a.spp), "--seed", "5", "--out", out + ".exr", "--stats",
+               size, "--spp", str(spp), "--seed", "5", "--out", out + ".exr", "--stats",
                out + ".json"]
         subprocess.run(cmd + flags, check=True, stdout=subprocess.DEVNULL)
-        a.rendered += 1
+        a.made.add(out)
+    elif out not in a.made:
+        a.reused.add(out)
     with open(out + ".json") as f:
         return json.load(f), out + ".exr"
 
@@ -123,6 +140,40 @@ def study(a):
     return rows
 
 
+def study_setup(a):
+    """One row per scene at the study's setup: the shadow class's occluded share, answered share
+    and net savings on the tuned and the beam table, and the bounce class's on each."""
+    rows = []
+    for scene in a.scenes:
+        _, off_exr = render(a, scene, "off", [], a.study)
+        off_image = read_exr(off_exr)
+        row = [scene]
+        shadow, bounce = {}, {}
+        for table, flags in STUDY.items():
+            j, exr = render(a, scene, f"study-{table}", flags, a.study)
+            s, b = j["hrpp_predictor"]["shadow"], j["hrpp_predictor"]["bounce"]
+            occluded = j["shadow"]["hits"] / max(j["shadow"]["rays"], 1)
+            shadow[table] = (occluded, s["true_positives"] / max(j["shadow"]["hits"], 1),
+                             s["net_savings"])
+            bounce[table] = (f"{pct(b['net_savings'])}, "
+                             f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
+                             f"{errors(read_exr(exr), off_image)[1]:.1e}")
+        occluded = shadow["tuned"][0]
+        row += [pct(occluded), pct(shadow["tuned"][1]), pct(shadow["beam"][1]),
+                pct(shadow["tuned"][2]), pct(shadow["beam"][2]), pct(occluded / 4),
+                bounce["tuned"], bounce["beam"]]
+        rows.append(row)
+        print(" | ".join(row), file=sys.stderr, flush=True)
+    return rows
+
+
+STUDY_HEAD = ["scene", "occluded shadow rays", "answered, tuned table",
+              "answered, beam table (default)", "net savings, tuned", "net savings, beam",
+              "goal (occluded / 4)", "bounce grid-spherical N=6, tuned (default): net savings, "
+              "wrong / probe, relMSE", "bounce grid-spherical N=5, beam table: net savings, "
+              "wrong / probe, relMSE"]
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     p.add_argument("--mode", choices=MODES, default="full",
@@ -144,20 +195,31 @@ def main():
     a.scenes = a.scenes.split(",") if a.scenes else m["scenes"]
     a.classes = [c for c in a.classes.split(",") if c]
     a.keys = m["keys"]
+    a.study = m["study"]
     a.runs = a.runs or os.path.join(REPO, "build", "key-study", a.mode)
     a.command = a.command or " ".join(["tools/key_study.py"] + sys.argv[1:])
-    a.rendered = 0
+    a.made, a.reused = set(), set()
     os.makedirs(a.runs, exist_ok=True)
     start = time.time()
     rows = study(a)
+    setup = study_setup(a)
     elapsed = int(time.time() - start)
-    lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed 5; {a.rendered} renders, "
+    lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed 5; {len(a.made)} renders"
+             f"{f' and {len(a.reused)} reused' if a.reused else ''}, "
              f"this command {elapsed // 60} min {elapsed % 60} s; repository at "
              f"{repo_commit(REPO)}):"]
     for cls in a.classes:
         lines += ["", f"{cls} rays, {a.size}, {a.spp} spp, seed 5:", "",
                   "| " + " | ".join(HEADS[cls]) + " |", "|" + "---|" * len(HEADS[cls])]
         lines += ["| " + " | ".join(r) + " |" for r in rows[cls]]
+    size, spp = a.study
+    lines += ["", f"The study's setup, {size}, {spp} spp, seed 5: both classes predicted in one "
+              "render, the default keys on the tuned table and on the beam table with bounce "
+              "rays at N = 6 and N = 5 (`" + " ".join(STUDY_KEYS) + "` with `"
+              + " ".join(STUDY["tuned"][len(STUDY_KEYS):]) + "` or `"
+              + " ".join(STUDY["beam"][len(STUDY_KEYS):]) + "`):", "",
+              "| " + " | ".join(STUDY_HEAD) + " |", "|" + "---|" * len(STUDY_HEAD)]
+    lines += ["| " + " | ".join(r) + " |" for r in setup]
     print("\n".join(lines))
     if a.results:
         rewrite_block(a.results, f"key_study:{a.mode}", lines, "tools/key_study.py")
