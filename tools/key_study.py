@@ -135,7 +135,7 @@ def study(a):
                     rows[cls].append([scene, name, pct(s["net_savings"]),
                                       pct(s["true_positives"] / probes),
                                       f"{100 * s['wrong_closest'] / probes:.2f}%",
-                                      f"{relmse:.1e}"])
+                                      f"{relmse:.2e}"])
                 print(" | ".join(rows[cls][-1]), file=sys.stderr, flush=True)
     return rows
 
@@ -157,7 +157,7 @@ def study_setup(a):
                              s["net_savings"])
             bounce[table] = (f"{pct(b['net_savings'])}, "
                              f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
-                             f"{errors(read_exr(exr), off_image)[1]:.1e}")
+                             f"{errors(read_exr(exr), off_image)[1]:.2e}")
         occluded = shadow["tuned"][0]
         row += [pct(occluded), pct(shadow["tuned"][1]), pct(shadow["beam"][1]),
                 pct(shadow["tuned"][2]), pct(shadow["beam"][2]), pct(occluded / 4),

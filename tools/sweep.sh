@@ -140,6 +140,7 @@ fi
 
 start=$(date +%s)
 desc="tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}"
+[[ "$RESUME" == 1 ]] && desc+=" --resume"
 [[ "$RUN" == 1 ]] || desc+=" --collect-only"
 status=0
 if [[ "$RUN_CSV" == 1 ]]; then
