@@ -106,7 +106,8 @@ def check_fit():
             got = fitted[model][op]
             assert abs(got / c - 1) < 0.10, f"{model} {op}: fitted {got / NS:.1f} ns, true {c / NS:.1f}"
             checked.append((model, op))
-    assert len(checked) >= 12, f"only {len(checked)} costs carry weight: the synthetic data is too narrow"
+    assert len(checked) >= 12, \
+        f"only {len(checked)} costs carry weight: the synthetic data is too narrow"
     # The subgroup steps with a hit grow with the hit rate but not in proportion to the hits, so
     # they are told apart from the per-hit costs, for each predict kernel.
     for op in ("hit_steps", "hit_steps_any"):

@@ -41,7 +41,8 @@ for block in ("sweep:test", "key_study:test", "hrpp_model:test"):
     assert results.count(f"<!-- END {block} -->") == 1, (block, results)
 keys = results.split("<!-- BEGIN key_study:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in keys, keys
-for row in ("| teapot | hrpp N=6 (paper) |", "| teapot | light-depth N=6 size 0.02, beam (default) |",
+for row in ("| teapot | hrpp N=6 (paper) |",
+            "| teapot | light-depth N=6 size 0.02, beam (default) |",
             "| teapot | grid-spherical N=6 (default) |"):
     assert row in keys, (row, keys)
 assert keys.count("| teapot |") == 5, keys  # the paper's key for both classes, each default,

@@ -176,10 +176,10 @@ STUDY_HEAD = ["scene", "occluded shadow rays", "answered, tuned table",
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    keys = lambda v: "" if v["keys"] is None else f", {len(v['keys'])} keys"
     p.add_argument("--mode", choices=MODES, default="full",
                    help="; ".join(f"{k}: {v['size']}, {v['spp']} spp, {', '.join(v['scenes'])}"
-                                  f"{'' if v['keys'] is None else ', ' + str(len(v['keys'])) + ' keys'}"
-                                  for k, v in MODES.items()))
+                                  f"{keys(v)}" for k, v in MODES.items()))
     p.add_argument("--hrpp", default=os.path.join(REPO, "build/ci/host/hrpp"))
     p.add_argument("--size", help="WxH (default: the mode's)")
     p.add_argument("--spp", type=int, help="samples per pixel (default: the mode's)")

@@ -183,5 +183,8 @@ if [[ ",$TOOL_GRIDS," == *,model,* ]]; then
         || { echo "sweep: tools/hrpp_model.py failed" >&2; status=1; }
     tail -n 1 "$OUT/model.md"
 fi
-echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $([[ $RUN_CSV == 1 ]] && echo "$CSV, ")$FIGS$([[ $REPORT == 1 ]] && echo ", $RESULTS")"
+wrote="$FIGS"
+[[ "$RUN_CSV" == 1 ]] && wrote="$CSV, $wrote"
+[[ "$REPORT" == 1 ]] && wrote+=", $RESULTS"
+echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $wrote"
 exit "$status"
