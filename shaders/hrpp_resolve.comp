@@ -35,7 +35,7 @@ Hit answer_of(QueueEntry e, Hit traced) {
 
 void insert(QueueEntry e, Hit answer) {
   ++count_insert_requests;
-  const int node = hrpp_node_of_prim[answer.prim];
+  const int node = hrpp_node_of_prim(uint(answer.prim));
   if (hrpp.insert_deferred != 0u) {
     hrpp_requests[e.ray] = InsertRequest(e.key_lo, e.key_hi, node, 0u);
     return;

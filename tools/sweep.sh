@@ -31,18 +31,20 @@ Runs hrpp render over the limit study's grids, collects one CSV, draws the figur
 the generated tables in RESULTS.md: every generated block of the mode.
 
   --quick            small images and spp: minutes on 2 cores (default)
-  --full             the paper's 1024x1024 8 spp for Table 1 and the dragon grids, 512x512 for
-                     the bounded-table, error-vs-time and model grids, 256x256 for the keys
-                     grid: about 1.7 hours on 2 cores
+  --full             the paper's 1024x1024 8 spp for Table 1, paperscale and the dragon grids,
+                     512x512 for the bounded-table, error-vs-time and model grids, 256x256 for
+                     the keys grid (the study's setup at 1024x1024): about 2 hours on 2 cores
   --test             two configurations on the Cornell box at 32x32, the keys and model grids
                      at 32x32 (the pipeline test; RESULTS.md is not touched: --results
                      defaults to OUT/RESULTS.md)
   --smoke            every grid at toy sizes (checks the pipeline in a few minutes)
-  --grids LIST       comma-separated subset of table1,precision,goup,spp,bounded,errtime (the
-                     CSV's grids: their rows replace those grids' rows of the CSV; the other
-                     rows stay) and keys (tools/key_study.py: keys per ray class, block
-                     key_study:MODE) and model (tools/hrpp_model.py: the cost model, block
-                     hrpp_model:MODE); default: all of them
+  --grids LIST       comma-separated subset of table1,paperscale,precision,goup,spp,bounded,
+                     errtime (the CSV's grids: their rows replace those grids' rows of the CSV;
+                     the other rows stay; paperscale, the 52M-triangle scene at Table 1's
+                     setup, runs in --full only: about 10 GiB of memory and 15 minutes) and
+                     keys (tools/key_study.py: keys per ray class, block key_study:MODE) and
+                     model (tools/hrpp_model.py: the cost model, block hrpp_model:MODE);
+                     default: all of them
   --hrpp PATH        the hrpp binary (default: \$HRPP_BIN, else build/release/host/hrpp,
                      build/sweep/host/hrpp or build/ci/host/hrpp, the first that exists)
   --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log, the keys and
@@ -136,6 +138,11 @@ if [[ "$MODE" == full && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; the
 fi
 if [[ "$MODE" == quick && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
     "$REPO/tools/fetch-scenes.sh"
+fi
+# The paperscale grid's 52M-triangle scene (--full): written from the fetched meshes.
+if [[ "$MODE" == full && ( -z "$GRIDS" || ",$GRIDS," == *,paperscale,* ) &&
+      ! -f "$REPO/scenes/fetched/big_random.scene.json" ]]; then
+    "$PY" "$REPO/tools/make_big_scene.py" --layout random
 fi
 
 start=$(date +%s)

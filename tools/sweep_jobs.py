@@ -13,6 +13,9 @@ Grids (see RESULTS.md):
              and the three hash functions, hit-all and hit-any in every run
   errtime    error against run time: spp ladders with HRPP off, speculative and exact (no
              counting: these runs are the timed ones) and a high-spp reference image
+  paperscale the paper's Sportscar scale (--full only): the 52M-triangle random scene of
+             tools/make_big_scene.py at the Table 1 setup, with the unbounded and the tuned
+             table, and its off / speculative / exact runs (RESULTS.md shows it in Table 1)
   test       two configurations on the Cornell box (the pipeline test)
 
 Modes fix the image sizes and spp; "quick" fits minutes on 2 cores, "full" about 1.5 hours.
@@ -25,6 +28,9 @@ import sys
 
 TABLE1_SCENES = ["teapot", "bunny", "bunny-complex", "dragon", "lamborghini", "cornell"]
 ERRTIME_SCENES = ["bunny", "lamborghini"]
+# The paper-scale scene: tools/make_big_scene.py --layout random at its defaults (sweep.sh writes
+# it when missing; not committed).
+PAPERSCALE_SCENE = "fetched/big_random"
 
 # Entry bytes with 8 nodes: 8 (tag) + 4 (stamp) + 4 * 8 = 44; a table of S sets x W ways.
 BOUNDED_NODES = 8
@@ -46,7 +52,7 @@ MODES = {
     "full": dict(size=1024, spp=8, bsize=512, bspp=8, bscenes=["bunny"], esize=512,
                  espp=[1, 2, 4, 8, 16], eref=256, escenes=ERRTIME_SCENES,
                  sppgrid=[1, 2, 4, 8, 16], bkib=BOUNDED_KIB, bways=BOUNDED_WAYS,
-                 t1scenes=TABLE1_SCENES),
+                 t1scenes=TABLE1_SCENES, pscenes=[PAPERSCALE_SCENE]),
     # every grid at toy sizes: checks the pipeline end to end in a few minutes (dragon loads)
     "smoke": dict(size=64, spp=1, bsize=64, bspp=1, bscenes=["bunny"], esize=64,
                   espp=[1, 2], eref=8, escenes=["bunny"], sppgrid=[1, 2], bkib=[4, 1024],
@@ -71,7 +77,8 @@ class Jobs:
     def add(self, grid, scene, size, spp, flags, seed=0, estimator=None, **meta):
         parts = [grid, scene, f"{size}", f"s{spp}", f"seed{seed}"] + [
             f"{k}{v}" for k, v in sorted(meta.items())]
-        jid = "-".join(str(p).replace("_", "").replace(" ", "").replace(":", "") for p in parts)
+        jid = "-".join(str(p).replace("_", "").replace(" ", "").replace(":", "").replace("/", "")
+                       for p in parts)
         if jid in self.ids:
             return
         self.ids.add(jid)
@@ -110,6 +117,16 @@ def grid_table1(J, m):
         J.add("table1", sc, s, n, OFF, variant="off")
         J.add("table1", sc, s, n, hrpp_flags(count=False), variant="spec")
         J.add("table1", sc, s, n, hrpp_flags(mode="exact", count=False), variant="exact")
+
+
+def grid_paperscale(J, m):
+    for sc in m.get("pscenes", []):
+        s, n = m["size"], m["spp"]
+        J.add("paperscale", sc, s, n, hrpp_flags(), variant="count")
+        J.add("paperscale", sc, s, n, hrpp_flags(preset="tuned"), variant="count-tuned")
+        J.add("paperscale", sc, s, n, OFF, variant="off")
+        J.add("paperscale", sc, s, n, hrpp_flags(count=False), variant="spec")
+        J.add("paperscale", sc, s, n, hrpp_flags(mode="exact", count=False), variant="exact")
 
 
 def grid_precision(J, m):
@@ -180,7 +197,7 @@ def grid_test(J, m):
           hrpp_flags(mode="exact", count=False, preset="tiny"), variant="exact")
 
 
-GRIDS = dict(table1=grid_table1, precision=grid_precision, goup=grid_goup, spp=grid_spp,
+GRIDS = dict(table1=grid_table1, paperscale=grid_paperscale, precision=grid_precision, goup=grid_goup, spp=grid_spp,
              bounded=grid_bounded, errtime=grid_errtime, test=grid_test)
 
 

@@ -4,6 +4,7 @@
 
 #include "bvh/wide_nodes.h"
 #include "common/error.h"
+#include "common/free_array.h"
 
 namespace hrpp {
 namespace {
@@ -36,6 +37,27 @@ class Flattener {
     return self;
   }
 
+  // The triangle records in leaf order (the leaves' first_triangle made indices into them).
+  void add_triangles(const std::vector<std::uint32_t>& prim_ids) {
+    std::size_t records = 0;
+    for (const gpu::BvhLeaf& leaf : out_.leaves) records += leaf.triangle_count;
+    out_.triangles.reserve(records);
+    for (gpu::BvhLeaf& leaf : out_.leaves) {
+      const std::uint32_t first = leaf.first_triangle;
+      leaf.first_triangle = static_cast<gpu::uint>(out_.triangles.size());
+      for (std::uint32_t i = first; i < first + leaf.triangle_count; ++i) {
+        const std::uint32_t id = prim_ids[i];
+        const Triangle& t = scene_.triangles[id];
+        gpu::TriangleRecord r{};
+        r.v0 = t.v0;
+        r.v1 = t.v1;
+        r.v2 = t.v2;
+        r.prim = id;
+        out_.triangles.push_back(r);
+      }
+    }
+  }
+
   // Root that is a single leaf (0 or 1 triangles): interior root, the leaf and an empty leaf.
   void place_lone_leaf() {
     const Bvh::Node& n = bvh_.nodes[0];
@@ -52,22 +74,13 @@ class Flattener {
     return bvh_.nodes[n.first + 1].bounds.area() > bvh_.nodes[n.first].bounds.area();
   }
 
+  // The leaf's first_triangle is its first index into bvh.prim_ids until add_triangles.
   int add_leaf(std::uint32_t first, std::uint32_t count, int parent, int depth) {
     gpu::BvhLeaf leaf;
-    leaf.first_triangle = static_cast<gpu::uint>(out_.triangles.size());
+    leaf.first_triangle = first;
     leaf.triangle_count = count;
     leaf.parent = parent;
     leaf.depth = static_cast<gpu::uint>(depth);
-    for (std::uint32_t i = first; i < first + count; ++i) {
-      const std::uint32_t id = bvh_.prim_ids[i];
-      const Triangle& t = scene_.triangles[id];
-      gpu::TriangleRecord r{};
-      r.v0 = t.v0;
-      r.v1 = t.v1;
-      r.v2 = t.v2;
-      r.prim = id;
-      out_.triangles.push_back(r);
-    }
     out_.leaves.push_back(leaf);
     return static_cast<int>(out_.leaves.size() - 1);
   }
@@ -98,21 +111,39 @@ std::span<const std::byte> GpuBvh::traced_nodes() const {
   return std::as_bytes(std::span(nodes));
 }
 
-GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout, NodeFormat format) {
+namespace {
+
+// The nodes and leaves from `bvh`; then, with `consume` (the same Bvh), its nodes are freed
+// before the triangle records are made and its triangle ids after: the host's peak holds the
+// scene's triangles, the ids and the layout, not the base tree too.
+GpuBvh layout(const Bvh& bvh, Bvh* consume, const Scene& scene, NodeLayout order,
+              NodeFormat format) {
   GpuBvh out;
   if (bvh.nodes.empty()) throw Error("BVH has no nodes");
   out.bounds = bvh.nodes[0].bounds;
   out.nodes.reserve(bvh.nodes.size() / 2 + 1);
   out.leaves.reserve(bvh.nodes.size() / 2 + 2);
-  out.triangles.reserve(bvh.prim_ids.size());
-  Flattener f(bvh, scene, layout, out);
+  Flattener f(bvh, scene, order, out);
   if (bvh.nodes[0].is_leaf() || bvh.nodes.size() == 1)
     f.place_lone_leaf();
   else
     f.place(0, -1, 0);
+  if (consume) free_array(consume->nodes);
+  f.add_triangles(bvh.prim_ids);
+  if (consume) free_array(consume->prim_ids);
   if (format == NodeFormat::kWide4) out.wide_nodes = make_wide_nodes(out);
   if (format == NodeFormat::kWide4Float) out.wide_float_nodes = make_wide_float_nodes(out);
   return out;
+}
+
+}  // namespace
+
+GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout order, NodeFormat format) {
+  return layout(bvh, nullptr, scene, order, format);
+}
+
+GpuBvh make_gpu_layout(Bvh&& bvh, const Scene& scene, NodeLayout order, NodeFormat format) {
+  return layout(bvh, &bvh, scene, order, format);
 }
 
 }  // namespace hrpp

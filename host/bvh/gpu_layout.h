@@ -91,5 +91,8 @@ constexpr const char* node_layout_name(NodeLayout l) { return name_in(kNodeLayou
 // kWide4 may throw too).
 GpuBvh make_gpu_layout(const Bvh& bvh, const Scene& scene, NodeLayout layout = NodeLayout::kDfs,
                        NodeFormat format = NodeFormat::kBinary);
+// The same, consuming `bvh`: its arrays are freed as soon as the layout no longer needs them.
+GpuBvh make_gpu_layout(Bvh&& bvh, const Scene& scene, NodeLayout layout = NodeLayout::kDfs,
+                       NodeFormat format = NodeFormat::kBinary);
 
 }  // namespace hrpp

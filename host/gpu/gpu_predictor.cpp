@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "gpu/compute_pipeline.h"
+#include "gpu/device_bvh.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
 #include "gpu/storage_buffer.h"
@@ -170,6 +171,13 @@ struct Queue {
   }
 };
 
+// A node-of-triangle array's bytes for `prims` triangle ids: whole 16-byte texels, at least one.
+std::uint64_t node_of_prim_bytes(std::uint64_t prims) {
+  constexpr std::uint64_t kIdsPerTexel = TexelView::kTexelBytes / sizeof(std::int32_t);
+  return std::max<std::uint64_t>(1, (prims + kIdsPerTexel - 1) / kIdsPerTexel) *
+         TexelView::kTexelBytes;
+}
+
 // The distinct go-up rules (levels, size) of the predicting classes, in class order.
 using GoUp = std::pair<std::uint32_t, float>;
 GoUp go_up_of(const PredictorConfig& config, RayClass c) {
@@ -192,6 +200,7 @@ struct GpuPredictor::State {
   // The node to insert for each triangle id, one array per go-up level that a predicting class
   // uses (classes with the same level share it).
   std::vector<std::pair<GoUp, StorageBuffer>> node_of_prim;
+  std::vector<TexelView> node_of_prim_views;  // parallel: how hrpp_resolve reads them
   PerClass<std::unique_ptr<Table>> tables;
   std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
   PerClass<Probe> probing{};         // how each class's next trace runs the stage
@@ -200,20 +209,13 @@ struct GpuPredictor::State {
   PerClass<std::uint32_t> clock{};   // use stamps (LRU): rays of the class traced so far
 
   Table& table(RayClass c) const { return *tables[c]; }
-  const StorageBuffer& node_of_prim_at(const GoUp& level) const {
-    return std::find_if(node_of_prim.begin(), node_of_prim.end(),
-                        [&](const auto& b) { return b.first == level; })
-        ->second;
+  const TexelView& node_of_prim_at(const GoUp& level) const {
+    const auto at = std::find_if(node_of_prim.begin(), node_of_prim.end(),
+                                 [&](const auto& b) { return b.first == level; });
+    return node_of_prim_views[at - node_of_prim.begin()];
   }
   Queue& queue(QueryKind k) const { return *queues[index_of(k)]; }
   Queue& queue(RayClass c) const { return queue(query_kind(c)); }
-
-  void bind_bvh(ComputePipeline& p, const TexelView& nodes, const TexelView& leaves,
-                const TexelView& triangles) {
-    p.bind(HRPP_TRACE_BINDING_NODES, nodes);
-    p.bind(HRPP_TRACE_BINDING_LEAVES, leaves);
-    p.bind(HRPP_TRACE_BINDING_TRIANGLES, triangles);
-  }
 
   // The class's clock into its table's parameters: the use stamp of ray 0 of the next trace.
   void upload_clock(RayClass c) {
@@ -334,7 +336,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   for (const gpu::TriangleRecord& t : bvh.triangles) prims = std::max<std::uint64_t>(prims, t.prim + 1);
   std::vector<BufferNeed> needs;
   for (std::size_t i = 0; i < go_up_levels(config).size(); ++i)
-    needs.push_back({"node of triangle", prims * sizeof(std::int32_t)});
+    needs.push_back({"node of triangle", node_of_prim_bytes(prims), BufferBinding::kTexelOnly});
   std::uint64_t request_bytes = 0;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
@@ -349,8 +351,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
 }
 
 GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-                           const TexelView& nodes, const TexelView& leaves,
-                           const TexelView& triangles)
+                           const DeviceBvh& device_bvh)
     : s_(std::make_unique<State>()) {
   if (!ctx.info().int64 || !ctx.info().int64_atomics)
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
@@ -362,17 +363,21 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
   // The node to insert for each triangle id: each go-up level applied once, here.
   const std::vector<std::uint32_t> leaves_of = leaf_of_prim(bvh);
   for (const GoUp& level : go_up_levels(config)) {
-    std::vector<std::int32_t> node_of(leaves_of.size(), HRPP_EMPTY_NODE);
+    // Padded to whole texels (4 ids each) for the texel view.
+    std::vector<std::int32_t> node_of(node_of_prim_bytes(leaves_of.size()) / sizeof(std::int32_t),
+                                      HRPP_EMPTY_NODE);
     for (std::size_t p = 0; p < leaves_of.size(); ++p)
       if (leaves_of[p] != kNoLeaf)
         node_of[p] = prediction_node(bvh, leaves_of[p], level.first, level.second);
-    StorageBuffer b(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle");
+    StorageBuffer b(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle",
+                    BufferBinding::kTexelOnly);
     b.upload(std::span<const std::int32_t>(node_of));
+    s_->node_of_prim_views.emplace_back(ctx, b);
     s_->node_of_prim.emplace_back(level, std::move(b));
   }
   for (QueryKind kind : kQueryKinds) {
     s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind);
-    s_->bind_bvh(s_->queue(kind).trace, nodes, leaves, triangles);
+    device_bvh.bind(s_->queue(kind).trace);
   }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
@@ -381,7 +386,7 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     s_->tables[c] = std::make_unique<Table>(ctx, params, c);
     s_->probing[c] = Probe::kAll;
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
-      s_->bind_bvh(*k, nodes, leaves, triangles);
+      device_bvh.bind(*k);
       k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queue(c).state);
       k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim_at(go_up_of(config, c)));
     }

@@ -31,6 +31,7 @@ namespace hrpp {
 
 class VulkanContext;
 class ComputePipeline;
+class DeviceBvh;
 class KernelTimer;
 class StorageBuffer;
 class TexelView;
@@ -59,7 +60,7 @@ struct PredictedTrace {
 class GpuPredictor {
  public:
   // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
-  // node-of-triangle arrays (storage buffers: 4 bytes per triangle, one per go-up rule of the
+  // node-of-triangle arrays (read through texel views: 4 bytes per triangle, one per go-up rule of the
   // predicting classes), each predicting class's table and the queues. For check_fits
   // (gpu/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
@@ -68,7 +69,7 @@ class GpuPredictor {
   // Throws hrpp::Error when the device lacks 64-bit integer atomics or the table exceeds a
   // storage buffer (naming the table and the limit), or the configuration is invalid.
   GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-               const TexelView& nodes, const TexelView& leaves, const TexelView& triangles);
+               const DeviceBvh& device_bvh);
   ~GpuPredictor();
   GpuPredictor(GpuPredictor&&) noexcept;
   GpuPredictor& operator=(GpuPredictor&&) noexcept;

@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "common/free_array.h"
 #include "gpu/compute_pipeline.h"
+#include "gpu/device_bvh.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
 #include "gpu/gpu_predictor.h"
@@ -35,7 +36,6 @@ static_assert(sizeof(gpu::BvhNode) == 4 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::WideNode) == 4 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::WideFloatNode) == 7 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::BvhLeaf) == 1 * TexelView::kTexelBytes);
-static_assert(sizeof(gpu::TriangleRecord) == 3 * TexelView::kTexelBytes);
 static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
 
 namespace {
@@ -45,13 +45,6 @@ constexpr std::uint32_t kCanaryIterations = 2;
 // The record a hit-any query's answer leaves in a ray file: prim 0 occluded, -1 free.
 void to_occlusion_records(std::span<gpu::Hit> hits) {
   for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
-}
-
-std::array<BufferNeed, 3> bvh_buffer_needs(const GpuBvh& bvh) {
-  constexpr BufferBinding kTexel = BufferBinding::kTexelOnly;
-  return {{{"BVH node array", bvh.traced_nodes().size(), kTexel},
-           {"BVH leaf array", bvh.leaves.size() * sizeof(gpu::BvhLeaf), kTexel},
-           {"BVH triangle array", bvh.triangles.size() * sizeof(gpu::TriangleRecord), kTexel}}};
 }
 
 // HRPP_SPEC_NODE_FORMAT's value for `f`.
@@ -79,8 +72,7 @@ void check_tracer_fits(const VulkanContext& ctx, const GpuBvh& bvh,
 
 std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const PredictorConfig& predictor,
                                                 std::size_t resident_rays) {
-  const std::array<BufferNeed, 3> bvh_needs = bvh_buffer_needs(bvh);
-  std::vector<BufferNeed> needs(bvh_needs.begin(), bvh_needs.end());
+  std::vector<BufferNeed> needs = DeviceBvh::buffer_needs(bvh);
   if (predictor.enabled)
     for (BufferNeed& n : GpuPredictor::buffer_needs(bvh, predictor, resident_rays))
       needs.push_back(std::move(n));
@@ -134,8 +126,7 @@ GpuTracerConfig GpuTracerConfig::resolved_for(const DeviceInfo& device) const {
 struct GpuTracer::State {
   VulkanContext* ctx = nullptr;
   GpuTracerConfig config;
-  StorageBuffer nodes, leaves, triangles;
-  TexelView node_view, leaf_view, triangle_view;  // how the kernels read the BVH arrays
+  DeviceBvh device_bvh;
   std::unique_ptr<QueryArrays> queries[2];        // [index_of(QueryKind)]
   KernelTimer timer;
   std::unique_ptr<GpuPredictor> predictor;  // HRPP on: routes the classes that probe
@@ -146,46 +137,21 @@ struct GpuTracer::State {
         const PredictorConfig& predictor_config, GpuBvh* release = nullptr)
       : ctx(&c),
         config((check_tracer_fits(c, bvh, predictor_config), cfg.resolved_for(c.info()))),
-        nodes(c, bvh_buffer_needs(bvh)[0]),
-        leaves(c, bvh_buffer_needs(bvh)[1]),
-        triangles(c, bvh_buffer_needs(bvh)[2]),
-        node_view(c, nodes),
-        leaf_view(c, leaves),
-        triangle_view(c, triangles),
+        device_bvh(c, bvh),
         timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches; a sort: 7
     for (QueryKind kind : kQueryKinds) {
       auto& q = queries[index_of(kind)];
       q = std::make_unique<QueryArrays>(c, kind, cfg.count_steps, bvh.format());
-      for (ComputePipeline* k : {&q->kernel, &q->indexed}) {
-        k->bind(HRPP_TRACE_BINDING_NODES, node_view);
-        k->bind(HRPP_TRACE_BINDING_LEAVES, leaf_view);
-        k->bind(HRPP_TRACE_BINDING_TRIANGLES, triangle_view);
-      }
+      for (ComputePipeline* k : {&q->kernel, &q->indexed}) device_bvh.bind(*k);
     }
     if (predictor_config.enabled)  // reads the host's arrays, not yet the device's
-      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, node_view, leaf_view,
-                                                 triangle_view);
+      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, device_bvh);
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
     probe.tmin = 0.0f;
     probe.dir = {1.0f, 0.0f, 0.0f};
     probe.tmax = 1e30f;
-    upload_bvh(bvh, release);
-  }
-
-  // The node array first, then leaves and triangle records, each freed on the host (with
-  // `release`) before the next is copied: the host holds at most one array twice.
-  void upload_bvh(const GpuBvh& bvh, GpuBvh* release) {
-    nodes.upload(bvh.traced_nodes().data(), bvh.traced_nodes().size());
-    if (release) {
-      free_array(release->nodes);
-      free_array(release->wide_nodes);
-      free_array(release->wide_float_nodes);
-    }
-    leaves.upload(std::span<const gpu::BvhLeaf>(bvh.leaves));
-    if (release) free_array(release->leaves);
-    triangles.upload(std::span<const gpu::TriangleRecord>(bvh.triangles));
-    if (release) free_array(release->triangles);
+    device_bvh.upload(bvh, release);
   }
 
   QueryArrays& query(RayClass c) { return *queries[index_of(query_kind(c))]; }

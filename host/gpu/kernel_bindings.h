@@ -1,7 +1,7 @@
 // Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h; the indexed
 // ones add the ray index list, a texel buffer) and of the HRPP stage's
 // (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel buffers
-// (bindings 0..3); the stage also reads and writes its per-ray arrays as texel buffers
+// (bindings 0..5); the stage also reads and writes its per-ray arrays as texel buffers
 // (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer. And the trace kernels'
 // names per query kind.
 #pragma once
@@ -24,7 +24,8 @@ constexpr std::array<VkDescriptorType, N> texel_then_storage_bindings() {
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   t[HRPP_TRACE_BINDING_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_LEAVES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  t[HRPP_TRACE_BINDING_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  for (int k = 0; k < HRPP_TRACE_TRIANGLE_PLANES; ++k)
+    t[HRPP_TRACE_BINDING_TRIANGLES + k] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_TRACE_BINDING_RAYS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -50,6 +51,7 @@ inline constexpr auto kStageBindingTypes = [] {
   t[HRPP_STAGE_BINDING_QUEUE_HITS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_STAGE_BINDING_TAG_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_STAGE_BINDING_SLOT_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_NODE_OF_PRIM] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
 static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);

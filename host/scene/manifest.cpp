@@ -5,6 +5,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -72,6 +73,10 @@ class ManifestLoader {
     if (!doc.contains("objects")) fail("objects", "missing (an array of objects is required)");
     const json& objects = doc["objects"];
     if (!objects.is_array()) fail("objects", "expected an array");
+    // Sized once: growing by doubling would hold two copies of a large scene at its last step.
+    const std::size_t triangles = load_meshes(objects) + 2 * light_count(doc);
+    scene.triangles.reserve(triangles);
+    scene.shading.reserve(triangles);
     for (std::size_t i = 0; i < objects.size(); ++i) {
       load_object(scene, objects[i], "objects[" + std::to_string(i) + "]");
     }
@@ -156,25 +161,7 @@ class ManifestLoader {
 
     Scene part;
     if (has_gltf) {
-      const std::string rel = string(j["gltf"], path + ".gltf");
-      const std::filesystem::path mesh = dir_ / rel;
-      std::error_code ec;
-      if (!std::filesystem::exists(mesh, ec)) {
-        std::string msg = "mesh file " + mesh.string() + " not found";
-        const std::filesystem::path relp(rel);
-        for (const auto& part_name : relp) {
-          if (part_name == "fetched") {
-            msg += " (run tools/fetch-scenes.sh)";
-            break;
-          }
-        }
-        fail(path + ".gltf", msg);
-      }
-      try {
-        part = load_gltf(mesh);
-      } catch (const Error& e) {
-        fail(path + ".gltf", e.what());
-      }
+      part = take_mesh(string(j["gltf"], path + ".gltf"));
     } else {
       const std::string qp = path + ".quad";
       const json& q = object(j["quad"], qp);
@@ -204,6 +191,65 @@ class ManifestLoader {
       }
     }
     append(scene, std::move(part));
+  }
+
+  // ---- meshes: each glTF file loaded once, before the objects ---------------------------------
+  struct Mesh {
+    Scene scene;   // as loaded, before an object's fit, transform and material
+    int uses = 0;  // objects still to take it
+  };
+
+  // Loads every object's glTF (objects may share a file: it is loaded once) and returns the
+  // objects' triangle count; objects that are not valid are left to load_object's errors.
+  std::size_t load_meshes(const json& objects) {
+    std::size_t triangles = 0;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const json& j = objects[i];
+      if (!j.is_object()) continue;
+      if (j.contains("quad")) triangles += 2;
+      if (!j.contains("gltf")) continue;
+      const std::string path = "objects[" + std::to_string(i) + "].gltf";
+      const std::string rel = string(j["gltf"], path);
+      auto [it, added] = meshes_.try_emplace(rel);
+      if (added) it->second.scene = read_mesh(rel, path);
+      ++it->second.uses;
+      triangles += it->second.scene.triangles.size();
+    }
+    return triangles;
+  }
+
+  // The mesh of an object's "gltf": a copy, or the mesh itself at its last use (freed then).
+  Scene take_mesh(const std::string& rel) {
+    auto it = meshes_.find(rel);
+    if (--it->second.uses > 0) return it->second.scene;
+    Scene last = std::move(it->second.scene);
+    meshes_.erase(it);
+    return last;
+  }
+
+  Scene read_mesh(const std::string& rel, const std::string& path) const {
+    const std::filesystem::path mesh = dir_ / rel;
+    std::error_code ec;
+    if (!std::filesystem::exists(mesh, ec)) {
+      std::string msg = "mesh file " + mesh.string() + " not found";
+      for (const auto& part_name : std::filesystem::path(rel)) {
+        if (part_name == "fetched") {
+          msg += " (run tools/fetch-scenes.sh)";
+          break;
+        }
+      }
+      fail(path, msg);
+    }
+    try {
+      return load_gltf(mesh);
+    } catch (const Error& e) {
+      fail(path, e.what());
+    }
+  }
+
+  static std::size_t light_count(const json& doc) {
+    const auto it = doc.find("lights");
+    return it != doc.end() && it->is_array() ? it->size() : 0;
   }
 
   glm::mat4 fit_matrix(const Scene& part, const json& j, const std::string& path) const {
@@ -459,6 +505,7 @@ class ManifestLoader {
   std::filesystem::path file_;
   std::string name_;
   std::filesystem::path dir_;
+  std::map<std::string, Mesh> meshes_;  // by the objects' "gltf" path
 };
 
 }  // namespace

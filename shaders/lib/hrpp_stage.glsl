@@ -43,11 +43,13 @@ QueueEntry load_queue_entry(uint slot) {
 }
 
 // The prediction node (go-up level applied on the host: host/hrpp/prediction_node.h) of every
-// triangle id, as a child reference; HRPP_EMPTY_NODE for ids in no leaf.
-layout(std430, set = 0, binding = HRPP_STAGE_BINDING_NODE_OF_PRIM) readonly restrict buffer
-    HrppNodeOfPrimBuffer {
-  int hrpp_node_of_prim[];
-};
+// triangle id, as a child reference; HRPP_EMPTY_NODE for ids in no leaf. Four ids a texel: a
+// texel view reaches 2^29 ids where a storage buffer's range (128 MiB) would stop at 2^25.
+layout(set = 0, binding = HRPP_STAGE_BINDING_NODE_OF_PRIM) uniform usamplerBuffer
+    hrpp_node_of_prim_texels;
+int hrpp_node_of_prim(uint prim) {
+  return int(texelFetch(hrpp_node_of_prim_texels, int(prim >> 2u))[prim & 3u]);
+}
 
 layout(set = 0, binding = HRPP_STAGE_BINDING_TAG_TEXELS) uniform usamplerBuffer hrpp_tag_texels;
 layout(set = 0, binding = HRPP_STAGE_BINDING_SLOT_TEXELS) uniform usamplerBuffer hrpp_slot_texels;

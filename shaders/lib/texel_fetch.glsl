@@ -1,7 +1,8 @@
 // The trace kernels' inputs (the BVH arrays and the rays of shaders/shared/gpu_types.h) read
 // through uniform texel buffers (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4
-// texels (a WideNode too; a WideFloatNode 7), a BvhLeaf 1, a TriangleRecord 3, a Ray 2; bits are reinterpreted,
-// never converted, so values are exactly the host's.
+// texels (a WideNode too; a WideFloatNode 7), a BvhLeaf 1, a TriangleRecord 3 (one in each of the
+// three triangle planes), a Ray 2; bits are reinterpreted, never converted, so values are exactly
+// the host's.
 // Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
 // word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
 #ifndef HRPP_TEXEL_FETCH_GLSL
@@ -9,7 +10,9 @@
 
 layout(set = 0, binding = HRPP_TRACE_BINDING_NODES) uniform usamplerBuffer node_texels;
 layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform usamplerBuffer leaf_texels;
-layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform usamplerBuffer triangle_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform usamplerBuffer triangle_plane0;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 1) uniform usamplerBuffer triangle_plane1;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 2) uniform usamplerBuffer triangle_plane2;
 layout(set = 0, binding = HRPP_TRACE_BINDING_RAYS) uniform usamplerBuffer ray_texels;
 
 BvhNode load_node(int index) {
@@ -55,10 +58,10 @@ BvhLeaf load_leaf(int index) {
 }
 
 TriangleRecord load_triangle(uint index) {
-  const int t = 3 * int(index);
-  const uvec4 a = texelFetch(triangle_texels, t);
-  const uvec4 b = texelFetch(triangle_texels, t + 1);
-  const uvec4 c = texelFetch(triangle_texels, t + 2);
+  const int t = int(index);
+  const uvec4 a = texelFetch(triangle_plane0, t);
+  const uvec4 b = texelFetch(triangle_plane1, t);
+  const uvec4 c = texelFetch(triangle_plane2, t);
   return TriangleRecord(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
                         uintBitsToFloat(c.xyz), c.w);
 }

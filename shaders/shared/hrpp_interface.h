@@ -15,21 +15,22 @@
 #define HRPP_HASH_BINDING_COUNT 3
 
 // The HRPP stage: hrpp_predict(_any).comp and hrpp_resolve.comp share one binding layout. The
-// first four are the trace kernels' texel buffers (BVH arrays and the class's rays, the same
+// first six are the trace kernels' texel buffers (BVH arrays and the class's rays, the same
 // slots as shaders/shared/trace_interface.h); then the class's hit array, the queue, the
 // queued rays, their entries and the trace's hits of the queued rays.
-#define HRPP_STAGE_BINDING_HITS 4
-#define HRPP_STAGE_BINDING_QUEUE 5
-#define HRPP_STAGE_BINDING_QUEUE_RAYS 6
-#define HRPP_STAGE_BINDING_QUEUE_ENTRIES 7
-#define HRPP_STAGE_BINDING_QUEUE_HITS 8
-#define HRPP_STAGE_BINDING_TABLE 9  // the table's buffers: 9 + HRPP_TABLE_*
-#define HRPP_STAGE_BINDING_NODE_OF_PRIM 15
+#define HRPP_STAGE_BINDING_HITS 6
+#define HRPP_STAGE_BINDING_QUEUE 7
+#define HRPP_STAGE_BINDING_QUEUE_RAYS 8
+#define HRPP_STAGE_BINDING_QUEUE_ENTRIES 9
+#define HRPP_STAGE_BINDING_QUEUE_HITS 10
+#define HRPP_STAGE_BINDING_TABLE 11  // the table's buffers: 11 + HRPP_TABLE_*
+// The prediction node of every triangle id (a uniform texel buffer, 4 ids a texel).
+#define HRPP_STAGE_BINDING_NODE_OF_PRIM 17
 // The table's tags and node slots again, as uniform texel buffers (R32G32B32A32_UINT views): how
 // hrpp_predict reads them (texel gathers; scattered storage loads are slow on lavapipe).
-#define HRPP_STAGE_BINDING_TAG_TEXELS 16
-#define HRPP_STAGE_BINDING_SLOT_TEXELS 17
-#define HRPP_STAGE_BINDING_COUNT 18
+#define HRPP_STAGE_BINDING_TAG_TEXELS 18
+#define HRPP_STAGE_BINDING_SLOT_TEXELS 19
+#define HRPP_STAGE_BINDING_COUNT 20
 #define HRPP_RESOLVE_WORKGROUP_SIZE 64
 // hrpp_predict's specialization constants: what a configuration does not use is compiled out
 // (an inlined traversal costs even where no lane runs it, measured on lavapipe).

@@ -18,23 +18,27 @@ namespace hrpp::gpu {
 
 #define HRPP_TRACE_WORKGROUP_SIZE 64
 
-// NODES, LEAVES, TRIANGLES and RAYS are uniform texel buffers (R32G32B32A32_UINT views of the
-// BvhNode, BvhLeaf, TriangleRecord and Ray arrays: shaders/lib/texel_fetch.glsl); HITS and
-// COUNTERS are storage buffers.
+// NODES, LEAVES, the three TRIANGLES planes and RAYS are uniform texel buffers
+// (R32G32B32A32_UINT views of the BvhNode, BvhLeaf, TriangleRecord and Ray arrays:
+// shaders/lib/texel_fetch.glsl); HITS and COUNTERS are storage buffers. The triangle records are
+// stored as three planes, texel k of record i at index i of plane k (TRIANGLES + k), so each
+// plane has one texel a triangle and a scene may have 2^27 triangles (maxTexelBufferElements)
+// where one array of 3-texel records would stop at 2^27 / 3.
 #define HRPP_TRACE_BINDING_NODES 0
 #define HRPP_TRACE_BINDING_LEAVES 1
-#define HRPP_TRACE_BINDING_TRIANGLES 2
-#define HRPP_TRACE_BINDING_RAYS 3
-#define HRPP_TRACE_BINDING_HITS 4
-#define HRPP_TRACE_BINDING_COUNTERS 5
-#define HRPP_TRACE_BINDING_COUNT 6
+#define HRPP_TRACE_BINDING_TRIANGLES 2  // planes 2, 3, 4
+#define HRPP_TRACE_TRIANGLE_PLANES 3
+#define HRPP_TRACE_BINDING_RAYS 5
+#define HRPP_TRACE_BINDING_HITS 6
+#define HRPP_TRACE_BINDING_COUNTERS 7
+#define HRPP_TRACE_BINDING_COUNT 8
 // The indexed kernels (trace_closest_indexed, trace_any_indexed: HRPP_TRACE_INDEXED 1) also read
 // a ray index list: position j of the dispatch traces ray list[j] and writes its hit at that
 // ray's index, so the rays are traced in the list's order while rays and hits stay where they
 // are. The list is a uniform texel buffer of uint, 4 per texel (R32G32B32A32_UINT); the plain
 // kernels have no such binding.
-#define HRPP_TRACE_BINDING_RAY_INDICES 6
-#define HRPP_TRACE_INDEXED_BINDING_COUNT 7
+#define HRPP_TRACE_BINDING_RAY_INDICES 8
+#define HRPP_TRACE_INDEXED_BINDING_COUNT 9
 
 // Float bits of the slab test's far-distance scale 1 + 2γ(3) (host/trace/slab_test.h); GLSL has
 // no hex floats, the host static_asserts that the bits match kSlabFarScale.
