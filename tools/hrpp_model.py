@@ -151,15 +151,18 @@ def twin_rows(runs):
     for key, repeats in sorted(runs.items()):
         if key[1] not in FITTED:
             continue
-        totals = [cm.class_totals(least_disturbed([stats], key), {}) for stats in repeats]
+        totals = []  # per render, {class: its time summed over the frames}
+        for stats in repeats:
+            totals.append({})
+            for o in cm.observations(stats, key):
+                totals[-1][o["class"]] = totals[-1].get(o["class"], 0.0) + o["class_ms"]
         for i in range(len(totals)):
             for j in range(i + 1, len(totals)):
-                for (_, cls), t in sorted(totals[i].items()):
-                    u = totals[j].get((key, cls))
-                    if u and t["measured"] > 0:
+                for cls, t in sorted(totals[i].items()):
+                    u = totals[j].get(cls)
+                    if u and t > 0:
                         rows.append({"scene": key[0], "setting": key[1], "class": cls,
-                                     "measured": t["measured"], "modelled": u["measured"],
-                                     "error": u["measured"] / t["measured"] - 1})
+                                     "measured": t, "modelled": u, "error": u / t - 1})
     return rows or None
 
 
@@ -266,19 +269,17 @@ def report_lines(a, costs, held, twins, ans, device, load):
               "| held out | runs | class times within | median | within 10% | on/off ratios within "
               "| worst class time |",
               "|---|---|---|---|---|---|---|"]
-    for scheme, rows in held.items():
-        s = summary(rows)
-        w = s["worst"]
-        lines.append(f"| {scheme} | {s['runs']} | {100 * s['error']:.1f}% | "
-                     f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
-                     f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
-                     f"{w['measured']:.1f} ms measured, {w['modelled']:.1f} modelled |")
+    rows = [(scheme, r, "ms measured", "modelled") for scheme, r in held.items()]
     if twins:
-        s, w = summary(twins), summary(twins)["worst"]
-        lines.append(f"| none: another render of the run | {s['runs']} | {100 * s['error']:.1f}% | "
+        rows.append(("none: another render of the run", twins, "ms in one render", "in another"))
+    for label, r, first, second in rows:
+        s = summary(r)
+        w = s["worst"]
+        lines.append(f"| {label} | {s['runs']} | {100 * s['error']:.1f}% | "
                      f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
-                     f"{w['measured']:.1f} ms in one render, {w['modelled']:.1f} in another |")
+                     f"{w['measured']:.1f} {first}, {w['modelled']:.1f} {second} |")
+    if twins:
         lines += ["", "The last row is the device's own spread: each run's class times in one "
                   "render against another render of it (every pair of repeats, the earlier one "
                   "as measured), as if a model predicted a render from its twin."]
