@@ -108,6 +108,14 @@ def pct(x):
     return f"{100 * x:.1f}%"
 
 
+def shadow_shares(j):
+    """Of a render's stats: the occluded share of its shadow rays and the share of the occluded
+    ones that prediction answered (true positives / occluded)."""
+    hits = j["shadow"]["hits"]
+    return hits / max(j["shadow"]["rays"], 1), \
+        j["hrpp_predictor"]["shadow"]["true_positives"] / max(hits, 1)
+
+
 def study(a):
     """{class: rows of its table}, the keys of the mode predicting one class at a time."""
     # The tuned table unless a row names one (the shadow class's default is the beam table).
@@ -125,8 +133,7 @@ def study(a):
                                 on + ["--hrpp-rays", cls] + table + flags)
                 s = j["hrpp_predictor"][cls]
                 if cls == "shadow":
-                    occ = j["shadow"]["hits"] / j["shadow"]["rays"]
-                    answered = s["true_positives"] / max(j["shadow"]["hits"], 1)
+                    occ, answered = shadow_shares(j)
                     rows[cls].append([scene, name, pct(occ), pct(answered),
                                       pct(s["net_savings"]), pct(occ / 4)])
                 else:
@@ -151,10 +158,8 @@ def study_setup(a):
         shadow, bounce = {}, {}
         for table, flags in STUDY.items():
             j, exr = render(a, scene, f"study-{table}", flags, a.study)
-            s, b = j["hrpp_predictor"]["shadow"], j["hrpp_predictor"]["bounce"]
-            occluded = j["shadow"]["hits"] / max(j["shadow"]["rays"], 1)
-            shadow[table] = (occluded, s["true_positives"] / max(j["shadow"]["hits"], 1),
-                             s["net_savings"])
+            b = j["hrpp_predictor"]["bounce"]
+            shadow[table] = (*shadow_shares(j), j["hrpp_predictor"]["shadow"]["net_savings"])
             bounce[table] = (f"{pct(b['net_savings'])}, "
                              f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
                              f"{errors(read_exr(exr), off_image)[1]:.2e}")
