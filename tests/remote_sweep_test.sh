@@ -69,7 +69,7 @@ for i in 0 1; do
 done
 
 "$REPO/tools/sweep.sh" --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
-    --figures "$WORK/figures" --sshloginfile "$WORK/sshloginfile"
+    --figures "$WORK/figures" --sshloginfile "$WORK/sshloginfile" --grids test
 
 /usr/bin/python3 - "$WORK" <<'PY'
 import csv, json, os, sys

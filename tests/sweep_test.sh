@@ -2,7 +2,10 @@
 # The limit study's pipeline on the Cornell box (tools/sweep.sh --test: two HRPP configurations
 # and the HRPP-off image they are compared with, 32x32): jobs run through GNU parallel, the CSV
 # has the expected columns and one successful row per job, image errors are filled in and the
-# plots are written. Usage: sweep_test.sh HRPP_BINARY WORK_DIR
+# plots are written. The same command runs the keys grid (tools/key_study.py: three keys on the
+# teapot, and the study's setup at 32x32) and the model grid (tools/hrpp_model.py: Cornell box and teapot, one render of each
+# setting), and every grid rewrites its block of the run's RESULTS.md.
+# Usage: sweep_test.sh HRPP_BINARY WORK_DIR
 set -euo pipefail
 HRPP="${1:?usage: sweep_test.sh HRPP_BINARY WORK_DIR}"
 WORK="${2:?usage: sweep_test.sh HRPP_BINARY WORK_DIR}"
@@ -12,7 +15,7 @@ mkdir -p "$WORK"
 "$REPO/tools/sweep.sh" --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
     --figures "$WORK/figures"
 /usr/bin/python3 - "$WORK" <<'PY'
-import csv, os, sys
+import csv, os, re, sys
 work = sys.argv[1]
 rows = list(csv.DictReader(open(os.path.join(work, "test.csv"))))
 need = ["id", "grid", "scene", "size", "spp", "seed", "variant", "ok", "hrpp", "mode", "wall_s",
@@ -32,5 +35,24 @@ for f in ("test_savings.png", "error_vs_off.png"):
     p = os.path.join(work, "figures", f)
     assert os.path.getsize(p) > 1000, p
     assert open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n", p
-print("sweep_test: CSV columns, rows and figures as expected")
+results = open(os.path.join(work, "run", "RESULTS.md")).read()
+for block in ("sweep:test", "key_study:test", "hrpp_model:test"):
+    assert results.count(f"<!-- BEGIN {block} -->") == 1, (block, results)
+    assert results.count(f"<!-- END {block} -->") == 1, (block, results)
+keys = results.split("<!-- BEGIN key_study:test -->")[1].split("<!-- END")[0]
+assert "Made by `tools/sweep.sh --test`" in keys, keys
+for row in ("| teapot | hrpp N=6 (paper) |",
+            "| teapot | light-depth N=6 size 0.02, beam (default) |",
+            "| teapot | grid-spherical N=6 (default) |"):
+    assert row in keys, (row, keys)
+assert keys.count("| teapot |") == 5, keys  # the paper's key for both classes, each default,
+study = keys.split("The study's setup, 32x32, 1 spp")[1]  # and a row of the study's setup
+assert study.count("| teapot |") == 1 and "answered, beam table (default)" in study, study
+model = results.split("<!-- BEGIN hrpp_model:test -->")[1].split("<!-- END")[0]
+assert "Made by `tools/sweep.sh --test`" in model and "| teapot | camera |" in model, model
+last = open(os.path.join(work, "run", "model.md")).read().strip().splitlines()[-1]
+assert re.fullmatch(r"model: max relative error \d+\.\d+ on 10 held-out runs", last), last
+p = os.path.join(work, "figures", "hrpp_model.png")
+assert open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n", p
+print("sweep_test: CSV columns, rows, figures and the three grids' blocks as expected")
 PY

@@ -5,7 +5,8 @@ Every kernel of a ray class is modelled as a sum of operations times their costs
 
   trace (trace_closest, trace_any): dispatch, ray traced, interior node, leaf, triangle test,
                                     interior node of a ray the HRPP queue compacted (extra)
-  hrpp_predict:                     dispatch, probe, verified interior node, leaf, triangle
+  hrpp_predict:                     dispatch, probe, verified interior node, leaf, triangle,
+                                    subgroup step with a predictor hit (hit-all, hit-any)
   hrpp_resolve:                     dispatch, queue entry (a ray the prediction did not answer),
                                     insert (a queued ray's hit offered to the table)
 
@@ -14,7 +15,11 @@ trace kernel's share of the counters is the class's minus what verification spen
 costs are fitted by non-negative least squares on relative error (every observation weighs the
 same whatever its size), one set per device and, for the trace kernels, per ray class: camera
 rays are coherent and bounce rays are not, so a node visit costs each class its own time on a
-SIMD device (lavapipe: 55-70 ns for camera rays, 75-120 ns for bounce rays). Used by
+SIMD device (lavapipe: 55-70 ns for camera rays, 75-120 ns for bounce rays). For the same
+reason a verification costs a subgroup the longest of its lanes' verifications: hrpp_predict
+pays, besides the work each verifying lane does, for every subgroup step (the subgroup's lanes
+probing one ray each) in which some lane verifies, with its own cost for the hit-all kernel
+(hrpp_predict) and the hit-any one (hrpp_predict_any, whose entries hold subtrees). Used by
 tools/hrpp_model.py (the command) and tests/hrpp_model_test.py.
 """
 import numpy as np
@@ -25,7 +30,8 @@ STAGE_KERNELS = ["hrpp_predict", "hrpp_resolve"]
 FEATURES = {
     "trace": ["dispatch", "ray", "interior", "leaf", "triangle", "queued_interior",
               "interior_memory"],
-    "hrpp_predict": ["dispatch", "probe", "verify_interior", "verify_leaf", "verify_triangle"],
+    "hrpp_predict": ["dispatch", "probe", "verify_interior", "verify_leaf", "verify_triangle",
+                     "hit_steps", "hit_steps_any"],
     "hrpp_resolve": ["dispatch", "queue_entry", "insert"],
 }
 MODELS = [f"trace:{c}" for c in CLASSES] + STAGE_KERNELS
@@ -41,15 +47,25 @@ def memory_depth(node_bytes):
     return max(0.0, np.log2(max(node_bytes, 1) / 2**20))
 
 
-def class_counts(c, node_bytes=0):
+def hit_steps(probes, hits, subgroup):
+    """Subgroup steps (`subgroup` consecutive probes) in which at least one probe hit the table,
+    for `hits` hits among `probes` probes spread over the lanes independently."""
+    if probes <= 0 or hits <= 0:
+        return 0.0
+    return probes / subgroup * (1.0 - (1.0 - min(hits / probes, 1.0))**subgroup)
+
+
+def class_counts(c, node_bytes=0, subgroup=1, any_hit=False):
     """Operation counts of one class in one frame (a "classes" entry of the stats JSON) in a
-    scene whose BVH node array holds `node_bytes`."""
+    scene whose BVH node array holds `node_bytes`, on a device of `subgroup` lanes; `any_hit`:
+    the class's rays are hit-any (hrpp_predict_any)."""
     h = c.get("hrpp")
     probes = h["probes"] if h else 0
     queued = h["traced"] if h else 0
     v_int = h["verify_interior"] if h else 0
     v_leaf = h["verify_leaves"] if h else 0
     v_tri = h["verify_triangles"] if h else 0
+    steps = hit_steps(probes, h["predictor_hits"], subgroup) if h else 0.0
     trace_rays = c["rays"] - (probes - queued)
     trace_interior = c["interior_visited"] - v_int
     return {
@@ -65,7 +81,9 @@ def class_counts(c, node_bytes=0):
                   "interior_memory": trace_interior * memory_depth(node_bytes)},
         "hrpp_predict": {"dispatch": h["predicted_traces"] if h else 0, "probe": probes,
                          "verify_interior": v_int, "verify_leaf": v_leaf,
-                         "verify_triangle": v_tri},
+                         "verify_triangle": v_tri,
+                         "hit_steps": 0.0 if any_hit else steps,
+                         "hit_steps_any": steps if any_hit else 0.0},
         "hrpp_resolve": {"dispatch": h["predicted_traces"] if h else 0, "queue_entry": queued,
                          "insert": h["insert_requests"] if h else 0},
     }
@@ -75,6 +93,7 @@ def observations(stats, run):
     """One observation per frame and class of a stats JSON: counts and kernel times (ms)."""
     out = []
     node_bytes = stats.get("memory", {}).get("buffers", {}).get("BVH node array", 0)
+    subgroup = stats.get("device", {}).get("subgroup_size", 1)
     for i, frame in enumerate(stats["frames"]):
         for cls in CLASSES:
             c = frame["classes"][cls]
@@ -82,7 +101,8 @@ def observations(stats, run):
                 continue
             ms = c["kernels_ms"]
             out.append({"run": run, "frame": i, "class": cls,
-                        "counts": class_counts(c, node_bytes),
+                        "counts": class_counts(c, node_bytes, subgroup,
+                                               TRACE_KERNEL[cls] == "trace_any"),
                         "ms": {f"trace:{cls}": ms.get(TRACE_KERNEL[cls], 0.0),
                                "hrpp_predict": ms.get("hrpp_predict", 0.0),
                                "hrpp_resolve": ms.get("hrpp_resolve", 0.0)},
@@ -194,7 +214,8 @@ class ClassCosts:
       C   trace cost per ray of HRPP off (traversal + dispatch share); an "interior-node
           visit", the unit of probe costs, is the traversal's cost per interior node visited
       s   probe: hrpp_predict's cost per probed ray, verification excluded
-      v   verification per predictor hit
+      v   verification per predictor hit, its subgroup steps' cost included at the measured
+          hit rate (a linear stand-in for the steps, which grow less than the hits do)
       r   per queued ray: its extra trace cost (its interior visits cost more once the queue
           has taken its neighbours away) + hrpp_resolve's queue entry and insert share
       d   the stage's dispatches per probed ray

@@ -2,8 +2,9 @@
 """Where would HRPP pay? Fits the device's cost per operation from renders and asks the model.
 
 Renders each stand-in with HRPP off and with every ray predicted under a few predictor settings
-(`--hrpp on`'s keys and tables per class; hash precision 4; go-up 2; exact mode), then fits the
-cost of each operation of the trace and HRPP kernels (tools/cost_model.py: dispatch, ray,
+(`--hrpp on`'s keys and tables per class; hash precision 4; go-up 2; exact mode), --repeat
+times each (each frame and class timed by the render in which it took the least time), then
+fits the cost of each operation of the trace and HRPP kernels (tools/cost_model.py: dispatch, ray,
 interior node, leaf, triangle test, probe, verification, queue entry, insert) from the kernels'
 timestamps and counters. It checks the model on renders it was not fitted on (each run predicted
 by a fit on the other settings' runs, and by one on the other settings of the other scenes), then
@@ -20,9 +21,10 @@ It draws on/off against probe cost per class (the model's lines, the measured po
 rewrite its block in RESULTS.md. The last line is `model: max relative error E on N held-out
 runs` (class times, HRPP on and off).
 
-Usage: tools/hrpp_model.py [--quick] [--hrpp BIN] [--scenes a,b] [--size WxH] [--spp N]
-                           [--repeat N] [--runs DIR] [--reuse] [--json FILE] [--figure PNG]
-                           [--results MD]
+Usage: tools/hrpp_model.py [--mode full|quick|smoke|test | --quick] [--hrpp BIN] [--scenes a,b]
+                           [--size WxH] [--spp N] [--repeat N] [--runs DIR] [--reuse]
+                           [--json FILE] [--figure PNG] [--results MD] [--command TEXT]
+tools/sweep.sh runs it as its `model` grid (--results RESULTS.md, block hrpp_model:MODE).
 """
 import argparse
 import json
@@ -35,6 +37,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cost_model as cm  # noqa: E402
+from sweep_common import rewrite_block  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
@@ -51,7 +54,13 @@ SETTINGS = {
 FITTED = [k for k in SETTINGS if k != "default"]
 DEFAULT_SETTING = "keys"
 HARDWARE_PROBE = 2.0 / 24.0  # interior-node visits: MICRO'21 predictor lookup / RT node latency
-BEGIN, END = "<!-- BEGIN hrpp_model -->", "<!-- END hrpp_model -->"
+# The modes of tools/sweep.sh (--mode; --quick is --mode quick): size, spp, scenes, repeats.
+MODES = {
+    "full": dict(size="512x512", spp=4, scenes=STAND_INS, repeat=3),
+    "quick": dict(size="128x128", spp=2, scenes=["cornell", "teapot", "bunny"], repeat=2),
+    "smoke": dict(size="64x64", spp=1, scenes=["cornell", "teapot"], repeat=1),
+    "test": dict(size="32x32", spp=1, scenes=["builtin:cornell", "teapot"], repeat=1),
+}
 
 
 def default_binary():
@@ -77,28 +86,42 @@ def render(a, scene, setting, repeat):
 
 
 def collect(a):
-    """{(scene, setting): stats} over every scene and setting, the settings interleaved; of
-    --repeat renders of each, the one with the least kernel time (the least disturbed)."""
+    """{(scene, setting): [stats of each of the --repeat renders]} over every scene and setting,
+    the settings interleaved."""
     os.makedirs(a.runs, exist_ok=True)
     runs, start = {}, time.time()
     todo = [(s, r, k) for s in a.scenes for r in range(a.repeat) for k in SETTINGS]
     for i, (scene, repeat, setting) in enumerate(todo):
-        stats = render(a, scene, setting, repeat)
-        best = runs.get((scene, setting))
-        if best is None or stats["kernels_ms_total"] < best["kernels_ms_total"]:
-            runs[(scene, setting)] = stats
+        runs.setdefault((scene, setting), []).append(render(a, scene, setting, repeat))
         print(f"hrpp_model: render {i + 1}/{len(todo)} {scene} {setting} "
               f"({time.time() - start:.0f} s)", file=sys.stderr, flush=True)
     return runs
 
 
+def least_disturbed(repeats, run):
+    """One observation per frame and class (tools/cost_model.py) of a run rendered several
+    times: of the repeats, the one whose class took the least time in that frame, with its own
+    counts. Another process on the machine adds time to the frames it overlaps, not to a whole
+    render, so the least time of each frame is its least disturbed measurement."""
+    best = {}
+    for stats in repeats:
+        for o in cm.observations(stats, run):
+            key = (o["frame"], o["class"])
+            if key not in best or o["class_ms"] < best[key]["class_ms"]:
+                best[key] = o
+    return [best[k] for k in sorted(best, key=lambda k: (k[0], cm.CLASSES.index(k[1])))]
+
+
 def all_observations(runs):
-    return [o for key, s in runs.items() if key[1] in FITTED for o in cm.observations(s, key)]
+    return [o for key, repeats in runs.items() if key[1] in FITTED
+            for o in least_disturbed(repeats, key)]
 
 
-def adaptive_frames(stats, cls):
-    """Frames in which the default's adaptive predictor predicted every ray of the class."""
-    modes = [f.get("hrpp_decisions", {}).get(cls, {}).get("mode") for f in stats["frames"]]
+def adaptive_frames(repeats, cls):
+    """Frames in which the default's adaptive predictor predicted every ray of the class, over
+    the repeats."""
+    modes = [f.get("hrpp_decisions", {}).get(cls, {}).get("mode")
+             for stats in repeats for f in stats["frames"]]
     return f"{modes.count('all')}/{len(modes)}"
 
 
@@ -118,6 +141,29 @@ def held_out(obs, scheme):
             err = t["modelled"] / t["measured"] - 1 if t["measured"] > 0 else float("nan")
             rows.append({"scene": run[0], "setting": run[1], "class": cls, **t, "error": err})
     return rows
+
+
+def twin_rows(runs):
+    """The spread of the device itself: each run's class times in one render against another
+    render of the same run (every pair of its repeats, the earlier one as measured), as held-out
+    rows ("measured": the earlier render, "modelled": the later). None with one render each."""
+    rows = []
+    for key, repeats in sorted(runs.items()):
+        if key[1] not in FITTED:
+            continue
+        totals = []  # per render, {class: its time summed over the frames}
+        for stats in repeats:
+            totals.append({})
+            for o in cm.observations(stats, key):
+                totals[-1][o["class"]] = totals[-1].get(o["class"], 0.0) + o["class_ms"]
+        for i in range(len(totals)):
+            for j in range(i + 1, len(totals)):
+                for cls, t in sorted(totals[i].items()):
+                    u = totals[j].get(cls)
+                    if u and t > 0:
+                        rows.append({"scene": key[0], "setting": key[1], "class": cls,
+                                     "measured": t, "modelled": u, "error": u / t - 1})
+    return rows or None
 
 
 def ratio_errors(rows):
@@ -207,10 +253,11 @@ def summary(rows):
             "worst": max(rows, key=lambda r: abs(r["error"]))}
 
 
-def report_lines(a, costs, held, ans, device, load):
-    lines = [f"`tools/hrpp_model.py{' --quick' if a.quick else ''}` ({a.size}, {a.spp} spp, "
-             f"seed {a.seed}, fastest of {a.repeat}; scenes {', '.join(a.scenes)}), {device}, "
-             f"load {load}.", "",
+def report_lines(a, costs, held, twins, ans, device, load):
+    timed = (f"each frame and class timed by the least of {a.repeat} renders" if a.repeat > 1
+             else "one render of each")
+    lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed {a.seed}, {timed}; "
+             f"scenes {', '.join(a.scenes)}), {device}, load {load}.", "",
              "Costs per operation (ns), fitted on every run:", "",
              "| kernel | op | ns |", "|---|---|---|"]
     for model, c in costs.items():
@@ -222,13 +269,20 @@ def report_lines(a, costs, held, ans, device, load):
               "| held out | runs | class times within | median | within 10% | on/off ratios within "
               "| worst class time |",
               "|---|---|---|---|---|---|---|"]
-    for scheme, rows in held.items():
-        s = summary(rows)
+    rows = [(scheme, r, "ms measured", "modelled") for scheme, r in held.items()]
+    if twins:
+        rows.append(("none: another render of the run", twins, "ms in one render", "in another"))
+    for label, r, first, second in rows:
+        s = summary(r)
         w = s["worst"]
-        lines.append(f"| {scheme} | {s['runs']} | {100 * s['error']:.1f}% | "
+        lines.append(f"| {label} | {s['runs']} | {100 * s['error']:.1f}% | "
                      f"{100 * s['median']:.1f}% | {s['within_10']} of {s['classes']} | "
                      f"{100 * s['ratio_error']:.1f}% | {w['scene']} {w['setting']} {w['class']}: "
-                     f"{w['measured']:.1f} ms measured, {w['modelled']:.1f} modelled |")
+                     f"{w['measured']:.1f} {first}, {w['modelled']:.1f} {second} |")
+    if twins:
+        lines += ["", "The last row is the device's own spread: each run's class times in one "
+                  "render against another render of it (every pair of repeats, the earlier one "
+                  "as measured), as if a model predicted a render from its twin."]
     lines += ["", "At `--hrpp on`'s keys and tables, every ray predicted (setting `keys`):", "",
               "| scene | class | on/off measured | modelled | answered | break-even answered "
               "| probe today (interior visits) | break-even probe | hardware probe on/off "
@@ -243,52 +297,42 @@ def report_lines(a, costs, held, ans, device, load):
     return lines
 
 
-def rewrite_results(path, lines, figure):
-    block = [BEGIN, "<!-- generated by tools/hrpp_model.py; edits inside this block are "
-             "overwritten -->", *lines]
-    if figure:
-        rel = os.path.relpath(figure, os.path.dirname(os.path.abspath(path)))
-        block += ["", f"![on/off against probe cost]({rel})"]
-    block.append(END)
-    text = open(path).read() if os.path.exists(path) else ""
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        text = head + "\n".join(block) + rest.split(END, 1)[1]
-    else:
-        text = text.rstrip("\n") + "\n\n" + "\n".join(block) + "\n"
-    with open(path, "w") as f:
-        f.write(text)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--hrpp", default=default_binary(), help="the hrpp binary")
-    ap.add_argument("--scenes", default=",".join(STAND_INS), help="comma-separated scenes")
-    ap.add_argument("--size", default="512x512")
-    ap.add_argument("--spp", type=int, default=4)
+    ap.add_argument("--mode", choices=MODES, default="full",
+                    help="sizes, scenes and repeats: " + "; ".join(
+                        f"{k}: {v['size']}, {v['spp']} spp, {', '.join(v['scenes'])}, "
+                        f"{v['repeat']} of each" for k, v in MODES.items()))
+    ap.add_argument("--quick", action="store_true", help="--mode quick")
+    ap.add_argument("--scenes", help="comma-separated scenes (default: the mode's)")
+    ap.add_argument("--size", help="WxH (default: the mode's)")
+    ap.add_argument("--spp", type=int, help="samples per pixel (default: the mode's)")
     ap.add_argument("--seed", type=int, default=5)
-    ap.add_argument("--repeat", type=int, default=2,
-                    help="renders of each setting; the one with the least kernel time counts")
-    ap.add_argument("--quick", action="store_true", help="128x128, 2 spp, cornell, teapot, bunny")
-    ap.add_argument("--runs", help="render directory (default build/hrpp-model/full|quick)")
+    ap.add_argument("--repeat", type=int,
+                    help="renders of each setting (default: the mode's); each frame and class "
+                    "counts the one in which it took the least time")
+    ap.add_argument("--runs", help="render directory (default build/hrpp-model/MODE)")
     ap.add_argument("--reuse", action="store_true", help="reuse the renders --runs holds")
     ap.add_argument("--json", help="write the costs, held-out errors and answers here")
     ap.add_argument("--figure", help="on/off against probe cost (default tools/figures/"
-                    "hrpp_model.png; --quick: tools/figures/quick/hrpp_model.png)")
-    ap.add_argument("--results", help="rewrite this Markdown file's hrpp_model block")
+                    "hrpp_model.png; other modes: tools/figures/MODE/hrpp_model.png)")
+    ap.add_argument("--results", help="rewrite this Markdown file's block hrpp_model:MODE")
+    ap.add_argument("--command", help="the command named in the report (default: this one)")
     a = ap.parse_args()
     if a.quick:
-        a.size, a.spp = "128x128", 2
-        if a.scenes == ",".join(STAND_INS):
-            a.scenes = "cornell,teapot,bunny"
-    a.scenes = [s for s in a.scenes.split(",") if s]
+        a.mode = "quick"
+    m = MODES[a.mode]
+    a.size, a.spp = a.size or m["size"], a.spp or m["spp"]
+    a.repeat = a.repeat or m["repeat"]
+    a.scenes = [s for s in a.scenes.split(",") if s] if a.scenes else m["scenes"]
+    a.command = a.command or " ".join(["tools/hrpp_model.py"] + sys.argv[1:])
     if len(a.scenes) < 2:
         sys.exit("hrpp_model: --scenes needs at least two scenes (each is held out in turn)")
     if not os.access(a.hrpp, os.X_OK):
         sys.exit(f"hrpp_model: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
-    mode = "quick" if a.quick else "full"
-    a.runs = a.runs or os.path.join(REPO, "build", "hrpp-model", mode)
-    a.figure = a.figure or os.path.join(HERE, "figures", *(["quick"] if a.quick else []),
+    a.runs = a.runs or os.path.join(REPO, "build", "hrpp-model", a.mode)
+    a.figure = a.figure or os.path.join(HERE, "figures", *([] if a.mode == "full" else [a.mode]),
                                         "hrpp_model.png")
     load = os.getloadavg()[0]
     runs = collect(a)
@@ -297,28 +341,36 @@ def main():
         with open(load_file, "w") as f:
             f.write(f"{load:.1f}-{os.getloadavg()[0]:.1f}\n")
     load = open(load_file).read().strip()
-    first = next(iter(runs.values()))
+    first = next(iter(runs.values()))[0]
     device = f"{first['device']['name']} ({first['device']['driver']})"
     obs = all_observations(runs)
     costs = cm.fit(obs)
     held = {scheme: held_out(obs, scheme) for scheme in HOLD_OUT}
+    twins = twin_rows(runs)
     ans = answers(obs, costs, runs, a.scenes)
     os.makedirs(os.path.dirname(a.figure), exist_ok=True)
     if not plot(ans, a.figure):
         a.figure = None
-    lines = report_lines(a, costs, held, ans, device, load)
+    lines = report_lines(a, costs, held, twins, ans, device, load)
     print("\n".join(lines))
     if a.json:
         with open(a.json, "w") as f:
-            json.dump({"costs_ms": costs, "held_out": held,
+            json.dump({"costs_ms": costs, "held_out": held, "twins": twins,
                        "answers": [{k: v for k, v in r.items() if k != "curve"} for r in ans]},
                       f, indent=1)
     if a.results:
-        rewrite_results(a.results, lines, a.figure)
+        fig = []
+        if a.figure:
+            rel = os.path.relpath(a.figure, os.path.dirname(os.path.abspath(a.results)))
+            fig = ["", f"![on/off against probe cost]({rel})"]
+        rewrite_block(a.results, f"hrpp_model:{a.mode}", lines + fig, "tools/hrpp_model.py")
     print(f"figure: {a.figure or 'none (no matplotlib)'}")
     for scheme, rows in held.items():
         s = summary(rows)
         print(f"model ({scheme} held out): max relative error {s['error']:.3f} on {s['runs']} runs")
+    if twins:
+        s = summary(twins)
+        print(f"model (another render of the run): max relative error {s['error']:.3f}")
     s = summary(held["setting"])
     print(f"model: max relative error {s['error']:.3f} on {s['runs']} held-out runs")
 

@@ -2,26 +2,33 @@
 """Keys per ray class: the HRPP study of issue 27 (RESULTS.md, "Keys per ray class").
 
 Renders each stand-in once with HRPP off and once per key, predicting one class at a time
-(--hrpp-adaptive off --hrpp-count, same seed), and prints markdown tables:
+(--hrpp-adaptive off --hrpp-count, same seed), then at the study's setup (larger, both classes
+predicted in one render, the default keys on two tables), and prints markdown tables (with
+--results, as the block key_study:MODE of that file; tools/sweep.sh runs it as its `keys`
+grid):
   shadow: the occluded share of shadow rays, the share of the occluded ones that prediction
           answered (true positives / occluded), interior-node savings net of verification, and
           the goal (a quarter of the occluded share);
   bounce: savings net of verification, true positives and wrong closest hits per probe, and the
-          image's relMSE against HRPP off (eps 0.01, as tools/sweep_collect.py).
+          image's relMSE against HRPP off (eps 0.01, as tools/sweep_collect.py);
+  study's setup: the same per scene for the default keys on the tuned and the beam table.
 
-  tools/key_study.py [--hrpp build/ci/host/hrpp] [--size 256x256] [--spp 4] [--classes shadow,bounce]
+  tools/key_study.py [--mode full|quick|smoke|test] [--hrpp build/ci/host/hrpp] [--size WxH]
+                     [--spp N] [--scenes a,b] [--classes shadow,bounce] [--runs DIR] [--reuse]
+                     [--results MD] [--command TEXT]
 """
 import argparse
 import json
 import os
 import subprocess
 import sys
-import tempfile
+import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sweep_collect import errors, read_exr  # noqa: E402
+from sweep_common import repo_commit, rewrite_block  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
@@ -51,63 +58,176 @@ BOUNCE = {
 }
 
 
-def render(a, scene, out, flags):
-    cmd = [a.hrpp, "render", os.path.join(REPO, "scenes", scene + ".scene.json"), "--size", a.size,
-           "--spp", str(a.spp), "--seed", "5", "--out", out + ".exr", "--stats", out + ".json"]
-    subprocess.run(cmd + flags, check=True, stdout=subprocess.DEVNULL)
+# The study's setup (issue 27): both classes predicted in one render with the default keys, on
+# the tuned table and on the beam table with bounce rays at N = 5.
+STUDY_KEYS = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays",
+              "bounce,shadow", "--hash", "hrpp,bounce=grid-spherical,shadow=light-depth",
+              "--go-up-size", "shadow=0.02"]
+STUDY = {"tuned": STUDY_KEYS + ["--hash-bits", "6", "--table-preset", "tuned"],
+         "beam": STUDY_KEYS + ["--hash-bits", "6,bounce=5", "--table-preset", "beam"]}
+# The modes of tools/sweep.sh: size, spp, scenes and the keys tried (None: every key) of the
+# exploration tables, and size and spp of the study's setup.
+MODES = {
+    "full": dict(size="256x256", spp=4, scenes=SCENES, keys=None, study=("1024x1024", 8)),
+    "quick": dict(size="64x64", spp=2, scenes=SCENES, keys=None, study=("256x256", 2)),
+    "smoke": dict(size="32x32", spp=1, scenes=["teapot", "dragon"], keys=None,
+                  study=("32x32", 1)),
+    "test": dict(size="32x32", spp=1, scenes=["teapot"],
+                 keys=["hrpp N=6 (paper)", "light-depth N=6 size 0.02, beam (default)",
+                       "grid-spherical N=6 (default)"], study=("32x32", 1)),
+}
+HEADS = {"shadow": ["scene", "shadow key (tuned table unless named)", "occluded",
+                    "answered (of occluded)", "net savings", "goal (occluded / 4)"],
+         "bounce": ["scene", "bounce key (tuned table unless named)", "net savings",
+                    "true positives / probe", "wrong closest / probe", "relMSE vs off"]}
+
+
+def slug(name):
+    return "".join(c if c.isalnum() else "_" for c in name)
+
+
+def render(a, scene, name, flags, size=None):
+    """The stats of one render (reused from --runs when --reuse and present); its image path.
+    `size`: (WxH, spp) in place of --size and --spp."""
+    size, spp = size or (a.size, a.spp)
+    out = os.path.join(a.runs, f"{scene}-{size}-{spp}-{slug(name)}")
+    present = os.path.exists(out + ".json") and os.path.exists(out + ".exr")
+    if not (present and (a.reuse or out in a.made)):  # each render once per invocation
+        cmd = [a.hrpp, "render", os.path.join(REPO, "scenes", scene + ".scene.json"), "--size",
+               size, "--spp", str(spp), "--seed", "5", "--out", out + ".exr", "--stats",
+               out + ".json"]
+        subprocess.run(cmd + flags, check=True, stdout=subprocess.DEVNULL)
+        a.made.add(out)
+    elif out not in a.made:
+        a.reused.add(out)
     with open(out + ".json") as f:
-        return json.load(f)
+        return json.load(f), out + ".exr"
 
 
 def pct(x):
     return f"{100 * x:.1f}%"
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    p.add_argument("--hrpp", default=os.path.join(REPO, "build/ci/host/hrpp"))
-    p.add_argument("--size", default="256x256")
-    p.add_argument("--spp", type=int, default=4)
-    p.add_argument("--classes", default="shadow,bounce")
-    p.add_argument("--scenes", default=",".join(SCENES))
-    a = p.parse_args()
+def shadow_shares(j):
+    """Of a render's stats: the occluded share of its shadow rays and the share of the occluded
+    ones that prediction answered (true positives / occluded)."""
+    hits = j["shadow"]["hits"]
+    return hits / max(j["shadow"]["rays"], 1), \
+        j["hrpp_predictor"]["shadow"]["true_positives"] / max(hits, 1)
+
+
+def study(a):
+    """{class: rows of its table}, the keys of the mode predicting one class at a time."""
     # The tuned table unless a row names one (the shadow class's default is the beam table).
     on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count"]
-    rows = {"shadow": [], "bounce": []}
-    with tempfile.TemporaryDirectory() as tmp:
-        for scene in a.scenes.split(","):
-            off = os.path.join(tmp, scene + "-off")
-            render(a, scene, off, [])
-            off_image = read_exr(off + ".exr")
-            for cls in a.classes.split(","):
-                for name, flags in (SHADOW if cls == "shadow" else BOUNCE).items():
-                    out = os.path.join(tmp, scene + "-" + cls)
-                    table = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
-                    j = render(a, scene, out, on + ["--hrpp-rays", cls] + table + flags)
-                    s = j["hrpp_predictor"][cls]
-                    if cls == "shadow":
-                        occ = j["shadow"]["hits"] / j["shadow"]["rays"]
-                        answered = s["true_positives"] / max(j["shadow"]["hits"], 1)
-                        rows[cls].append([scene, name, pct(occ), pct(answered),
-                                          pct(s["net_savings"]), pct(occ / 4)])
-                    else:
-                        probes = max(s["probes"], 1)
-                        relmse = errors(read_exr(out + ".exr"), off_image)[1]
-                        rows[cls].append([scene, name, pct(s["net_savings"]),
-                                          pct(s["true_positives"] / probes),
-                                          f"{100 * s['wrong_closest'] / probes:.2f}%",
-                                          f"{relmse:.1e}"])
-                    print(" | ".join(rows[cls][-1]), file=sys.stderr, flush=True)
-    heads = {"shadow": ["scene", "shadow key (tuned table unless named)", "occluded",
-                        "answered (of occluded)", "net savings", "goal (occluded / 4)"],
-             "bounce": ["scene", "bounce key (tuned table unless named)", "net savings",
-                        "true positives / probe", "wrong closest / probe", "relMSE vs off"]}
-    for cls in a.classes.split(","):
-        print(f"\n{cls} rays, {a.size}, {a.spp} spp, seed 5:\n")
-        print("| " + " | ".join(heads[cls]) + " |")
-        print("|" + "---|" * len(heads[cls]))
-        for r in rows[cls]:
-            print("| " + " | ".join(r) + " |")
+    rows = {cls: [] for cls in a.classes}
+    for scene in a.scenes:
+        _, off_exr = render(a, scene, "off", [])
+        off_image = read_exr(off_exr)
+        for cls in a.classes:
+            for name, flags in (SHADOW if cls == "shadow" else BOUNCE).items():
+                if a.keys is not None and name not in a.keys:
+                    continue
+                table = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
+                j, exr = render(a, scene, f"{cls}-{name}",
+                                on + ["--hrpp-rays", cls] + table + flags)
+                s = j["hrpp_predictor"][cls]
+                if cls == "shadow":
+                    occ, answered = shadow_shares(j)
+                    rows[cls].append([scene, name, pct(occ), pct(answered),
+                                      pct(s["net_savings"]), pct(occ / 4)])
+                else:
+                    probes = max(s["probes"], 1)
+                    relmse = errors(read_exr(exr), off_image)[1]
+                    rows[cls].append([scene, name, pct(s["net_savings"]),
+                                      pct(s["true_positives"] / probes),
+                                      f"{100 * s['wrong_closest'] / probes:.2f}%",
+                                      f"{relmse:.2e}"])
+                print(" | ".join(rows[cls][-1]), file=sys.stderr, flush=True)
+    return rows
+
+
+def study_setup(a):
+    """One row per scene at the study's setup: the shadow class's occluded share, answered share
+    and net savings on the tuned and the beam table, and the bounce class's on each."""
+    rows = []
+    for scene in a.scenes:
+        _, off_exr = render(a, scene, "off", [], a.study)
+        off_image = read_exr(off_exr)
+        row = [scene]
+        shadow, bounce = {}, {}
+        for table, flags in STUDY.items():
+            j, exr = render(a, scene, f"study-{table}", flags, a.study)
+            b = j["hrpp_predictor"]["bounce"]
+            shadow[table] = (*shadow_shares(j), j["hrpp_predictor"]["shadow"]["net_savings"])
+            bounce[table] = (f"{pct(b['net_savings'])}, "
+                             f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
+                             f"{errors(read_exr(exr), off_image)[1]:.2e}")
+        occluded = shadow["tuned"][0]
+        row += [pct(occluded), pct(shadow["tuned"][1]), pct(shadow["beam"][1]),
+                pct(shadow["tuned"][2]), pct(shadow["beam"][2]), pct(occluded / 4),
+                bounce["tuned"], bounce["beam"]]
+        rows.append(row)
+        print(" | ".join(row), file=sys.stderr, flush=True)
+    return rows
+
+
+STUDY_HEAD = ["scene", "occluded shadow rays", "answered, tuned table",
+              "answered, beam table (default)", "net savings, tuned", "net savings, beam",
+              "goal (occluded / 4)", "bounce grid-spherical N=6, tuned (default): net savings, "
+              "wrong / probe, relMSE", "bounce grid-spherical N=5, beam table: net savings, "
+              "wrong / probe, relMSE"]
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    keys = lambda v: "" if v["keys"] is None else f", {len(v['keys'])} keys"
+    p.add_argument("--mode", choices=MODES, default="full",
+                   help="; ".join(f"{k}: {v['size']}, {v['spp']} spp, {', '.join(v['scenes'])}"
+                                  f"{keys(v)}" for k, v in MODES.items()))
+    p.add_argument("--hrpp", default=os.path.join(REPO, "build/ci/host/hrpp"))
+    p.add_argument("--size", help="WxH (default: the mode's)")
+    p.add_argument("--spp", type=int, help="samples per pixel (default: the mode's)")
+    p.add_argument("--classes", default="shadow,bounce")
+    p.add_argument("--scenes", help="comma-separated stand-ins (default: the mode's)")
+    p.add_argument("--runs", help="render directory (default build/key-study/MODE)")
+    p.add_argument("--reuse", action="store_true", help="reuse the renders --runs holds")
+    p.add_argument("--results", help="rewrite this Markdown file's block key_study:MODE")
+    p.add_argument("--command", help="the command named in the block (default: this one)")
+    a = p.parse_args()
+    m = MODES[a.mode]
+    a.size, a.spp = a.size or m["size"], a.spp or m["spp"]
+    a.scenes = a.scenes.split(",") if a.scenes else m["scenes"]
+    a.classes = [c for c in a.classes.split(",") if c]
+    a.keys = m["keys"]
+    a.study = m["study"]
+    a.runs = a.runs or os.path.join(REPO, "build", "key-study", a.mode)
+    a.command = a.command or " ".join(["tools/key_study.py"] + sys.argv[1:])
+    a.made, a.reused = set(), set()
+    os.makedirs(a.runs, exist_ok=True)
+    start = time.time()
+    rows = study(a)
+    setup = study_setup(a)
+    elapsed = int(time.time() - start)
+    lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed 5; {len(a.made)} renders"
+             f"{f' and {len(a.reused)} reused' if a.reused else ''}, "
+             f"this command {elapsed // 60} min {elapsed % 60} s; repository at "
+             f"{repo_commit(REPO)}):"]
+    for cls in a.classes:
+        lines += ["", f"{cls} rays, {a.size}, {a.spp} spp, seed 5:", "",
+                  "| " + " | ".join(HEADS[cls]) + " |", "|" + "---|" * len(HEADS[cls])]
+        lines += ["| " + " | ".join(r) + " |" for r in rows[cls]]
+    size, spp = a.study
+    lines += ["", f"The study's setup, {size}, {spp} spp, seed 5: both classes predicted in one "
+              "render, the default keys on the tuned table and on the beam table with bounce "
+              "rays at N = 6 and N = 5 (`" + " ".join(STUDY_KEYS) + "` with `"
+              + " ".join(STUDY["tuned"][len(STUDY_KEYS):]) + "` or `"
+              + " ".join(STUDY["beam"][len(STUDY_KEYS):]) + "`):", "",
+              "| " + " | ".join(STUDY_HEAD) + " |", "|" + "---|" * len(STUDY_HEAD)]
+    lines += ["| " + " | ".join(r) + " |" for r in setup]
+    print("\n".join(lines))
+    if a.results:
+        rewrite_block(a.results, f"key_study:{a.mode}", lines, "tools/key_study.py")
 
 
 if __name__ == "__main__":

@@ -3,7 +3,9 @@
 # parallel (locally, one render at a time by default; across machines with --sshloginfile),
 # collects every --stats JSON and the image errors into one CSV (tools/sweep_collect.py), draws
 # the figures (tools/plot_*.py) and rewrites the generated tables in RESULTS.md
-# (tools/sweep_report.py). See RESULTS.md.
+# (tools/sweep_report.py); its two other grids run their own tools, which render and rewrite
+# their own blocks: keys (tools/key_study.py) and model (tools/hrpp_model.py). One command thus
+# rewrites every generated block of a mode. See RESULTS.md.
 set -euo pipefail
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -18,7 +20,7 @@ REPORT=1
 OUT=""
 CSV=""
 FIGS=""
-RESULTS="$REPO/RESULTS.md"
+RESULTS=""
 HRPP="${HRPP_BIN:-}"
 
 usage() {
@@ -26,21 +28,27 @@ usage() {
 Usage: tools/sweep.sh [--quick | --full | --test] [options]
 
 Runs hrpp render over the limit study's grids, collects one CSV, draws the figures and updates
-the generated tables in RESULTS.md.
+the generated tables in RESULTS.md: every generated block of the mode.
 
   --quick            small images and spp: minutes on 2 cores (default)
-  --full             the paper's 1024x1024 8 spp for Table 1 and the dragon grids, 512x512 for
-                     the bounded-table and error-vs-time grids: about 1.5 hours on 2 cores
-  --test             two configurations on the Cornell box at 32x32 (the pipeline test)
+  --full             the paper's 1024x1024 8 spp for Table 1, paperscale and the dragon grids,
+                     512x512 for the bounded-table, error-vs-time and model grids, 256x256 for
+                     the keys grid (the study's setup at 1024x1024): about 2 hours on 2 cores
+  --test             two configurations on the Cornell box at 32x32, the keys and model grids
+                     at 32x32 (the pipeline test; RESULTS.md is not touched: --results
+                     defaults to OUT/RESULTS.md)
   --smoke            every grid at toy sizes (checks the pipeline in a few minutes)
-  --grids LIST       comma-separated subset: table1,paperscale,precision,goup,spp,bounded,errtime
-                     (their rows replace those grids' rows of the CSV; the other rows stay;
-                     paperscale, the 52M-triangle scene at Table 1's setup, runs in --full only:
-                     about 10 GiB of memory and 15 minutes)
+  --grids LIST       comma-separated subset of table1,paperscale,precision,goup,spp,bounded,
+                     errtime (the CSV's grids: their rows replace those grids' rows of the CSV;
+                     the other rows stay; paperscale, the 52M-triangle scene at Table 1's
+                     setup, runs in --full only: about 10 GiB of memory and 15 minutes) and
+                     keys (tools/key_study.py: keys per ray class, block key_study:MODE) and
+                     model (tools/hrpp_model.py: the cost model, block hrpp_model:MODE);
+                     default: all of them
   --hrpp PATH        the hrpp binary (default: \$HRPP_BIN, else build/release/host/hrpp,
                      build/sweep/host/hrpp or build/ci/host/hrpp, the first that exists)
-  --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log
-                     (default: build/limit-study/MODE)
+  --out DIR          run directory: jobs, joblog, each run's .json/.exr/.log, the keys and
+                     model grids' renders in keys/ and model/ (default: build/limit-study/MODE)
   --csv FILE         the CSV (default: tools/results/MODE.csv)
   --figures DIR      figure directory (default: tools/figures for --full, tools/figures/MODE
                      otherwise)
@@ -49,12 +57,16 @@ the generated tables in RESULTS.md.
   --no-report        do not touch RESULTS.md
   --jobs N           renders at once per machine (GNU parallel -j; default 1: the renderer
                      already uses every core)
-  --sshloginfile F   run the jobs on the machines listed in F (GNU parallel --sshloginfile);
+  --sshloginfile F   run the CSV grids' jobs on the machines listed in F (GNU parallel
+                     --sshloginfile; the keys and model grids render here);
                      they need this repository, the binary and the run directory at the same
                      absolute paths (a shared file system); one line per machine, e.g.
                      "1/ssh -p 2222 -i KEY user@host" (1 render at a time, another port/key)
-  --resume           skip the jobs the joblog records as done (GNU parallel --resume)
-  --collect-only     do not render: collect, plot and report what the run directory holds
+  --resume           skip the jobs the joblog records as done (GNU parallel --resume) and the
+                     keys and model grids' renders that their directories hold
+  --collect-only     do not render the CSV grids: collect, plot and report what the run
+                     directory holds (the keys and model grids reuse their renders and make
+                     only those missing)
   --help             this text
 EOF
 }
@@ -93,9 +105,29 @@ HRPP="$(cd "$(dirname "$HRPP")" && pwd)/$(basename "$HRPP")"
 if [[ -z "$FIGS" ]]; then
     if [[ "$MODE" == full ]]; then FIGS="$REPO/tools/figures"; else FIGS="$REPO/tools/figures/$MODE"; fi
 fi
-[[ "$MODE" == test ]] && REPORT=0
 mkdir -p "$OUT/runs"
 OUT="$(cd "$OUT" && pwd)"
+if [[ -z "$RESULTS" ]]; then
+    if [[ "$MODE" == test ]]; then RESULTS="$OUT/RESULTS.md"; else RESULTS="$REPO/RESULTS.md"; fi
+fi
+
+# The grids: the CSV's (tools/sweep_jobs.py) and the two run by their own tools.
+CSV_GRIDS=""
+TOOL_GRIDS=""
+if [[ -z "$GRIDS" ]]; then
+    TOOL_GRIDS="keys,model"
+else
+    IFS=, read -r -a grid_list <<< "$GRIDS"
+    for g in "${grid_list[@]}"; do
+        case "$g" in
+            keys|model) TOOL_GRIDS+="${TOOL_GRIDS:+,}$g" ;;
+            "") ;;
+            *) CSV_GRIDS+="${CSV_GRIDS:+,}$g" ;;
+        esac
+    done
+fi
+RUN_CSV=0
+[[ -z "$GRIDS" || -n "$CSV_GRIDS" ]] && RUN_CSV=1
 
 for m in matplotlib OpenImageIO numpy; do
     "$PY" -c "import $m" 2>/dev/null || { echo "sweep: $PY lacks $m (run tools/setup.sh)" >&2; exit 1; }
@@ -114,29 +146,52 @@ if [[ "$MODE" == full && ( -z "$GRIDS" || ",$GRIDS," == *,paperscale,* ) &&
 fi
 
 start=$(date +%s)
-"$PY" "$REPO/tools/sweep_jobs.py" --mode "$MODE" --grids "$GRIDS" --hrpp "$HRPP" \
-    --repo "$REPO" --runs "$OUT/runs" --out "$OUT"
-
+desc="tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}"
+[[ "$RESUME" == 1 ]] && desc+=" --resume"
+[[ "$RUN" == 1 ]] || desc+=" --collect-only"
 status=0
-if [[ "$RUN" == 1 ]]; then
-    par=(parallel --will-cite -j "$JOBS" --joblog "$OUT/joblog")
-    [[ "$RESUME" == 1 ]] && par+=(--resume)
-    [[ -n "$SSHLOGINFILE" ]] && par+=(--sshloginfile "$SSHLOGINFILE" --workdir "$REPO")
-    echo "sweep: $(wc -l < "$OUT/jobs.txt") jobs, ${par[*]} < $OUT/jobs.txt"
-    "${par[@]}" < "$OUT/jobs.txt" || status=$?
-    [[ "$status" == 0 ]] || echo "sweep: $status jobs failed (see $OUT/joblog and runs/*.log)" >&2
+if [[ "$RUN_CSV" == 1 ]]; then
+    "$PY" "$REPO/tools/sweep_jobs.py" --mode "$MODE" --grids "$CSV_GRIDS" --hrpp "$HRPP" \
+        --repo "$REPO" --runs "$OUT/runs" --out "$OUT"
+
+    if [[ "$RUN" == 1 ]]; then
+        par=(parallel --will-cite -j "$JOBS" --joblog "$OUT/joblog")
+        [[ "$RESUME" == 1 ]] && par+=(--resume)
+        [[ -n "$SSHLOGINFILE" ]] && par+=(--sshloginfile "$SSHLOGINFILE" --workdir "$REPO")
+        echo "sweep: $(wc -l < "$OUT/jobs.txt") jobs, ${par[*]} < $OUT/jobs.txt"
+        "${par[@]}" < "$OUT/jobs.txt" || status=$?
+        [[ "$status" == 0 ]] || echo "sweep: $status jobs failed (see $OUT/joblog and runs/*.log)" >&2
+    fi
+    # A subset of grids (--grids) replaces those grids' rows of the CSV and keeps the others.
+    "$PY" "$REPO/tools/sweep_collect.py" --jobs "$OUT/jobs.jsonl" --runs "$OUT/runs" --csv "$CSV" \
+        ${GRIDS:+--keep-other-grids} || status=1
+    "$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
+    "$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
+    if [[ "$REPORT" == 1 ]]; then
+        "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" --results "$RESULTS" \
+            --mode "$MODE" --command "$desc" \
+            --elapsed $(( $(date +%s) - start )) --joblog "$OUT/joblog"
+    fi
 fi
-# A subset of grids (--grids) replaces those grids' rows of the CSV and keeps the others.
-"$PY" "$REPO/tools/sweep_collect.py" --jobs "$OUT/jobs.jsonl" --runs "$OUT/runs" --csv "$CSV" \
-    ${GRIDS:+--keep-other-grids} || status=1
-"$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
-"$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
-if [[ "$REPORT" == 1 ]]; then
-    desc="tools/sweep.sh --$MODE${GRIDS:+ --grids $GRIDS}"
-    [[ "$RUN" == 1 ]] || desc+=" --collect-only"
-    "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" --results "$RESULTS" \
-        --mode "$MODE" --command "$desc" \
-        --elapsed $(( $(date +%s) - start )) --joblog "$OUT/joblog"
+
+# The keys and model grids: their tools render (on this machine) and rewrite their blocks.
+tool_args=(--mode "$MODE" --hrpp "$HRPP" --command "$desc")
+[[ "$RESUME" == 1 || "$RUN" == 0 ]] && tool_args+=(--reuse)
+[[ "$REPORT" == 1 ]] && tool_args+=(--results "$RESULTS")
+if [[ ",$TOOL_GRIDS," == *,keys,* ]]; then
+    echo "sweep: keys grid: tools/key_study.py ${tool_args[*]} --runs $OUT/keys"
+    "$PY" "$REPO/tools/key_study.py" "${tool_args[@]}" --runs "$OUT/keys" > "$OUT/keys.md" \
+        || { echo "sweep: tools/key_study.py failed" >&2; status=1; }
 fi
-echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $CSV, $FIGS$([[ $REPORT == 1 ]] && echo ", $RESULTS")"
+if [[ ",$TOOL_GRIDS," == *,model,* ]]; then
+    echo "sweep: model grid: tools/hrpp_model.py ${tool_args[*]} --runs $OUT/model"
+    "$PY" "$REPO/tools/hrpp_model.py" "${tool_args[@]}" --runs "$OUT/model" \
+        --figure "$FIGS/hrpp_model.png" > "$OUT/model.md" \
+        || { echo "sweep: tools/hrpp_model.py failed" >&2; status=1; }
+    tail -n 1 "$OUT/model.md"
+fi
+wrote="$FIGS"
+[[ "$RUN_CSV" == 1 ]] && wrote="$CSV, $wrote"
+[[ "$REPORT" == 1 ]] && wrote+=", $RESULTS"
+echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $wrote"
 exit "$status"
