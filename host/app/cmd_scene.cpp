@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -60,9 +61,9 @@ void run_scene(const SceneOptions& o) {
   if (!o.dump_triangles.empty()) write_triangle_dump(scene, o.dump_triangles);
   if (!o.export_json.empty())
     write_file_atomically(o.export_json, scene_json(scene), "cannot write the scene");
-  const Bvh bvh = build_bvh(scene, o.shared.bvh);
+  Bvh bvh = build_bvh(scene, o.shared.bvh);
   const BvhStats s = compute_bvh_stats(bvh, o.shared.bvh);
-  const GpuBvh layout = make_gpu_layout(bvh, scene);
+  const GpuBvh layout = make_gpu_layout(std::move(bvh), scene);  // the base tree freed as laid out
 
   std::size_t textured = 0, emissive = 0;
   for (const Material& m : scene.materials) {
