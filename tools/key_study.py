@@ -28,7 +28,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sweep_collect import errors, read_exr  # noqa: E402
-from sweep_common import repo_commit, rewrite_block  # noqa: E402
+from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
@@ -58,7 +58,7 @@ BOUNCE = {
 }
 
 
-# The study's setup (issue 27): both classes predicted in one render with the default keys, on
+# The study's setup: both classes predicted in one render with the default keys, on
 # the tuned table and on the beam table with bounce rays at N = 5.
 STUDY_KEYS = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays",
               "bounce,shadow", "--hash", "hrpp,bounce=grid-spherical,shadow=light-depth",
@@ -215,16 +215,14 @@ def main():
              f"{repo_commit(REPO)}):"]
     for cls in a.classes:
         lines += ["", f"{cls} rays, {a.size}, {a.spp} spp, seed 5:", "",
-                  "| " + " | ".join(HEADS[cls]) + " |", "|" + "---|" * len(HEADS[cls])]
-        lines += ["| " + " | ".join(r) + " |" for r in rows[cls]]
+                  table(HEADS[cls], rows[cls])]
     size, spp = a.study
     lines += ["", f"The study's setup, {size}, {spp} spp, seed 5: both classes predicted in one "
               "render, the default keys on the tuned table and on the beam table with bounce "
               "rays at N = 6 and N = 5 (`" + " ".join(STUDY_KEYS) + "` with `"
               + " ".join(STUDY["tuned"][len(STUDY_KEYS):]) + "` or `"
               + " ".join(STUDY["beam"][len(STUDY_KEYS):]) + "`):", "",
-              "| " + " | ".join(STUDY_HEAD) + " |", "|" + "---|" * len(STUDY_HEAD)]
-    lines += ["| " + " | ".join(r) + " |" for r in setup]
+              table(STUDY_HEAD, setup)]
     print("\n".join(lines))
     if a.results:
         rewrite_block(a.results, f"key_study:{a.mode}", lines, "tools/key_study.py")

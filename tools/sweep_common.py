@@ -41,6 +41,12 @@ def rows(data, grid, **eq):
     return out
 
 
+def table(head, body):
+    """A Markdown table: the header row, its rule and one row per item of `body`."""
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in body]
+    return "\n".join(out)
+
 
 def repo_commit(repo):
     """The repository's HEAD as a short hash ("?" without git)."""

@@ -197,8 +197,9 @@ def grid_test(J, m):
           hrpp_flags(mode="exact", count=False, preset="tiny"), variant="exact")
 
 
-GRIDS = dict(table1=grid_table1, paperscale=grid_paperscale, precision=grid_precision, goup=grid_goup, spp=grid_spp,
-             bounded=grid_bounded, errtime=grid_errtime, test=grid_test)
+GRIDS = dict(table1=grid_table1, paperscale=grid_paperscale, precision=grid_precision,
+             goup=grid_goup, spp=grid_spp, bounded=grid_bounded, errtime=grid_errtime,
+             test=grid_test)
 
 
 def main():

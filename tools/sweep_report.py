@@ -11,7 +11,8 @@ import sys
 
 sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_common import PAPER_TABLE1, PAPER_LT1, read_csv, repo_commit, rewrite_block, rows  # noqa: E402
+from sweep_common import (PAPER_TABLE1, PAPER_LT1, read_csv, repo_commit,  # noqa: E402
+                          rewrite_block, rows, table)
 
 
 def f1(x, d=1):
@@ -28,12 +29,6 @@ def mb(b):
 
 def sci(x):
     return "" if x is None else ("0" if x == 0 else f"{x:.2e}")
-
-
-def table(head, body):
-    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in body]
-    return "\n".join(out)
 
 
 def fig(figdir, results, name, alt):
@@ -84,9 +79,9 @@ def section_table1(data, out, figdir, results):
                    f"(paper, its 5 scenes: {pa:.1f}%).\n")
     # Times and speculative error
     body = []
-    for g, s in [("table1", r["scene"]) for r in cnt] + [("paperscale", r["scene"])
-                                                          for r in big if r["variant"] == "count"]:
-        v = {r["variant"]: r for r in rows(data, g, scene=s)}
+    for r in cnt + [r for r in big if r["variant"] == "count"]:
+        s = r["scene"]
+        v = {x["variant"]: x for x in rows(data, r["grid"], scene=s)}
         off, sp, ex = v.get("off"), v.get("spec"), v.get("exact")
         if not off:
             continue

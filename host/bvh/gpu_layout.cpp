@@ -39,9 +39,7 @@ class Flattener {
 
   // The triangle records in leaf order (the leaves' first_triangle made indices into them).
   void add_triangles(const std::vector<std::uint32_t>& prim_ids) {
-    std::size_t records = 0;
-    for (const gpu::BvhLeaf& leaf : out_.leaves) records += leaf.triangle_count;
-    out_.triangles.reserve(records);
+    out_.triangles.reserve(prim_ids.size());  // every id is in one leaf's range
     for (gpu::BvhLeaf& leaf : out_.leaves) {
       const std::uint32_t first = leaf.first_triangle;
       leaf.first_triangle = static_cast<gpu::uint>(out_.triangles.size());
