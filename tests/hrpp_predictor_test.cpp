@@ -184,59 +184,98 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
-// The deterministic configuration: GPU counters and hits = the CPU reference predictor's, with
-// a roomy table and with tiny ones that evict (lru, fifo) or drop (none).
+// One deterministic trace (batches of 64, one ray per subgroup) on the GPU and on the CPU
+// reference predictor: the same hits, counters and table contents.
+void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& c) {
+  PredictorConfig p = config;
+  p.set_hash({HashKind::kIeee, c.bits});
+  p.batch = 64;
+  p.serial = true;
+  p.count_baseline = true;
+  const TableConfig& table = p.table[RayClass::kCamera];
+  const std::string what = std::string(c.name) + " " + predictor_mode_name(p.mode) + " " +
+                           fallback_name(p.fallback) + " go-up " +
+                           std::to_string(p.go_up[RayClass::kCamera]) + " table " +
+                           std::to_string(table.sets) + "x" + std::to_string(table.ways) + "x" +
+                           std::to_string(table.nodes) + " " + table_policy_name(table.policy);
+  GpuTracer* tracer = nullptr;
+  const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
+  ReferencePredictor cpu_predictor(bunny().bvh, p);
+  const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
+  expect_same_hits(gpu.hits, cpu.hits, what);
+  for (int k = 0; k < HRPP_PC_COUNT; ++k)
+    EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
+  EXPECT_EQ(gpu.counters.interior_visited, cpu.counters.interior_visited) << what;
+  EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
+  EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
+  EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
+  const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
+  EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
+  EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
+  expect_counters_add_up(gpu.predictor, c.rays->size(), what);
+  if (table.sets > 4) {
+    EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+  } else {  // tiny tables: they evict or drop
+    const int full = table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
+    EXPECT_GT(cpu.predictor.c[full], 0u) << what;
+  }
+  std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
+}
+
+// The deterministic configuration reproduced: a roomy table and tiny ones that evict (lru,
+// fifo) or drop (none), leaves and go-up 2 (the roomy table), with either fallback (root: go-up 2).
 TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
   const TableConfig roomy{1u << 12, 8, 16, TablePolicy::kNone};
+  const TableConfig tiny[] = {
+      {4, 2, 2, TablePolicy::kLru}, {4, 2, 2, TablePolicy::kFifo}, {4, 2, 2, TablePolicy::kNone}};
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
-    for (const std::uint32_t go_up : {0u, 2u})
-      for (const TableConfig& table :
-           {roomy, TableConfig{4, 2, 2, TablePolicy::kLru},
-            TableConfig{4, 2, 2, TablePolicy::kFifo}, TableConfig{4, 2, 2, TablePolicy::kNone}})
-        for (const Case& c : cases()) {
-          if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact)
-            continue;                                           // hit-any has one mode
-          if (go_up > 0 && table.sets != roomy.sets) continue;  // tiny tables: go-up 0
-          PredictorConfig p = config(mode, table);
-          p.set_go_up(go_up);
-          p.set_hash({HashKind::kIeee, c.bits});
-          p.batch = 64;
-          p.serial = true;
-          p.count_baseline = true;
-          const std::string what = std::string(c.name) + " " + predictor_mode_name(mode) +
-                                   " go-up " + std::to_string(go_up) + " table " +
-                                   std::to_string(table.sets) + "x" + std::to_string(table.ways) +
-                                   "x" + std::to_string(table.nodes) + " " +
-                                   table_policy_name(table.policy);
-          GpuTracer* tracer = nullptr;
-          const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
-          ReferencePredictor cpu_predictor(bunny().bvh, p);
-          const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
-          expect_same_hits(gpu.hits, cpu.hits, what);
-          for (int k = 0; k < HRPP_PC_COUNT; ++k)
-            EXPECT_EQ(gpu.predictor.c[k], cpu.predictor.c[k]) << what << " counter " << k;
-          EXPECT_EQ(gpu.counters.interior_visited, cpu.counters.interior_visited) << what;
-          EXPECT_EQ(gpu.counters.leaves_visited, cpu.counters.leaves_visited) << what;
-          EXPECT_EQ(gpu.counters.triangles_tested, cpu.counters.triangles_tested) << what;
-          EXPECT_EQ(gpu.counters.hits, cpu.counters.hits) << what;
-          const TableOccupancy occ = tracer->predictor()->occupancy(ray_file_class(c.kind));
-          EXPECT_EQ(occ.entries, cpu_predictor.entries(ray_file_class(c.kind))) << what;
-          EXPECT_EQ(occ.nodes, cpu_predictor.stored_nodes(ray_file_class(c.kind))) << what;
-          expect_counters_add_up(gpu.predictor, c.rays->size(), what);
-          if (table.sets == roomy.sets) {
-            EXPECT_GT(cpu.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
-          } else {
-            const int full =
-                table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
-            EXPECT_GT(cpu.predictor.c[full], 0u) << what;
-          }
-          std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
-                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
-                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
-                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
-                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
-                      static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
-        }
+    for (const Case& c : cases()) {
+      if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact) continue;  // one mode
+      for (const TableConfig& table : tiny) expect_reference_reproduces_gpu(config(mode, table), c);
+      PredictorConfig p = config(mode, roomy);
+      expect_reference_reproduces_gpu(p, c);
+      p.set_go_up(2);
+      for (const Fallback fallback : {Fallback::kSkip, Fallback::kRoot}) {
+        p.fallback = fallback;
+        expect_reference_reproduces_gpu(p, c);
+      }
+    }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
+// --hrpp-fallback skip: a queued ray's trace does not enter the nodes its prediction tested.
+// Answers stay HRPP off's, and with the same table (exact closest-hit answers insert the same
+// nodes) the trace visits fewer interior nodes than with root, at most the verification's.
+TEST(HrppPredictor, SkipFallbackKeepsAnswersAndSavesVerifiedNodes) {
+  GpuTracerConfig off_config;
+  off_config.rays_per_invocation = 8;
+  GpuTracer off(context(), bunny().bvh, off_config);
+  const Case c = cases()[1];  // diffuse rays, exact: true positives are queued too
+  const GpuTraceResult reference = off.trace(*c.rays, c.kind);
+  GpuTraceResult runs[2];
+  for (const Fallback f : {Fallback::kRoot, Fallback::kSkip}) {
+    PredictorConfig p = config(PredictorMode::kExact, {1u << 12, 8, 4, TablePolicy::kNone});
+    p.set_go_up(2);
+    p.set_hash({HashKind::kIeee, c.bits});
+    p.batch = 64;
+    p.serial = true;
+    p.fallback = f;
+    GpuTraceResult& r = runs[f == Fallback::kSkip];
+    r = trace_gpu(p, *c.rays, c.kind);
+    expect_same_hits(r.hits, reference.hits, fallback_name(f));
+  }
+  const auto& pc = runs[1].predictor.c;
+  EXPECT_GT(pc[HRPP_PC_PREDICTOR_HITS], 100u);
+  for (int k = 0; k < HRPP_PC_COUNT; ++k) EXPECT_EQ(pc[k], runs[0].predictor.c[k]) << k;
+  const std::uint64_t root = runs[0].counters.interior_visited;
+  const std::uint64_t skip = runs[1].counters.interior_visited;
+  EXPECT_LT(skip, root);
+  EXPECT_LE(root - skip, pc[HRPP_PC_VERIFY_INTERIOR]);
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

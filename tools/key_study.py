@@ -39,6 +39,9 @@ SHADOW = {
     "light N=6 size 0.02": ["--hash", "shadow=light", "--hash-bits", "6", "--go-up-size", "0.02"],
     "light-depth N=6 size 0.02": ["--hash", "shadow=light-depth", "--hash-bits", "6",
                                   "--go-up-size", "0.02"],
+    "light-depth N=6 size 0.02, beam, fallback root": ["--hash", "shadow=light-depth",
+                                                       "--hash-bits", "6", "--go-up-size",
+                                                       "0.02", "--hrpp-fallback", "root"] + N4,
     "light-depth N=6 size 0.02, beam (default)": ["--hash", "shadow=light-depth", "--hash-bits",
                                                   "6", "--go-up-size", "0.02"] + N4,
 }

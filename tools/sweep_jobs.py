@@ -18,6 +18,9 @@ Grids (see RESULTS.md):
              table, and its off / speculative / exact runs (RESULTS.md shows it in Table 1)
   test       two configurations on the Cornell box (the pipeline test)
 
+Every predicting run uses the paper's keys and, as the paper, traces a ray its prediction did not
+answer from the root (--hrpp-fallback root).
+
 Modes fix the image sizes and spp; "quick" fits minutes on 2 cores, "full" about 1.5 hours.
 """
 import argparse
@@ -97,7 +100,7 @@ class Jobs:
 def hrpp_flags(mode="speculative", preset="unbounded", count=True, bits=6, goup=0, hash_="hrpp",
                sets=None, ways=None, nodes=None, policy=None):
     f = ["--hrpp", "on", "--hrpp-rays", "both", "--hrpp-adaptive", "off", "--hrpp-mode", mode,
-         "--hash", hash_,
+         "--hrpp-fallback", "root", "--hash", hash_,
          "--hash-bits", str(bits), "--go-up", str(goup), "--table-preset", preset]
     if sets is not None:
         f += ["--table-sets", str(sets), "--table-ways", str(ways), "--table-nodes", str(nodes),

@@ -89,6 +89,7 @@ PredictorConfig HrppOptions::config() const {
   PredictorConfig c;
   c.enabled = enabled;
   c.mode = mode;
+  c.fallback = fallback;
   for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k]};
   c.go_up = go_up;
   c.go_up_size = go_up_size;
@@ -243,6 +244,13 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->transform(one_of(kPredictorModeNames))
       ->default_str(predictor_mode_name(o.mode))
       ->group(g);
+  cmd->add_option("--hrpp-fallback", o.fallback,
+                  "What a ray its prediction did not answer traces: root (a full traversal, as "
+                  "the paper) or skip (from the root, not entering the nodes its prediction "
+                  "tested: the same answer, the verification not paid twice)")
+      ->transform(one_of(kFallbackNames))
+      ->default_str(fallback_name(o.fallback))
+      ->group(g);
   add_key_options(cmd, o, g);
   add_table_options(cmd, o, g);
   cmd->add_option("--hrpp-batch", o.batch,
@@ -307,6 +315,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
            per_class_text(c, c.hash, [](const HashConfig& h) { return hash_kind_name(h.kind); })},
           {"hash_bits", per_class_number(c, [&c](RayClass k) { return c.hash[k].bits; })},
           {"mode", predictor_mode_name(c.mode)},
+          {"fallback", fallback_name(c.fallback)},
           {"go_up", per_class_number(c, [&c](RayClass k) { return c.go_up[k]; })},
           {"go_up_size", per_class_text(c, c.go_up_size, format_share)},
           {"keys", class_keys(c)},

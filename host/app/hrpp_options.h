@@ -1,7 +1,7 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
-// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hash, --hash-bits, --go-up, --table-*,
-// --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of a run's predictor
-// figures.
+// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hash, --hash-bits,
+// --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of
+// a run's predictor figures.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +23,7 @@ struct HrppOptions {
   PerClass<bool> classes{{true, true, true}};  // --hrpp-rays: the classes that predict
   bool adaptive = true;             // --hrpp-adaptive on | off
   PredictorMode mode = PredictorMode::kSpeculative;
+  Fallback fallback = Fallback::kSkip;  // --hrpp-fallback
   // Per ray class (--hash, --hash-bits, --go-up, --go-up-size take "V" for every class, or a
   // list of V and class=V): the --hrpp on default per class, measured in RESULTS.md ("Keys per
   // ray class"): camera rays the paper's key; bounce rays grid-spherical at N = 6 (the finest

@@ -70,12 +70,13 @@ namespace {
 // hrpp_predict of a class, specialised: interior-node verification only with go-up > 0, the
 // counting traversal only in the variant that counts, one subgroup per workgroup.
 ComputePipeline make_predict(VulkanContext& ctx, RayClass c, const gpu::PredictorParams& p,
-                             bool counts) {
+                             bool counts, Fallback fallback) {
   const bool interior = p.go_up > 0 || p.go_up_size > 0.0f;
   const SpecializationConstant spec[] = {
       {HRPP_SPEC_VERIFY_INTERIOR, interior ? 1u : 0u},
       {HRPP_SPEC_COUNT_BASELINE, counts ? 1u : 0u},
-      {HRPP_SPEC_PREDICT_WORKGROUP, predict_workgroup_size(ctx.info().subgroup_size)}};
+      {HRPP_SPEC_PREDICT_WORKGROUP, predict_workgroup_size(ctx.info().subgroup_size)},
+      {HRPP_SPEC_SKIP_LIST, fallback == Fallback::kSkip ? 1u : 0u}};
   return ComputePipeline(ctx, Kernel::hrpp_predict,
                          embedded_spirv(query_kind(c) == QueryKind::kAny ? Kernel::hrpp_predict_any
                                                                          : Kernel::hrpp_predict),
@@ -89,10 +90,10 @@ struct Table {
   ComputePipeline predicts[2];  // [counts the baseline]
   ComputePipeline resolve, insert;
 
-  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c)
-      : Table(ctx, p, c, table_buffers(c, p.sets, p.ways, p.nodes)) {}
+  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback)
+      : Table(ctx, p, c, fallback, table_buffers(c, p.sets, p.ways, p.nodes)) {}
 
-  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c,
+  Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback,
         const std::array<BufferNeed, 3>& b)
       : params(p),
         param_buf(ctx, sizeof(gpu::PredictorParams), name(c, "predictor parameters"),
@@ -105,7 +106,7 @@ struct Table {
                  BufferBinding::kStorage, MemoryRole::kHostShared),
         tag_view(ctx, tags),
         slot_view(ctx, slots),
-        predicts{make_predict(ctx, c, p, false), make_predict(ctx, c, p, true)},
+        predicts{make_predict(ctx, c, p, false, fallback), make_predict(ctx, c, p, true, fallback)},
         resolve(ctx, Kernel::hrpp_resolve, embedded_spirv(Kernel::hrpp_resolve), kStageBindingTypes,
                 sizeof(gpu::StagePushConstants)),
         insert(ctx, Kernel::hrpp_insert, embedded_spirv(Kernel::hrpp_insert),
@@ -146,30 +147,44 @@ struct Table {
   }
 };
 
+// The queue's trace kernel: the plain one (--hrpp-fallback root) or the skipping one.
+ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fallback) {
+  if (fallback == Fallback::kRoot)
+    return ComputePipeline(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)),
+                           kTraceBindingTypes, sizeof(gpu::TracePushConstants));
+  return ComputePipeline(ctx, trace_skipping_kernel(kind),
+                         embedded_spirv(trace_skipping_kernel(kind)), kTraceSkippingBindingTypes,
+                         sizeof(gpu::TracePushConstants));
+}
+
 // The queue of one query kind (hit-all: camera and bounce rays; hit-any: shadow rays) and the
 // trace kernel bound to it.
 struct Queue {
   StorageBuffer state;           // gpu::PredictQueue
   StorageBuffer trace_counters;  // gpu::TraceCounters of the trace over the queue
-  StorageBuffer rays, entries, hits;
-  TexelView ray_view, entry_view, hit_view;
+  StorageBuffer rays, entries, hits, skips;  // skips: the skip lists (--hrpp-fallback skip)
+  TexelView ray_view, entry_view, hit_view, skip_view;
   ComputePipeline trace;
   ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
   std::size_t capacity = 0;
 
-  Queue(VulkanContext& ctx, QueryKind kind)
+  Queue(VulkanContext& ctx, QueryKind kind, Fallback fallback)
       : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue", BufferBinding::kStorage,
               MemoryRole::kHostShared),
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters",
                        BufferBinding::kStorage, MemoryRole::kHostShared),
-        trace(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
-              sizeof(gpu::TracePushConstants)),
+        trace(make_queue_trace(ctx, kind, fallback)),
         pass_args(ctx, Kernel::hrpp_pass_args, embedded_spirv(Kernel::hrpp_pass_args), 1,
                   sizeof(gpu::StagePushConstants)) {
     trace.bind(HRPP_TRACE_BINDING_COUNTERS, trace_counters);
     pass_args.bind(0, state);
   }
 };
+
+// Bytes of a queue's per-ray arrays: ray, entry, hit and skip list.
+constexpr std::size_t kQueueBytesPerRay =
+    sizeof(gpu::Ray) + sizeof(gpu::QueueEntry) + sizeof(gpu::Hit) + TexelView::kTexelBytes;
+static_assert(HRPP_SKIP_NODES * sizeof(std::int32_t) == TexelView::kTexelBytes);
 
 // A node-of-triangle array's bytes for `prims` triangle ids: whole 16-byte texels, at least one.
 std::uint64_t node_of_prim_bytes(std::uint64_t prims) {
@@ -344,8 +359,8 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
     for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes)) needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
-  const std::uint64_t queue = capacity * (sizeof(gpu::Ray) + sizeof(gpu::QueueEntry) + sizeof(gpu::Hit));
-  needs.push_back({"HRPP queues (rays, entries, hits)", 2 * queue});
+  needs.push_back(
+      {"HRPP queues (rays, entries, hits, skip lists)", 2 * capacity * kQueueBytesPerRay});
   needs.push_back({"insert requests", request_bytes});
   return needs;
 }
@@ -376,14 +391,14 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     s_->node_of_prim.emplace_back(level, std::move(b));
   }
   for (QueryKind kind : kQueryKinds) {
-    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind);
+    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind, config.fallback);
     device_bvh.bind(s_->queue(kind).trace);
   }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     gpu::PredictorParams params = make_predictor_params(config, c, bvh.bounds);
     params.serial = config.serial ? 1u : 0u;
-    s_->tables[c] = std::make_unique<Table>(ctx, params, c);
+    s_->tables[c] = std::make_unique<Table>(ctx, params, c, config.fallback);
     s_->probing[c] = Probe::kAll;
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       device_bvh.bind(*k);
@@ -407,18 +422,24 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
     q.ray_view = TexelView();
     q.entry_view = TexelView();
     q.hit_view = TexelView();
+    q.skip_view = TexelView();
     q.rays = StorageBuffer();  // free first: one at a time in the heap
     q.entries = StorageBuffer();
     q.hits = StorageBuffer();
+    q.skips = StorageBuffer();
     q.rays = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::Ray), "HRPP queue rays");
     q.entries = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::QueueEntry), "HRPP queue entries");
     q.hits = StorageBuffer(*s_->ctx, capacity * sizeof(gpu::Hit), "HRPP queue hits");
+    q.skips = StorageBuffer(*s_->ctx, capacity * TexelView::kTexelBytes, "HRPP queue skip lists");
     q.ray_view = TexelView(*s_->ctx, q.rays);
     q.entry_view = TexelView(*s_->ctx, q.entries);
     q.hit_view = TexelView(*s_->ctx, q.hits);
+    q.skip_view = TexelView(*s_->ctx, q.skips);
     q.capacity = capacity;
     q.trace.bind(HRPP_TRACE_BINDING_RAYS, q.ray_view);
     q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hit_view);
+    if (s_->config.fallback == Fallback::kSkip)
+      q.trace.bind(HRPP_TRACE_BINDING_SKIP_NODES, q.skip_view);
   }
   for (RayClass c : kRayClasses) {
     if (query_kind(c) != kind || !s_->tables[c]) continue;
@@ -437,6 +458,7 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
       k->bind(HRPP_STAGE_BINDING_QUEUE_RAYS, q.ray_view);
       k->bind(HRPP_STAGE_BINDING_QUEUE_ENTRIES, q.entry_view);
       k->bind(HRPP_STAGE_BINDING_QUEUE_HITS, q.hit_view);
+      k->bind(HRPP_STAGE_BINDING_QUEUE_SKIPS, q.skip_view);
     }
   }
 }

@@ -1,6 +1,6 @@
 // Descriptor types of the trace kernels' bindings (shaders/shared/trace_interface.h; the indexed
-// ones add the ray index list, a texel buffer) and of the HRPP stage's
-// (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel buffers
+// ones add the ray index list, the skipping ones the skip lists, texel buffers) and of the HRPP
+// stage's (shaders/shared/hrpp_interface.h): the BVH arrays and the rays are uniform texel buffers
 // (bindings 0..5); the stage also reads and writes its per-ray arrays as texel buffers
 // (shaders/lib/hrpp_stage.glsl); everything else is a storage buffer. And the trace kernels'
 // names per query kind.
@@ -43,6 +43,14 @@ inline constexpr auto kTraceIndexedBindingTypes = [] {
   return t;
 }();
 static_assert(HRPP_TRACE_BINDING_RAY_INDICES == HRPP_TRACE_BINDING_COUNT);
+// The skipping trace kernels: the trace kernels' bindings and the skip lists (a texel view).
+inline constexpr auto kTraceSkippingBindingTypes = [] {
+  std::array<VkDescriptorType, HRPP_TRACE_SKIPPING_BINDING_COUNT> t{};
+  for (std::size_t i = 0; i < kTraceBindingTypes.size(); ++i) t[i] = kTraceBindingTypes[i];
+  t[HRPP_TRACE_BINDING_SKIP_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}();
+static_assert(HRPP_TRACE_BINDING_SKIP_NODES == HRPP_TRACE_BINDING_COUNT);
 inline constexpr auto kStageBindingTypes = [] {
   auto t = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
   t[HRPP_STAGE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
@@ -52,17 +60,21 @@ inline constexpr auto kStageBindingTypes = [] {
   t[HRPP_STAGE_BINDING_TAG_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_STAGE_BINDING_SLOT_TEXELS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   t[HRPP_STAGE_BINDING_NODE_OF_PRIM] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[HRPP_STAGE_BINDING_QUEUE_SKIPS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   return t;
 }();
 static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
 
-// The trace kernel of a query kind (shaders/trace_closest.comp, shaders/trace_any.comp) and its
-// indexed variant (trace_*_indexed.comp).
+// The trace kernel of a query kind (shaders/trace_closest.comp, shaders/trace_any.comp), its
+// indexed variant (trace_*_indexed.comp) and its skipping one (trace_*_skipping.comp).
 constexpr Kernel trace_kernel(QueryKind k) {
   return k == QueryKind::kAny ? Kernel::trace_any : Kernel::trace_closest;
 }
 constexpr Kernel trace_indexed_kernel(QueryKind k) {
   return k == QueryKind::kAny ? Kernel::trace_any_indexed : Kernel::trace_closest_indexed;
+}
+constexpr Kernel trace_skipping_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? Kernel::trace_any_skipping : Kernel::trace_closest_skipping;
 }
 
 }  // namespace hrpp

@@ -39,6 +39,16 @@ constexpr const char* predictor_mode_name(PredictorMode m) {
 }
 constexpr const char* table_policy_name(TablePolicy p) { return name_in(kTablePolicyNames, p); }
 
+// What a ray traces when its prediction did not answer it (false positives and negatives; in
+// exact mode also true positives of hit-all rays, bounded by the predicted t): a traversal from
+// the root, as in the paper (root), or one from the root that does not enter the first
+// HRPP_SKIP_NODES nodes its verification tested (skip): nothing in them answers the ray, so the
+// answer is the same and a false positive's verification is not paid twice.
+enum class Fallback : std::uint8_t { kRoot, kSkip };
+inline constexpr NameTable<Fallback, 2> kFallbackNames = {
+    {{Fallback::kRoot, "root"}, {Fallback::kSkip, "skip"}}};
+constexpr const char* fallback_name(Fallback f) { return name_in(kFallbackNames, f); }
+
 // Capacity = sets × ways entries of `nodes` node slots each.
 struct TableConfig {
   std::uint32_t sets = 1u << 12;
@@ -76,6 +86,7 @@ struct PredictorConfig {
   // default is host/app/hrpp_options.h's.
   PerClass<HashConfig> hash;
   PredictorMode mode = PredictorMode::kSpeculative;
+  Fallback fallback = Fallback::kSkip;
   PerClass<std::uint32_t> go_up{};
   PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
   PerClass<TableConfig> table;   // per ray class (--table-*)

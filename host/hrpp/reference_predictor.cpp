@@ -1,10 +1,12 @@
 #include "hrpp/reference_predictor.h"
 
 #include <algorithm>
+#include <array>
 
 #include "hrpp/prediction_node.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_setup.h"
+#include "trace_interface.h"
 
 namespace hrpp {
 ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig& config)
@@ -18,20 +20,25 @@ ReferencePredictor::ReferencePredictor(const GpuBvh& bvh, const PredictorConfig&
 // One class's trace: the stage's steps for one ray at a time (shaders/lib/hrpp_predict.glsl,
 // the trace kernel, shaders/hrpp_resolve.comp), counting what the kernels count.
 struct ReferencePredictor::Trace {
+  // The nodes a queued ray's trace does not enter (HRPP_EMPTY_NODE: none).
+  using SkipList = std::array<int, HRPP_SKIP_NODES>;
+
   const ReferencePredictor& p;
   const QueryKind kind;
   const bool exact;
+  const bool skips;                    // --hrpp-fallback skip
   const gpu::PredictorParams& params;  // the class's
   PredictorTraceResult& out;
   std::vector<Insert> inserts;  // of the current batch, applied after it in ray order
 
   std::uint64_t& counter(int i) { return out.predictor.c[i]; }
 
-  // A traversal from the root with the ray's [tmin, tmax]; adds its work to `into`.
-  gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into) const {
+  // A traversal from the root with the ray's [tmin, tmax] that does not enter the nodes in
+  // `skip`; adds its work to `into`.
+  gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into,
+                      std::span<const int> skip = {}) const {
     TraversalCounters f;
-    const gpu::Hit h =
-        kind == QueryKind::kAny ? trace_any_hit(*p.bvh_, r, &f) : trace_closest(*p.bvh_, r, &f);
+    const gpu::Hit h = trace_skipping(*p.bvh_, r, kind, skip, &f);
     f.rays = 0;
     f.hits = 0;
     into += f;
@@ -39,15 +46,18 @@ struct ReferencePredictor::Trace {
   }
 
   // The entry's nodes in slot order, up to the first empty slot: the closest hit among them
-  // (hit-any: the first).
-  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& slots) {
+  // (hit-any: the first). With --hrpp-fallback skip, `tested` gets the first HRPP_SKIP_NODES.
+  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& slots, SkipList& tested) {
     gpu::Hit predicted = kMiss;
     TraversalCounters v;
+    std::size_t tested_count = 0;
     for (const int node : slots) {
       if (node == HRPP_EMPTY_NODE) break;
       gpu::Ray r = ray;
       if (predicted.prim >= 0) r.tmax = predicted.t;
-      if (trace_subtree(*p.bvh_, r, node, kind, predicted, &v)) break;
+      const bool answered = trace_subtree(*p.bvh_, r, node, kind, predicted, &v);
+      if (skips && tested_count < tested.size()) tested[tested_count++] = node;
+      if (answered) break;
     }
     counter(HRPP_PC_VERIFY_INTERIOR) += v.interior_visited;
     counter(HRPP_PC_VERIFY_LEAVES) += v.leaves_visited;
@@ -58,7 +68,8 @@ struct ReferencePredictor::Trace {
   }
 
   // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none).
-  gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock) {
+  gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock,
+                   SkipList& tested) {
     ++counter(HRPP_PC_PROBES);
     const std::vector<int>* slots = table.lookup(key, clock);
     if (!slots) {
@@ -66,7 +77,7 @@ struct ReferencePredictor::Trace {
       return kMiss;
     }
     ++counter(HRPP_PC_PREDICTOR_HITS);
-    return verify(ray, *slots);
+    return verify(ray, *slots, tested);
   }
 
   // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,
@@ -81,14 +92,15 @@ struct ReferencePredictor::Trace {
   }
 
   // The answer of a probed ray: the prediction, or the trace of the queue (exact mode: bounded
-  // by the predicted t, the closer of the two, ties to the lower id). `traced`: the ray was
-  // queued (then a hit inserts).
-  gpu::Hit answer(const gpu::Ray& ray, const gpu::Hit& predicted, bool& traced) {
+  // by the predicted t, the closer of the two, ties to the lower id), not entering the nodes
+  // in `skip`. `traced`: the ray was queued (then a hit inserts).
+  gpu::Hit answer(const gpu::Ray& ray, const gpu::Hit& predicted, const SkipList& skip,
+                  bool& traced) {
     traced = predicted.prim < 0 || (exact && kind == QueryKind::kClosest);
     if (!traced) return predicted;
     gpu::Ray r = ray;
     if (predicted.prim >= 0) r.tmax = predicted.t;
-    const gpu::Hit best = full_trace(r, out.counters);
+    const gpu::Hit best = full_trace(r, out.counters, skip);
     if (predicted.prim >= 0 && (best.prim < 0 || predicted.t < best.t ||
                                 (predicted.t == best.t && predicted.prim < best.prim)))
       return predicted;
@@ -98,10 +110,12 @@ struct ReferencePredictor::Trace {
   gpu::Hit trace_ray(const gpu::Ray& ray, Table& table, std::uint32_t clock) {
     if (!setup_ray(ray).valid) return full_trace(ray, out.counters);  // misses unprobed
     const std::uint64_t key = hash_ray(ray.origin, ray.dir, ray.tmax, params.hash);
-    const gpu::Hit predicted = predict(ray, table, key, clock);
+    SkipList tested;
+    tested.fill(HRPP_EMPTY_NODE);
+    const gpu::Hit predicted = predict(ray, table, key, clock, tested);
     if (p.config_.count_baseline) count_baseline(ray, predicted);
     bool traced = false;
-    const gpu::Hit best = answer(ray, predicted, traced);
+    const gpu::Hit best = answer(ray, predicted, tested, traced);
     if (traced && best.prim >= 0) {
       ++counter(HRPP_PC_INSERT_REQUESTS);
       const std::uint32_t leaf = p.leaf_of_prim_[static_cast<std::size_t>(best.prim)];
@@ -127,7 +141,13 @@ struct ReferencePredictor::Trace {
 PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
   PredictorTraceResult out;
   out.hits.resize(rays.size());
-  Trace t{*this, query_kind(cls), config_.mode == PredictorMode::kExact, params_[cls], out, {}};
+  Trace t{*this,
+          query_kind(cls),
+          config_.mode == PredictorMode::kExact,
+          config_.fallback == Fallback::kSkip,
+          params_[cls],
+          out,
+          {}};
   Table& table = tables_[cls];
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
   for (std::size_t first = 0; first < rays.size(); first += batch) {

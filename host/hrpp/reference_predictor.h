@@ -9,7 +9,9 @@
 //     nodes), hit-any stopping at the first hit. A hit is a true positive: hit-any and
 //     speculative hit-all take it; exact hit-all traces from the root with tmax = its t and
 //     keeps the closer of that answer and the predicted hit (ties: lower id). No hit:
-//     false positive, full traversal. No entry: negative, full traversal;
+//     false positive, full traversal. No entry: negative, full traversal. With
+//     --hrpp-fallback skip (PredictorConfig::fallback) these traversals do not enter the first
+//     HRPP_SKIP_NODES nodes the verification tested;
 //   - after every full traversal that hit, the prediction node (host/hrpp/prediction_node.h)
 //     of the hit is inserted under the ray's key, at the ray's use stamp (the class's rays
 //     traced so far + its index), evicting or dropping as the table's policy says;

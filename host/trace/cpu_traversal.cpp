@@ -1,5 +1,7 @@
 #include "trace/cpu_traversal.h"
 
+#include <algorithm>
+
 #include "trace/slab_test.h"
 #include "trace/watertight.h"
 
@@ -27,9 +29,13 @@ bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, g
 }
 
 // Stack traversal of the subtree under `root` (interior node index or ~leaf) into `best`;
-// tmax starts at `tmax`. Returns true when an any-hit query was answered.
+// tmax starts at `tmax`; children in `skip` are not entered. Returns true when an any-hit query
+// was answered.
 bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, gpu::Hit& best,
-                   bool any_only, TraversalCounters& c) {
+                   bool any_only, TraversalCounters& c, std::span<const int> skip = {}) {
+  const auto skipped = [skip](int ref) {
+    return std::find(skip.begin(), skip.end(), ref) != skip.end();
+  };
   int stack[HRPP_STACK_SIZE];
   int sp = 0;
   int node = root;
@@ -42,9 +48,11 @@ bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, g
       const gpu::BvhNode& n = bvh.nodes[node];
       float t_left, t_right;
       const bool hit_left = slab_test(r, {n.left_xy.x, n.left_xy.z, n.lr_z.x},
-                                      {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left);
+                                      {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left) &&
+                            !skipped(n.link.x);
       const bool hit_right = slab_test(r, {n.right_xy.x, n.right_xy.z, n.lr_z.z},
-                                       {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right);
+                                       {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right) &&
+                             !skipped(n.link.y);
       if (hit_left && hit_right) {
         const bool right_first = t_right < t_left;
         stack[sp++] = right_first ? n.link.x : n.link.y;
@@ -61,12 +69,15 @@ bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, g
   }
 }
 
-gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out) {
+gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out,
+                  std::span<const int> skip = {}) {
   TraversalCounters c;
   c.rays = 1;
   gpu::Hit best = kMiss;
   const RaySetup r = setup_ray(ray);
-  if (r.valid && !bvh.nodes.empty()) traverse_from(bvh, r, 0, ray.tmax, best, any_only, c);
+  const bool root_skipped = std::find(skip.begin(), skip.end(), 0) != skip.end();
+  if (r.valid && !bvh.nodes.empty() && !root_skipped)
+    traverse_from(bvh, r, 0, ray.tmax, best, any_only, c, skip);
   if (best.prim >= 0) ++c.hits;
   if (out) *out += c;
   return best;
@@ -84,6 +95,11 @@ bool trace_any(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counte
 
 gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters) {
   return traverse(bvh, ray, true, counters);
+}
+
+gpu::Hit trace_skipping(const GpuBvh& bvh, const gpu::Ray& ray, QueryKind kind,
+                        std::span<const int> skip, TraversalCounters* counters) {
+  return traverse(bvh, ray, kind == QueryKind::kAny, counters, skip);
 }
 
 bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind, gpu::Hit& best,

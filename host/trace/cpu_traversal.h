@@ -6,6 +6,8 @@
 //   - a ray with NaN/Inf origin or direction, or a zero direction, misses everything.
 #pragma once
 
+#include <span>
+
 #include "bvh/gpu_layout.h"
 #include "trace/query_kind.h"
 #include "trace/traversal_counters.h"
@@ -18,6 +20,12 @@ bool trace_any(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counte
 // Any-hit query that also says which triangle answered it (the first hit met, in traversal
 // order): HRPP inserts the leaf that held it.
 gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters* counters = nullptr);
+
+// trace_closest (QueryKind::kClosest) or trace_any_hit (kAny) that does not enter the nodes in
+// `skip` (child references; 0, the root: nothing is entered): the queue's trace with
+// --hrpp-fallback skip (host/hrpp/reference_predictor.h).
+gpu::Hit trace_skipping(const GpuBvh& bvh, const gpu::Ray& ray, QueryKind kind,
+                        std::span<const int> skip, TraversalCounters* counters = nullptr);
 
 // The subtree under `root` (a child reference: interior node index, or ~leaf index) with the
 // ray's [tmin, tmax], improving `best` as the traversal does (closest: smaller t, ties to the

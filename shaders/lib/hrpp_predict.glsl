@@ -11,6 +11,9 @@
 //     ray's answer and are done; exact hit-all writes it and queues the ray with tmax = its t
 //     (hrpp_resolve keeps the closer of the two: the answer of HRPP off). No hit: false
 //     positive, queued. No entry: negative, queued;
+//   - with the skip list on (kSkipList, --hrpp-fallback skip) a queued ray also gets the first
+//     HRPP_SKIP_NODES nodes it tested, which the queue's trace (trace_*_skipping) does not
+//     enter: nothing in them answers the ray before its queued tmax;
 //   - queued rays are compacted: one atomicAdd per subgroup (ballot), and the queue's
 //     indirect dispatch arguments are raised with one atomicMax per subgroup.
 // Persistent invocations and the completion proof are those of shaders/lib/trace_kernel.glsl.
@@ -24,6 +27,7 @@ layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_x_id = HRPP_SPEC_PRE
 layout(push_constant) uniform PushConstants { StagePushConstants pc; };
 layout(constant_id = HRPP_SPEC_VERIFY_INTERIOR) const bool kVerifyInterior = true;
 layout(constant_id = HRPP_SPEC_COUNT_BASELINE) const bool kCountBaseline = true;
+layout(constant_id = HRPP_SPEC_SKIP_LIST) const bool kSkipList = false;
 
 #include "hrpp_stage.glsl"
 #include "hrpp_hash.glsl"
@@ -45,9 +49,11 @@ Hit baseline_traversal(RaySetup r) {
 }
 
 // Tests the ray against the nodes of table entry `entry`; returns the closest (hit-any: the
-// first) hit among them. `finished` turns false when a traversal did not reach its end.
-Hit verify_entry(RaySetup r, int entry, inout bool finished) {
+// first) hit among them. `finished` turns false when a traversal did not reach its end; `tested`
+// gets the first HRPP_SKIP_NODES nodes tested (kSentinel: none).
+Hit verify_entry(RaySetup r, int entry, inout bool finished, inout ivec4 tested) {
   Hit predicted = Hit(-1, 0.0, 0.0, 0.0);
+  uint tested_count = 0u;
   const uint first = uint(entry) * hrpp.nodes;
   float tmax = r.tmax;
   bool done = false;  // hit-any answered (no break out of the loop: see hrpp_table.glsl)
@@ -55,22 +61,25 @@ Hit verify_entry(RaySetup r, int entry, inout bool finished) {
     const int node = int(hrpp_fetch_slot(first + s));
     if (node == HRPP_EMPTY_NODE) {
       done = true;
-    } else if (node < 0) {
-      done = test_leaf(r, node, predicted, tmax);
-    } else if (kVerifyInterior) {
-      RaySetup sub = r;
-      sub.tmax = tmax;
-      finished = traverse_from(sub, node, predicted) && finished;
-      if (predicted.prim >= 0) tmax = predicted.t;
-      done = HRPP_ANY_HIT != 0 && predicted.prim >= 0;
+    } else if (node < 0 || kVerifyInterior) {
+      if (node < 0) {
+        done = test_leaf(r, node, predicted, tmax);
+      } else {
+        RaySetup sub = r;
+        sub.tmax = tmax;
+        finished = traverse_from(sub, node, predicted) && finished;
+        if (predicted.prim >= 0) tmax = predicted.t;
+        done = HRPP_ANY_HIT != 0 && predicted.prim >= 0;
+      }
+      if (kSkipList && tested_count < HRPP_SKIP_NODES) tested[tested_count++] = node;
     }
   }
   return predicted;
 }
 
 // Probes the table for ray `index` (set up as r) and verifies the prediction. Returns the
-// predicted hit (prim < 0: none).
-Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished) {
+// predicted hit (prim < 0: none); `tested`: the nodes tested (verify_entry).
+Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished, inout ivec4 tested) {
   ++count_probes;
   const int entry = hrpp_table_lookup(key, hrpp.clock + index);
   if (entry < 0) {
@@ -79,7 +88,7 @@ Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished) {
   }
   ++count_predictor_hits;
   const uint i0 = g_interior, l0 = g_leaves, t0 = g_triangles;
-  const Hit predicted = verify_entry(r, entry, finished);
+  const Hit predicted = verify_entry(r, entry, finished, tested);
   count_verify_interior += g_interior - i0;
   count_verify_leaves += g_leaves - l0;
   count_verify_triangles += g_triangles - t0;
@@ -88,8 +97,9 @@ Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished) {
   return predicted;
 }
 
-// Appends the rays whose `wanted` is true to the queue (every lane of the subgroup calls this).
-void enqueue(bool wanted, Ray ray, QueueEntry entry) {
+// Appends the rays whose `wanted` is true to the queue, with their skip lists (every lane of the
+// subgroup calls this).
+void enqueue(bool wanted, Ray ray, QueueEntry entry, ivec4 skips) {
   const uvec4 lanes = subgroupBallot(wanted);
   const uint n = subgroupBallotBitCount(lanes);
   uint base = 0u;
@@ -105,6 +115,7 @@ void enqueue(bool wanted, Ray ray, QueueEntry entry) {
     const uint slot = base + subgroupBallotExclusiveBitCount(lanes);
     store_queue_ray(slot, ray);
     store_queue_entry(slot, entry);
+    if (kSkipList) store_queue_skips(slot, skips);
   }
 }
 
@@ -115,6 +126,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
   Ray ray = Ray(vec3(0.0), 0.0, vec3(0.0), 0.0);
   QueueEntry entry = QueueEntry(index, 0u, 0u, 0u);
   bool finished = true;
+  ivec4 tested = ivec4(kSentinel);
   if (in_range) {
     if (hrpp.insert_deferred != 0u)
       hrpp_requests[index] = InsertRequest(0u, 0u, HRPP_EMPTY_NODE, 0u);
@@ -123,7 +135,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
     if (r.valid) {
       const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, ray.tmax, hrpp.hash);
       entry = QueueEntry(index, HRPP_QUEUE_PROBED, uint(key), uint(key >> 32));
-      const Hit predicted = predict(index, r, key, finished);
+      const Hit predicted = predict(index, r, key, finished, tested);
       if (kCountBaseline && hrpp.count_baseline != 0u) {
         const Hit truth = baseline_traversal(r);
         if (HRPP_ANY_HIT == 0 && hrpp.mode == HRPP_MODE_SPECULATIVE && predicted.prim >= 0 &&
@@ -139,7 +151,7 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
     }
     finished = loop_budget_left() && finished;
   }
-  enqueue(in_range && finished && !resolved, ray, entry);
+  enqueue(in_range && finished && !resolved, ray, entry, tested);
   return finished;
 }
 

@@ -15,6 +15,10 @@
 // index is entry j of a ray index list (HRPP_TRACE_BINDING_RAY_INDICES) and writes its hit at
 // that index, so a reordering (host/gpu/ray_sorter.h) moves no ray and no hit. Without it
 // (0, the default) position j is ray j.
+//
+// HRPP_TRACE_SKIPPING 1 (trace_*_skipping.comp, HRPP's queue with --hrpp-fallback skip):
+// position j also reads entry j of a skip list (HRPP_TRACE_BINDING_SKIP_NODES), the nodes its
+// prediction tested without an answer, and the traversal does not enter them (traversal.glsl).
 #ifndef HRPP_TRACE_KERNEL_GLSL
 #define HRPP_TRACE_KERNEL_GLSL
 
@@ -45,6 +49,17 @@ uint ray_at(uint slot) { return texelFetch(ray_index_texels, int(slot >> 2u))[sl
 uint ray_at(uint slot) { return slot; }
 #endif
 
+#if HRPP_TRACE_SKIPPING
+layout(set = 0, binding = HRPP_TRACE_BINDING_SKIP_NODES) uniform usamplerBuffer skip_texels;
+// The node the traversal of position `slot` starts at: the root, unless the root is skipped.
+int start_node(uint slot) {
+  g_skip = ivec4(texelFetch(skip_texels, int(slot)));
+  return skipped(0) ? kSentinel : 0;
+}
+#else
+int start_node(uint slot) { return 0; }
+#endif
+
 void add_wide(uint counter, uint value) {
   if (value == 0u) return;
   const uint old = atomicAdd(counters.wide[2u * counter], value);
@@ -67,7 +82,7 @@ void main() {
     const uint index = ray_at(slot);
     const RaySetup r = setup_ray(load_ray(index));
     Hit best = Hit(-1, 0.0, 0.0, 0.0);
-    const bool finished = traverse_from(r, 0, best);
+    const bool finished = traverse_from(r, start_node(slot), best);
     if (loop_budget_left() && finished) {
       imageStore(hit_texels, int(index), uvec4(uint(best.prim), floatBitsToUint(best.t),
                                                floatBitsToUint(best.u), floatBitsToUint(best.v)));

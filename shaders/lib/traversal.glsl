@@ -36,6 +36,16 @@ layout(constant_id = HRPP_SPEC_NODE_FORMAT) const uint kNodeFormat = HRPP_NODES_
 
 bool is_interior(int ref) { return uint(ref) < uint(kSentinel); }  // leaves are negative
 
+// HRPP_TRACE_SKIPPING 1 (the skipping trace kernels, trace_kernel.glsl): the nodes the ray's
+// traversal does not enter, child references set per ray (kSentinel: none).
+#ifndef HRPP_TRACE_SKIPPING
+#define HRPP_TRACE_SKIPPING 0
+#endif
+#if HRPP_TRACE_SKIPPING
+ivec4 g_skip = ivec4(kSentinel);
+bool skipped(int ref) { return any(equal(ivec4(ref), g_skip)); }
+#endif
+
 // Tests a leaf's triangles. Returns true when an any-hit query is answered.
 bool test_leaf(RaySetup r, int leaf_ref, inout Hit best, inout float tmax) {
   ++g_leaves;
@@ -70,10 +80,14 @@ int g_sp = 0;
 ivec4 visit_binary(RaySetup r, int node, float tmax, out uint entered) {
   const BvhNode n = load_node(node);
   float t_left, t_right;
-  const bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
-                                  vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
-  const bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
-                                   vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
+  bool hit_left = slab_test(r, vec3(n.left_xy.x, n.left_xy.z, n.lr_z.x),
+                            vec3(n.left_xy.y, n.left_xy.w, n.lr_z.y), tmax, t_left);
+  bool hit_right = slab_test(r, vec3(n.right_xy.x, n.right_xy.z, n.lr_z.z),
+                             vec3(n.right_xy.y, n.right_xy.w, n.lr_z.w), tmax, t_right);
+#if HRPP_TRACE_SKIPPING
+  hit_left = hit_left && !skipped(n.link.x);
+  hit_right = hit_right && !skipped(n.link.y);
+#endif
   entered = uint(hit_left) + uint(hit_right);
   const bool right_first = hit_right && (!hit_left || t_right < t_left);
   return right_first ? ivec4(n.link.y, n.link.x, kSentinel, kSentinel)
