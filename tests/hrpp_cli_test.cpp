@@ -61,6 +61,10 @@ TEST_F(HrppCli, ExactAndAnyHitWriteTheHitsOfHrppOff) {
   EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --hash grid-spherical --hash-bits 5 --go-up 2",
                   "exact_grid"),
             off);
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --hash grid-spherical --hash-bits 5 --go-up 2 "
+                  "--hrpp-fallback root",
+                  "exact_grid_root"),
+            off);
   const std::string any_off = trace("--any-hit", "any_off");
   EXPECT_EQ(trace("--any-hit --hrpp on --hash two-point --hash-bits 4", "any_on"), any_off);
   // Per-class keys: a light-space key with go-up subtrees for the shadow rays.
@@ -134,6 +138,7 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
   for (const auto& [flags, needle] : std::vector<std::pair<std::string, std::string>>{
            {"--hrpp maybe", "--hrpp"},
            {"--hrpp on --hrpp-mode fast", "--hrpp-mode"},
+           {"--hrpp on --hrpp-fallback leaf", "--hrpp-fallback"},
            {"--hrpp on --hash md5", "--hash"},
            {"--hrpp on --hash-bits 9", "--hash-bits"},
            {"--hrpp on --hash shadow=md5", "--hash"},
