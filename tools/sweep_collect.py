@@ -82,7 +82,11 @@ def flatten(meta, stats):
         for k in CLASS_KEYS:
             r[f"{cls}_{k}"] = p.get(k)
         e, n = p.get("table_entries", 0), p.get("table_nodes", 0)
-        slots = h.get("table_nodes", 0)
+        # Node slots per entry of the kind's table: per class in the stats (the default gives
+        # shadow rays the beam table); hit-all figures use the camera rays' (the grids give
+        # bounce rays the same table).
+        slots = h.get("keys", {}).get("shadow" if pc == "hit_any" else "camera", {}).get(
+            "table_nodes", h.get("table_nodes", 0))
         r[f"{cls}_nodes_per_entry"] = n / e if e else 0.0
         r[f"{cls}_used_bytes"] = e * (12 + 4 * slots)   # entries in use, this table's layout
         r[f"{cls}_compact_bytes"] = 8 * e + 4 * n        # a key and a 4-byte node id per node
