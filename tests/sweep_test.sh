@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The limit study's pipeline on the Cornell box (tools/sweep.sh --test: two HRPP configurations
+# The limit study's pipeline on the Cornell box (tools/sweep.sh --test: three HRPP configurations
 # and the HRPP-off image they are compared with, 32x32): jobs run through GNU parallel, the CSV
 # has the expected columns and one successful row per job, image errors are filled in and the
 # plots are written. The same command runs the keys grid (tools/key_study.py: three keys on the
@@ -24,11 +24,13 @@ need = ["id", "grid", "scene", "size", "spp", "seed", "variant", "ok", "hrpp", "
         "rmse_off", "relmse_off", "rmse_ref", "relmse_ref", "cmd"]
 missing = [c for c in need if c not in rows[0]]
 assert not missing, f"CSV lacks columns {missing}"
-assert len(rows) == 3, f"{len(rows)} rows, expected 3"
+assert len(rows) == 4, f"{len(rows)} rows, expected 4"
 assert all(r["ok"] == "1" and r["scene"] == "builtin:cornell" for r in rows), rows
 v = {r["variant"]: r for r in rows}
 assert v["off"]["hrpp"] == "off" and v["count"]["mode"] == "speculative", v
 assert v["exact"]["mode"] == "exact" and float(v["exact"]["relmse_off"]) == 0.0, v["exact"]
+# The default's tables differ per class (shadow rays: the beam table's 4 node slots).
+assert v["default"]["hrpp"] == "on" and v["default"]["table_nodes"] != "", v["default"]
 assert float(v["count"]["all_probes"]) > 0 and v["count"]["all_savings"] != "", v["count"]
 assert float(v["count"]["wall_s"]) > 0 and v["count"]["relmse_off"] != "", v["count"]
 for f in ("test_savings.png", "error_vs_off.png"):

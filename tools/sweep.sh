@@ -34,7 +34,7 @@ the generated tables in RESULTS.md: every generated block of the mode.
   --full             the paper's 1024x1024 8 spp for Table 1, paperscale and the dragon grids,
                      512x512 for the bounded-table, error-vs-time and model grids, 256x256 for
                      the keys grid (the study's setup at 1024x1024): about 2 hours on 2 cores
-  --test             two configurations on the Cornell box at 32x32, the keys and model grids
+  --test             three configurations on the Cornell box at 32x32, the keys and model grids
                      at 32x32 (the pipeline test; RESULTS.md is not touched: --results
                      defaults to OUT/RESULTS.md)
   --smoke            every grid at toy sizes (checks the pipeline in a few minutes)

@@ -16,7 +16,7 @@ Grids (see RESULTS.md):
   paperscale the paper's Sportscar scale (--full only): the 52M-triangle random scene of
              tools/make_big_scene.py at the Table 1 setup, with the unbounded and the tuned
              table, and its off / speculative / exact runs (RESULTS.md shows it in Table 1)
-  test       two configurations on the Cornell box (the pipeline test)
+  test       three configurations on the Cornell box (the pipeline test)
 
 Every predicting run uses the paper's keys and, as the paper, traces a ray its prediction did not
 answer from the root (--hrpp-fallback root).
@@ -192,12 +192,14 @@ def grid_errtime(J, m):
 
 
 def grid_test(J, m):
-    # Two configurations on the Cornell box (plus the HRPP-off image they are compared with).
+    # Three configurations on the Cornell box (plus the HRPP-off image they are compared with).
     J.add("test", "builtin:cornell", m["size"], m["spp"], OFF, variant="off")
     J.add("test", "builtin:cornell", m["size"], m["spp"], hrpp_flags(preset="small"),
           variant="count")
     J.add("test", "builtin:cornell", m["size"], m["spp"],
           hrpp_flags(mode="exact", count=False, preset="tiny"), variant="exact")
+    # The default: a table per class of its own size (as errtime's default runs).
+    J.add("test", "builtin:cornell", m["size"], m["spp"], ["--hrpp", "on"], variant="default")
 
 
 GRIDS = dict(table1=grid_table1, paperscale=grid_paperscale, precision=grid_precision,
