@@ -17,7 +17,9 @@
 #   6. every GPU test binary (CTest label gpu), each alone;
 #   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off);
 #   8. tools/hrpp_model.py: this device's cost per operation fitted, its held-out error and where
-#      prediction would pay here (docs/EXPERIMENTS.md, "The cost model").
+#      prediction would pay here (docs/EXPERIMENTS.md, "The cost model");
+#   9. step 7 again with the paper's fallback (--hrpp-fallback root): what the skip fallback
+#      (step 7, the default) saves in time on this device.
 # Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
 # On the GPU machine (no network, a fresh checkout), from the repository's root:
@@ -295,6 +297,11 @@ limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp 
 step "hrpp_model.py: this device's costs per operation and where prediction would pay"
 limit 120 "hrpp_model" "${PYTHON:-python3}" tools/hrpp_model.py --hrpp "$hrpp" "${model_args[@]}" \
   --runs "$rays/model" --json "$out/hrpp_model.json" --figure "$out/hrpp_model.png"
+
+step "hrpp_bench.py, every ray predicted, the paper's fallback (--hrpp-fallback root)"
+limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off --hrpp-fallback root" \
+  --json "$out/hrpp_bench_every_ray_root.json"
 
 step "done"
 if [ "${#failed[@]}" -gt 0 ]; then
