@@ -77,7 +77,7 @@ work = sys.argv[1]
 logins = [l.strip()[2:] for l in open(os.path.join(work, "sshloginfile")) if l.strip()]
 jobs = [json.loads(l) for l in open(os.path.join(work, "run", "jobs.jsonl"))]
 log = list(csv.DictReader(open(os.path.join(work, "run", "joblog")), delimiter="\t"))
-assert len(log) == len(jobs) == 3, f"{len(log)} joblog rows for {len(jobs)} jobs"
+assert len(log) == len(jobs) == 4, f"{len(log)} joblog rows for {len(jobs)} jobs"
 assert all(r["Exitval"] == "0" for r in log), log
 hosts = [r["Host"] for r in log]
 assert all(h in logins for h in hosts), f"jobs ran on {hosts}, not on the ssh hosts {logins}"
