@@ -153,7 +153,7 @@ ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fa
     return ComputePipeline(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)),
                            kTraceBindingTypes, sizeof(gpu::TracePushConstants));
   return ComputePipeline(ctx, trace_skipping_kernel(kind),
-                         embedded_spirv(trace_skipping_kernel(kind)), kTraceSkippingBindingTypes,
+                         embedded_spirv(trace_skipping_kernel(kind)), kTraceListBindingTypes,
                          sizeof(gpu::TracePushConstants));
 }
 

@@ -109,7 +109,7 @@ struct QueryArrays {
         kernel(c, trace_kernel(kind), embedded_spirv(trace_kernel(kind)), kTraceBindingTypes,
                sizeof(gpu::TracePushConstants), spec),
         indexed(c, kernel.kernel(), embedded_spirv(trace_indexed_kernel(kind)),
-                kTraceIndexedBindingTypes, sizeof(gpu::TracePushConstants), spec) {
+                kTraceListBindingTypes, sizeof(gpu::TracePushConstants), spec) {
     for (ComputePipeline* k : {&kernel, &indexed}) k->bind(HRPP_TRACE_BINDING_COUNTERS, counters);
   }
 };

@@ -35,22 +35,17 @@ inline constexpr auto kTraceBindingTypes = [] {
   t[HRPP_TRACE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   return t;
 }();
-// The indexed trace kernels: the trace kernels' bindings and the ray index list (a texel view).
-inline constexpr auto kTraceIndexedBindingTypes = [] {
+// The indexed and the skipping trace kernels: the trace kernels' bindings and one list read per
+// position (the ray index list or the skip lists), a texel view.
+inline constexpr auto kTraceListBindingTypes = [] {
   std::array<VkDescriptorType, HRPP_TRACE_INDEXED_BINDING_COUNT> t{};
   for (std::size_t i = 0; i < kTraceBindingTypes.size(); ++i) t[i] = kTraceBindingTypes[i];
   t[HRPP_TRACE_BINDING_RAY_INDICES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }();
 static_assert(HRPP_TRACE_BINDING_RAY_INDICES == HRPP_TRACE_BINDING_COUNT);
-// The skipping trace kernels: the trace kernels' bindings and the skip lists (a texel view).
-inline constexpr auto kTraceSkippingBindingTypes = [] {
-  std::array<VkDescriptorType, HRPP_TRACE_SKIPPING_BINDING_COUNT> t{};
-  for (std::size_t i = 0; i < kTraceBindingTypes.size(); ++i) t[i] = kTraceBindingTypes[i];
-  t[HRPP_TRACE_BINDING_SKIP_NODES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}();
-static_assert(HRPP_TRACE_BINDING_SKIP_NODES == HRPP_TRACE_BINDING_COUNT);
+static_assert(HRPP_TRACE_BINDING_SKIP_NODES == HRPP_TRACE_BINDING_RAY_INDICES &&
+              HRPP_TRACE_SKIPPING_BINDING_COUNT == HRPP_TRACE_INDEXED_BINDING_COUNT);
 inline constexpr auto kStageBindingTypes = [] {
   auto t = texel_then_storage_bindings<HRPP_STAGE_BINDING_COUNT>();
   t[HRPP_STAGE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
