@@ -213,9 +213,13 @@ struct GpuPredictor::State {
   VulkanContext* ctx;
   PredictorConfig config;
   // The node to insert for each triangle id, one array per go-up level that a predicting class
-  // uses (classes with the same level share it).
-  std::vector<std::pair<GoUp, StorageBuffer>> node_of_prim;
-  std::vector<TexelView> node_of_prim_views;  // parallel: how hrpp_resolve reads them
+  // uses (classes with the same level share it), and the texel view hrpp_resolve reads it by.
+  struct NodeOfPrim {
+    GoUp level;
+    StorageBuffer ids;
+    TexelView view;
+  };
+  std::vector<NodeOfPrim> node_of_prim;
   PerClass<std::unique_ptr<Table>> tables;
   std::unique_ptr<Queue> queues[2];  // [index_of(QueryKind)]
   PerClass<Probe> probing{};         // how each class's next trace runs the stage
@@ -225,9 +229,9 @@ struct GpuPredictor::State {
 
   Table& table(RayClass c) const { return *tables[c]; }
   const TexelView& node_of_prim_at(const GoUp& level) const {
-    const auto at = std::find_if(node_of_prim.begin(), node_of_prim.end(),
-                                 [&](const auto& b) { return b.first == level; });
-    return node_of_prim_views[at - node_of_prim.begin()];
+    return std::find_if(node_of_prim.begin(), node_of_prim.end(),
+                        [&](const NodeOfPrim& b) { return b.level == level; })
+        ->view;
   }
   Queue& queue(QueryKind k) const { return *queues[index_of(k)]; }
   Queue& queue(RayClass c) const { return queue(query_kind(c)); }
@@ -387,8 +391,8 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     StorageBuffer b(ctx, node_of.size() * sizeof(std::int32_t), "node of triangle",
                     BufferBinding::kTexelOnly);
     b.upload(std::span<const std::int32_t>(node_of));
-    s_->node_of_prim_views.emplace_back(ctx, b);
-    s_->node_of_prim.emplace_back(level, std::move(b));
+    TexelView view(ctx, b);
+    s_->node_of_prim.push_back({level, std::move(b), std::move(view)});
   }
   for (QueryKind kind : kQueryKinds) {
     s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind, config.fallback);

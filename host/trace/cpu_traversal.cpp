@@ -28,14 +28,15 @@ bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, g
   return found;
 }
 
+bool contains(std::span<const int> refs, int ref) {
+  return std::find(refs.begin(), refs.end(), ref) != refs.end();
+}
+
 // Stack traversal of the subtree under `root` (interior node index or ~leaf) into `best`;
 // tmax starts at `tmax`; children in `skip` are not entered. Returns true when an any-hit query
 // was answered.
 bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, gpu::Hit& best,
                    bool any_only, TraversalCounters& c, std::span<const int> skip = {}) {
-  const auto skipped = [skip](int ref) {
-    return std::find(skip.begin(), skip.end(), ref) != skip.end();
-  };
   int stack[HRPP_STACK_SIZE];
   int sp = 0;
   int node = root;
@@ -49,10 +50,10 @@ bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, g
       float t_left, t_right;
       const bool hit_left = slab_test(r, {n.left_xy.x, n.left_xy.z, n.lr_z.x},
                                       {n.left_xy.y, n.left_xy.w, n.lr_z.y}, tmax, &t_left) &&
-                            !skipped(n.link.x);
+                            !contains(skip, n.link.x);
       const bool hit_right = slab_test(r, {n.right_xy.x, n.right_xy.z, n.lr_z.z},
                                        {n.right_xy.y, n.right_xy.w, n.lr_z.w}, tmax, &t_right) &&
-                             !skipped(n.link.y);
+                             !contains(skip, n.link.y);
       if (hit_left && hit_right) {
         const bool right_first = t_right < t_left;
         stack[sp++] = right_first ? n.link.x : n.link.y;
@@ -75,8 +76,7 @@ gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, Travers
   c.rays = 1;
   gpu::Hit best = kMiss;
   const RaySetup r = setup_ray(ray);
-  const bool root_skipped = std::find(skip.begin(), skip.end(), 0) != skip.end();
-  if (r.valid && !bvh.nodes.empty() && !root_skipped)
+  if (r.valid && !bvh.nodes.empty() && !contains(skip, 0))
     traverse_from(bvh, r, 0, ray.tmax, best, any_only, c, skip);
   if (best.prim >= 0) ++c.hits;
   if (out) *out += c;

@@ -1,7 +1,8 @@
 // The HRPP stage's buffers besides the BVH and the class's rays (shaders/shared/hrpp_interface.h,
 // HRPP_STAGE_BINDING_*): the class's hit array, the queue and its arrays (skip lists included),
-// the table, and the prediction node of every triangle. Included by hrpp_predict(_any).comp and hrpp_resolve.comp,
-// which enable 64-bit integers and atomics and declare `pc` (StagePushConstants).
+// the table, and the prediction node of every triangle. Included by hrpp_predict(_any).comp and
+// hrpp_resolve.comp, which enable 64-bit integers and atomics and declare `pc`
+// (StagePushConstants).
 #ifndef HRPP_STAGE_GLSL
 #define HRPP_STAGE_GLSL
 
@@ -39,7 +40,9 @@ void store_queue_entry(uint slot, QueueEntry e) {
 }
 layout(set = 0, binding = HRPP_STAGE_BINDING_QUEUE_SKIPS, rgba32ui) uniform restrict writeonly
     uimageBuffer queue_skip_texels;  // HRPP_SKIP_NODES child references: 1 texel
-void store_queue_skips(uint slot, ivec4 nodes) { imageStore(queue_skip_texels, int(slot), uvec4(nodes)); }
+void store_queue_skips(uint slot, ivec4 nodes) {
+  imageStore(queue_skip_texels, int(slot), uvec4(nodes));
+}
 QueueEntry load_queue_entry(uint slot) {
   const uvec4 w = imageLoad(queue_entry_texels, int(slot));
   return QueueEntry(w.x, w.y, w.z, w.w);
