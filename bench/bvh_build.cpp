@@ -1,4 +1,4 @@
-// BVH build benchmark: for each scene, our binned SAH builder (host/bvh/) against Embree 3's
+// BVH build benchmark: for each scene, our binned SAH builder (host/bvh/) against Embree's
 // robust high-quality build (RTC_SCENE_FLAG_ROBUST, RTC_BUILD_QUALITY_HIGH) over the same
 // non-degenerate triangles on the same number of threads, interleaved in one run: one warm-up
 // build of each, then --repeat rounds of (ours, Embree). Prints best and median build times, the
@@ -23,7 +23,7 @@
 #include "scene/load_scene.h"
 
 #ifdef HRPP_HAVE_EMBREE
-#include <embree3/rtcore.h>
+#include "reference/embree_api.h"
 #endif
 
 namespace {

@@ -1,6 +1,6 @@
-// An independent check of `hrpp bench`'s Embree figures: Embree 3 driven directly from the
-// files of docs/FORMATS.md, sharing no code with hrpp (no scene loader, no BVH, no
-// host/reference/embree_tracer). It reads a triangle dump (`hrpp scene --dump-triangles`) and a
+// An independent check of `hrpp bench`'s Embree figures: Embree (3 or 4) driven directly from
+// the files of docs/FORMATS.md, sharing no code with hrpp but the API adapter (no scene loader,
+// no BVH, no host/reference/embree_tracer). It reads a triangle dump (`hrpp scene --dump-triangles`) and a
 // ray file (`hrpp bench --save-rays`), builds the scene as Embree's users build for
 // correctness-sensitive work (RTC_BUILD_QUALITY_HIGH, RTC_SCENE_FLAG_ROBUST), traces every ray
 // with rtcIntersect1 / rtcOccluded1 on N threads pulling blocks of rays, and prints the median
@@ -22,7 +22,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <embree3/rtcore.h>
+#include "reference/embree_api.h"
 
 namespace {
 
@@ -79,20 +79,18 @@ std::uint64_t trace_all(RTCScene scene, const std::vector<RayRecord>& rays, bool
   std::atomic<std::size_t> next{0};
   std::atomic<std::uint64_t> hits{0};
   const auto worker = [&] {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
     std::uint64_t mine = 0;
     for (std::size_t b; (b = next.fetch_add(kBlock)) < rays.size();) {
       for (std::size_t i = b; i < std::min(b + kBlock, rays.size()); ++i) {
         if (any_hit) {
           RTCRay r = embree_ray(rays[i]);
-          rtcOccluded1(scene, &ctx, &r);
+          hrpp::embree::occluded1(scene, r);
           mine += r.tfar == -std::numeric_limits<float>::infinity();
         } else {
           RTCRayHit rh{};
           rh.ray = embree_ray(rays[i]);
           rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rtcIntersect1(scene, &ctx, &rh);
+          hrpp::embree::intersect1(scene, rh);
           mine += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         }
       }
@@ -118,7 +116,7 @@ int main(int argc, char** argv) {
   unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   int repeat = 5;
   double gpu_ms = 0.0;
-  CLI::App app{"Embree 3 on a triangle dump and a ray file: an independent check of hrpp bench"};
+  CLI::App app{"Embree on a triangle dump and a ray file: an independent check of hrpp bench"};
   app.add_option("--triangles", triangles_path, "Triangle dump (9 float32 per triangle)")
       ->required();
   app.add_option("--rays", rays_path, "Ray file (32-byte records)")->required();

@@ -1,4 +1,4 @@
-// host/reference/embree_tracer: Embree 3 agrees with the CPU reference (trace/cpu_traversal.h)
+// host/reference/embree_tracer: Embree agrees with the CPU reference (trace/cpu_traversal.h)
 // on >= 10k rays of each batch kind (primary, AO, diffuse) for the Cornell box, the teapot and
 // the bunny: same triangle and t within 1e-5 relative. Embree's triangle test is not watertight,
 // so a different triangle at the same t (tie) is accepted and fewer than 0.1% of the rays may

@@ -1,6 +1,6 @@
 // hrpp bench SCENE [--rays N] [--kinds primary,ao,diffuse] [--json FILE]: ray-tracing speed in
 // the style of Aila and Laine (HPG 2009) and tinybvh's speed test. Fixed batches of one view
-// (trace/ray_batches.h), each traced by the CPU reference (all threads), Embree 3 (all threads,
+// (trace/ray_batches.h), each traced by the CPU reference (all threads), Embree (all threads,
 // when the build has it) and the Vulkan device (GpuTracer). Every tracer is warmed up, then timed
 // `--repeat` times over the whole batch (median reported), and its hits are checked against the
 // CPU reference on a subset; mismatches are printed loudly and recorded in the JSON.

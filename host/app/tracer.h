@@ -19,7 +19,7 @@ namespace hrpp::app {
 
 enum class TracerKind {
   kCpuReference,  // trace/cpu_traversal.h on all threads: the ground truth
-  kEmbree,        // Embree 3 (reference/embree_tracer.h)
+  kEmbree,        // Embree 3 or 4 (reference/embree_tracer.h)
   kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
   kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
 };

@@ -1,6 +1,6 @@
 // A uniform texel buffer view over a whole StorageBuffer: 16-byte texels in
-// VK_FORMAT_R32G32B32A32_UINT, read by a kernel as `usamplerBuffer` + texelFetch, bit for bit
-// (an integer format: no conversion, NaN payloads and denormals intact).
+// VK_FORMAT_R32G32B32A32_UINT, read by a kernel as `utextureBuffer` with samplerless texelFetch,
+// bit for bit (an integer format: no conversion, NaN payloads and denormals intact).
 //
 // Why: on lavapipe (llvmpipe) a storage-buffer load with a different address per lane is a loop
 // over the lanes inserting one 32-bit word at a time through the stack, while a texel fetch

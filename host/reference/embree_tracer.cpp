@@ -8,7 +8,7 @@
 #include "trace/ray_batches.h"
 
 #ifdef HRPP_HAVE_EMBREE
-#include <embree3/rtcore.h>
+#include "reference/embree_api.h"
 #endif
 
 namespace hrpp {
@@ -114,22 +114,18 @@ RTCRay to_embree(const gpu::Ray& r) {
 }  // namespace
 
 gpu::Hit EmbreeTracer::closest(const gpu::Ray& ray) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   RTCRayHit rh{};
   rh.ray = to_embree(ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(s_->scene, &context, &rh);
+  embree::intersect1(s_->scene, rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {-1, 0.0f, 0.0f, 0.0f};
   return {s_->prim_of[rh.hit.primID], rh.ray.tfar, rh.hit.u, rh.hit.v};
 }
 
 bool EmbreeTracer::occluded(const gpu::Ray& ray) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   RTCRay r = to_embree(ray);
-  rtcOccluded1(s_->scene, &context, &r);
+  embree::occluded1(s_->scene, r);
   return r.tfar < 0.0f;  // Embree sets tfar = -inf when something blocks the ray
 }
 

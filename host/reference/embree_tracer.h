@@ -1,5 +1,6 @@
-// Embree 3 as an outside reference and speed baseline: the same triangles, the same ray and hit
-// formats as the CPU reference (trace/cpu_traversal.h) and the GPU tracer.
+// Embree (3 or 4, reference/embree_api.h) as an outside reference and speed baseline: the same
+// triangles, the same ray and hit formats as the CPU reference (trace/cpu_traversal.h) and the
+// GPU tracer.
 //
 //   - one triangle geometry over the scene's non-degenerate triangles (the BVH's set); Embree's
 //     primID is mapped back to the scene's triangle id (docs/FORMATS.md);

@@ -1,9 +1,20 @@
 #include "scene/gltf_accessor.h"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace hrpp {
 namespace {
+
+// A sparse accessor's byteOffset is an int in tinygltf 2.7 (Debian 12) and a size_t in 2.9
+// (Debian 13): only the signed one can be negative.
+template <class T>
+bool is_negative(T offset) {
+  if constexpr (std::is_signed_v<T>)
+    return offset < 0;
+  else
+    return false;
+}
 
 // An accessor without a bufferView (sparse over zeros) holds at most this many bytes.
 constexpr std::size_t kMaxDenseBytes = std::size_t{1} << 28;
@@ -233,7 +244,7 @@ void AccessorReader::apply_sparse(const tinygltf::Accessor& acc, const std::stri
   std::size_t index_bytes = 0, value_bytes = 0;
   const std::uint8_t* indices = view_bytes(sp.indices.bufferView, index_bytes);
   const std::uint8_t* values = view_bytes(sp.values.bufferView, value_bytes);
-  if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0 ||
+  if (is_negative(sp.indices.byteOffset) || is_negative(sp.values.byteOffset) ||
       !fits(static_cast<std::size_t>(sp.indices.byteOffset), n * isize, index_bytes) ||
       !fits(static_cast<std::size_t>(sp.values.byteOffset), n * element, value_bytes)) {
     throw GltfError(where + ": sparse indices or values lie past the end of their bufferView");

@@ -806,13 +806,35 @@ GltfFile read_gltf_file(const std::filesystem::path& file, const std::string& na
   return f;
 }
 
+// tinygltf's file callbacks with read_whole_file as the reader. tinygltf 2.9 (Debian 13) adds a
+// size query, which it calls before the reader, and refuses a set with any callback missing;
+// the query leaves every check to read_whole_file, so both versions refuse a file alike.
+bool size_left_to_reader(std::size_t* size, std::string*, const std::string&, void*) {
+  *size = 0;
+  return true;
+}
+
+template <class Callbacks>  // tinygltf::FsCallbacks; a template, so one branch can be discarded
+void set_file_callbacks(tinygltf::TinyGLTF& gltf, Callbacks fs) {
+  fs.FileExists = &tinygltf::FileExists;
+  fs.ExpandFilePath = &tinygltf::ExpandFilePath;
+  fs.ReadWholeFile = &read_whole_file;
+  fs.WriteWholeFile = &tinygltf::WriteWholeFile;
+  if constexpr (requires { fs.GetFileSizeInBytes; }) {
+    fs.GetFileSizeInBytes = &size_left_to_reader;
+    std::string err;
+    if (!gltf.SetFsCallbacks(fs, &err)) throw Error("tinygltf: " + err);
+  } else {
+    gltf.SetFsCallbacks(fs);
+  }
+}
+
 // tinygltf's model of the file; one line naming the file when it cannot parse it.
 tinygltf::Model parse_model(const GltfFile& f, const std::string& base_dir,
                             const std::string& name) {
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(defer_image, nullptr);
-  gltf.SetFsCallbacks(tinygltf::FsCallbacks{&tinygltf::FileExists, &tinygltf::ExpandFilePath,
-                                            &read_whole_file, &tinygltf::WriteWholeFile, nullptr});
+  set_file_callbacks(gltf, tinygltf::FsCallbacks{});
   tinygltf::Model model;
   std::string err, warn;
   const auto size = static_cast<unsigned int>(f.bytes.size());  // < 4 GiB: read_whole_file

@@ -6,6 +6,9 @@
 #ifndef HRPP_STAGE_GLSL
 #define HRPP_STAGE_GLSL
 
+// Texel buffers are read without a sampler (texelFetch on utextureBuffer).
+#extension GL_EXT_samplerless_texture_functions : require
+
 #include "hrpp_interface.h"
 
 // The arrays a ray is written to or read from as a whole are texel buffers (R32G32B32A32_UINT):
@@ -19,7 +22,7 @@ layout(set = 0, binding = HRPP_STAGE_BINDING_QUEUE_RAYS, rgba32ui) uniform restr
     uimageBuffer queue_ray_texels;  // Ray: 2 texels
 layout(set = 0, binding = HRPP_STAGE_BINDING_QUEUE_ENTRIES, rgba32ui) uniform restrict
     uimageBuffer queue_entry_texels;  // QueueEntry: 1 texel
-layout(set = 0, binding = HRPP_STAGE_BINDING_QUEUE_HITS) uniform usamplerBuffer queue_hit_texels;
+layout(set = 0, binding = HRPP_STAGE_BINDING_QUEUE_HITS) uniform utextureBuffer queue_hit_texels;
 
 void store_hit(uint i, Hit h) {
   imageStore(hit_texels, int(i),
@@ -51,14 +54,14 @@ QueueEntry load_queue_entry(uint slot) {
 // The prediction node (go-up level applied on the host: host/hrpp/prediction_node.h) of every
 // triangle id, as a child reference; HRPP_EMPTY_NODE for ids in no leaf. Four ids a texel: a
 // texel view reaches 2^29 ids where a storage buffer's range (128 MiB) would stop at 2^25.
-layout(set = 0, binding = HRPP_STAGE_BINDING_NODE_OF_PRIM) uniform usamplerBuffer
+layout(set = 0, binding = HRPP_STAGE_BINDING_NODE_OF_PRIM) uniform utextureBuffer
     hrpp_node_of_prim_texels;
 int hrpp_node_of_prim(uint prim) {
   return int(texelFetch(hrpp_node_of_prim_texels, int(prim >> 2u))[prim & 3u]);
 }
 
-layout(set = 0, binding = HRPP_STAGE_BINDING_TAG_TEXELS) uniform usamplerBuffer hrpp_tag_texels;
-layout(set = 0, binding = HRPP_STAGE_BINDING_SLOT_TEXELS) uniform usamplerBuffer hrpp_slot_texels;
+layout(set = 0, binding = HRPP_STAGE_BINDING_TAG_TEXELS) uniform utextureBuffer hrpp_tag_texels;
+layout(set = 0, binding = HRPP_STAGE_BINDING_SLOT_TEXELS) uniform utextureBuffer hrpp_slot_texels;
 
 // Tag i and node slot i through the texel views (4 words per texel).
 uint64_t hrpp_fetch_tag(uint i) {

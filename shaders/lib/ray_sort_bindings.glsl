@@ -4,9 +4,12 @@
 #ifndef HRPP_RAY_SORT_BINDINGS_GLSL
 #define HRPP_RAY_SORT_BINDINGS_GLSL
 
+// Texel buffers are read without a sampler (texelFetch on utextureBuffer).
+#extension GL_EXT_samplerless_texture_functions : require
+
 #include "ray_sort_interface.h"
 
-layout(set = 0, binding = HRPP_SORT_BINDING_RAYS) uniform usamplerBuffer ray_texels;
+layout(set = 0, binding = HRPP_SORT_BINDING_RAYS) uniform utextureBuffer ray_texels;
 layout(std430, set = 0, binding = HRPP_SORT_BINDING_ITEMS) restrict buffer ItemBuffer {
   uvec2 items[];  // (key, index of the ray in queue order)
 };

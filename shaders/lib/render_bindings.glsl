@@ -3,6 +3,9 @@
 #ifndef HRPP_RENDER_BINDINGS_GLSL
 #define HRPP_RENDER_BINDINGS_GLSL
 
+// Texel buffers are read without a sampler (texelFetch on utextureBuffer).
+#extension GL_EXT_samplerless_texture_functions : require
+
 #include "render_interface.h"
 #include "surface_hit.h"
 
@@ -29,7 +32,7 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_NEXT_PATHS) restrict buffe
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_RAYS) restrict buffer RayBuffer {
   Ray rays[];
 };
-layout(set = 0, binding = HRPP_RENDER_BINDING_HITS) uniform usamplerBuffer hit_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_HITS) uniform utextureBuffer hit_texels;
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_NEXT_RAYS) restrict buffer NextRayBuffer {
   Ray next_rays[];
 };
@@ -45,14 +48,14 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_IMAGE) restrict buffer Ima
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_QUEUES) restrict buffer QueueBuffer {
   RenderQueues queues;
 };
-layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_TRIANGLES) uniform usamplerBuffer shade_triangles;
-layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_VERTICES) uniform usamplerBuffer shade_vertices;
-layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_ATTRIBUTES) uniform usamplerBuffer shade_attributes;
-layout(set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) uniform usamplerBuffer material_texels;
-layout(set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) uniform usamplerBuffer light_texels;
-layout(set = 0, binding = HRPP_RENDER_BINDING_RAY_TEXELS) uniform usamplerBuffer ray_texels;
-layout(set = 0, binding = HRPP_RENDER_BINDING_PATH_TEXELS) uniform usamplerBuffer path_texels;
-layout(set = 0, binding = HRPP_RENDER_BINDING_SHADOW_HITS) uniform usamplerBuffer shadow_hit_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_TRIANGLES) uniform utextureBuffer shade_triangles;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_VERTICES) uniform utextureBuffer shade_vertices;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADE_ATTRIBUTES) uniform utextureBuffer shade_attributes;
+layout(set = 0, binding = HRPP_RENDER_BINDING_MATERIALS) uniform utextureBuffer material_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_LIGHTS) uniform utextureBuffer light_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_RAY_TEXELS) uniform utextureBuffer ray_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_PATH_TEXELS) uniform utextureBuffer path_texels;
+layout(set = 0, binding = HRPP_RENDER_BINDING_SHADOW_HITS) uniform utextureBuffer shadow_hit_texels;
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_TEXTURES) readonly restrict buffer TextureBuffer {
   GpuTexture textures[];
 };
@@ -62,7 +65,7 @@ layout(std430, set = 0, binding = HRPP_RENDER_BINDING_TEXELS) readonly restrict 
 layout(push_constant) uniform PushConstants { RenderPushConstants pc; };
 
 // Records of the read-only arrays, one 16-byte texel per row of the struct.
-uvec4 texel_at(usamplerBuffer b, uint i) { return texelFetch(b, int(i)); }
+uvec4 texel_at(utextureBuffer b, uint i) { return texelFetch(b, int(i)); }
 
 Hit hit_of(uvec4 t) {
   return Hit(int(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
@@ -82,7 +85,7 @@ PathState load_path(uint i) {
   return PathState(uintBitsToFloat(a.xyz), a.w, b.x, b.y, b.z, uintBitsToFloat(b.w));
 }
 
-vec4 float_texel(usamplerBuffer b, uint i) { return uintBitsToFloat(texel_at(b, i)); }
+vec4 float_texel(utextureBuffer b, uint i) { return uintBitsToFloat(texel_at(b, i)); }
 
 ShadeVertex load_shade_vertex(uint i) {
   const uvec4 a = texel_at(shade_vertices, i);

@@ -8,12 +8,15 @@
 #ifndef HRPP_TEXEL_FETCH_GLSL
 #define HRPP_TEXEL_FETCH_GLSL
 
-layout(set = 0, binding = HRPP_TRACE_BINDING_NODES) uniform usamplerBuffer node_texels;
-layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform usamplerBuffer leaf_texels;
-layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform usamplerBuffer triangle_plane0;
-layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 1) uniform usamplerBuffer triangle_plane1;
-layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 2) uniform usamplerBuffer triangle_plane2;
-layout(set = 0, binding = HRPP_TRACE_BINDING_RAYS) uniform usamplerBuffer ray_texels;
+// Texel buffers are read without a sampler (texelFetch on utextureBuffer).
+#extension GL_EXT_samplerless_texture_functions : require
+
+layout(set = 0, binding = HRPP_TRACE_BINDING_NODES) uniform utextureBuffer node_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform utextureBuffer leaf_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform utextureBuffer triangle_plane0;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 1) uniform utextureBuffer triangle_plane1;
+layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 2) uniform utextureBuffer triangle_plane2;
+layout(set = 0, binding = HRPP_TRACE_BINDING_RAYS) uniform utextureBuffer ray_texels;
 
 BvhNode load_node(int index) {
   const int t = 4 * index;

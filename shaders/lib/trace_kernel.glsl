@@ -42,7 +42,7 @@ layout(push_constant) uniform PushConstants { TracePushConstants pc; };
 #include "traversal.glsl"
 
 #if HRPP_TRACE_INDEXED
-layout(set = 0, binding = HRPP_TRACE_BINDING_RAY_INDICES) uniform usamplerBuffer ray_index_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_RAY_INDICES) uniform utextureBuffer ray_index_texels;
 // The ray traced at position `slot`: entry `slot` of the list, 4 entries per texel.
 uint ray_at(uint slot) { return texelFetch(ray_index_texels, int(slot >> 2u))[slot & 3u]; }
 #else
@@ -50,7 +50,7 @@ uint ray_at(uint slot) { return slot; }
 #endif
 
 #if HRPP_TRACE_SKIPPING
-layout(set = 0, binding = HRPP_TRACE_BINDING_SKIP_NODES) uniform usamplerBuffer skip_texels;
+layout(set = 0, binding = HRPP_TRACE_BINDING_SKIP_NODES) uniform utextureBuffer skip_texels;
 // The node the traversal of position `slot` starts at: the root, unless the root is skipped.
 int start_node(uint slot) {
   g_skip = ivec4(texelFetch(skip_texels, int(slot)));
