@@ -319,8 +319,10 @@ TEST(GpuTracer, CountsTheInteriorLoopsSubgroupSteps) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
-// Lavapipe ends a subgroup's loops after 65,535 iterations: one workgroup asked to trace every
-// ray must be caught, not return a partial answer.
+// Mesa 22's lavapipe ends a subgroup's loops after 65,535 iterations: one workgroup asked to
+// trace every ray must be caught, not return a partial answer. A driver that runs the loops in
+// full (Mesa 25's lavapipe does) must return every ray's right answer instead; the test then
+// prints that there was no limiter to catch.
 TEST(GpuTracer, ExhaustedLoopBudgetIsAnError) {
   if (!is_lavapipe()) GTEST_SKIP() << "only lavapipe has a loop limiter";
   const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
@@ -329,8 +331,14 @@ TEST(GpuTracer, ExhaustedLoopBudgetIsAnError) {
   while (rays.size() < 64u * 2048u) rays.insert(rays.end(), rays.begin(), rays.begin() + kRaysPerKind);
   GpuTracer tracer(context(), bvh, GpuTracerConfig{1u << 20});  // one workgroup for all rays
   try {
-    tracer.trace(rays, QueryKind::kClosest);
-    FAIL() << "a loop-limited dispatch returned";
+    const GpuTraceResult r = tracer.trace(rays, QueryKind::kClosest);
+    EXPECT_EQ(context().validation_messages(), 0u);
+    ASSERT_EQ(r.hits.size(), rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      ASSERT_EQ(r.hits[i].prim, trace_closest(bvh, rays[i]).prim) << "ray " << i;
+    std::printf("%s ran every loop in full: no loop limiter to catch\n",
+                context().info().driver.c_str());
+    return;
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("loop limiter"), std::string::npos) << e.what();
   }

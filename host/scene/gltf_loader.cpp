@@ -806,9 +806,16 @@ GltfFile read_gltf_file(const std::filesystem::path& file, const std::string& na
   return f;
 }
 
-// tinygltf's file callbacks with read_whole_file as the reader. tinygltf 2.9 (Debian 13) adds a
-// size query, which it calls before the reader, and refuses a set with any callback missing;
-// the query leaves every check to read_whole_file, so both versions refuse a file alike.
+// tinygltf's file callbacks with read_whole_file as the reader, which makes every check, so that
+// tinygltf 2.7 (Debian 12) and 2.9 (Debian 13) refuse a file alike: a path exists if anything
+// is there (2.9's own check passes no directory, whose refusal would then read "not found");
+// 2.9's size query, called before the reader, leaves the size to it. 2.9 refuses a set with
+// any callback missing.
+bool exists_at_all(const std::string& path, void* /*user_data*/) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
 bool size_left_to_reader(std::size_t* size, std::string*, const std::string&, void*) {
   *size = 0;
   return true;
@@ -816,7 +823,7 @@ bool size_left_to_reader(std::size_t* size, std::string*, const std::string&, vo
 
 template <class Callbacks>  // tinygltf::FsCallbacks; a template, so one branch can be discarded
 void set_file_callbacks(tinygltf::TinyGLTF& gltf, Callbacks fs) {
-  fs.FileExists = &tinygltf::FileExists;
+  fs.FileExists = &exists_at_all;
   fs.ExpandFilePath = &tinygltf::ExpandFilePath;
   fs.ReadWholeFile = &read_whole_file;
   fs.WriteWholeFile = &tinygltf::WriteWholeFile;

@@ -16,9 +16,23 @@
 #ifndef HRPP_IEEE_MATH_GLSL
 #define HRPP_IEEE_MATH_GLSL
 
-float ieee_div(float a, float b) { return float(double(a) / double(b)); }
+// double(x), built from x's bits. Exact, as double(x) is, but opaque to the compiler: Mesa 25's
+// NIR turns double(float(y)) back into y for a double y (a rounding dropped, not an exact
+// rewrite), so a quotient by ieee_sqrt's result would divide by the unrounded root.
+double exact_double(float x) {
+  const uint bits = floatBitsToUint(x);
+  const uint sign = bits & 0x80000000u, exponent = (bits >> 23) & 0xFFu, mantissa = bits & 0x7FFFFFu;
+  if (exponent == 0u) {  // zero or subnormal: mantissa · 2^-149
+    const double magnitude = double(mantissa) * 1.4012984643248171e-45LF;
+    return sign != 0u ? -magnitude : magnitude;
+  }
+  const uint wide_exponent = exponent == 0xFFu ? 0x7FFu : exponent + 896u;  // bias 127 → 1023
+  return packDouble2x32(uvec2(mantissa << 29, sign | (wide_exponent << 20) | (mantissa >> 3)));
+}
 
-float ieee_sqrt(float x) { return float(sqrt(double(x))); }
+float ieee_div(float a, float b) { return float(exact_double(a) / exact_double(b)); }
+
+float ieee_sqrt(float x) { return float(sqrt(exact_double(x))); }
 
 vec3 ieee_div(vec3 a, float b) { return vec3(ieee_div(a.x, b), ieee_div(a.y, b), ieee_div(a.z, b)); }
 

@@ -19,9 +19,9 @@ vec3 offset_ray_origin(vec3 p, vec3 n) {
   const vec3 p_i = intBitsToFloat(bits + ivec3(p.x < 0.0 ? -of_i.x : of_i.x,
                                                p.y < 0.0 ? -of_i.y : of_i.y,
                                                p.z < 0.0 ? -of_i.z : of_i.z));
-  return vec3(abs(p.x) < kOffsetOrigin ? p.x + kOffsetFloatScale * n.x : p_i.x,
-              abs(p.y) < kOffsetOrigin ? p.y + kOffsetFloatScale * n.y : p_i.y,
-              abs(p.z) < kOffsetOrigin ? p.z + kOffsetFloatScale * n.z : p_i.z);
+  precise vec3 p_f = p + kOffsetFloatScale * n;  // Mesa 25 fuses it into an FMA otherwise
+  return vec3(abs(p.x) < kOffsetOrigin ? p_f.x : p_i.x, abs(p.y) < kOffsetOrigin ? p_f.y : p_i.y,
+              abs(p.z) < kOffsetOrigin ? p_f.z : p_i.z);
 }
 
 const float kShadowRayLength = 1.0 - 1.0 / 8192.0;
