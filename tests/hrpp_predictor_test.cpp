@@ -100,10 +100,12 @@ GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& 
                          QueryKind kind, GpuTracer** keep = nullptr) {
   GpuTracerConfig tc;
   tc.rays_per_invocation = 8;
-  static std::vector<std::unique_ptr<GpuTracer>> tracers;
-  tracers.push_back(std::make_unique<GpuTracer>(context(), bunny().bvh, tc, p));
-  if (keep) *keep = tracers.back().get();
-  return tracers.back()->trace(rays, kind);
+  // Never destroyed, like the context they use (gpu_test_context.h): at exit the driver may
+  // already be torn down (Debian 13's build crashed destroying them there).
+  static auto* tracers = new std::vector<std::unique_ptr<GpuTracer>>;
+  tracers->push_back(std::make_unique<GpuTracer>(context(), bunny().bvh, tc, p));
+  if (keep) *keep = tracers->back().get();
+  return tracers->back()->trace(rays, kind);
 }
 
 void expect_counters_add_up(const gpu::PredictorCounters& pc, std::size_t valid_rays,

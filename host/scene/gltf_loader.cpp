@@ -816,7 +816,8 @@ bool exists_at_all(const std::string& path, void* /*user_data*/) {
   return std::filesystem::exists(path, ec);
 }
 
-bool size_left_to_reader(std::size_t* size, std::string*, const std::string&, void*) {
+[[maybe_unused]] bool size_left_to_reader(std::size_t* size, std::string*, const std::string&,
+                                          void*) {  // (unused with tinygltf 2.7)
   *size = 0;
   return true;
 }

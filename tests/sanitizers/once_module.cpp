@@ -1,5 +1,5 @@
-// A library that behaves, for LeakSanitizer, like Mesa's lavapipe driver (libvulkan_lvp.so) does
-// on AMD Zen CPUs (see tests/sanitizers/lsan.supp): a one-time initialiser (pthread_once) keeps a
+// A library that behaves, for LeakSanitizer, like Mesa 22.3's lavapipe driver (libvulkan_lvp.so)
+// did on AMD Zen CPUs (tests/sanitizers/lsan.supp): a one-time initialiser (pthread_once) keeps a
 // 128-byte realloc'd block in the library's own globals and never frees it. Built like Debian's
 // Mesa: not instrumented, no frame pointers. While the library is loaded the block is reachable;
 // once it is dlclose'd the pointer is gone with the library's data, and LeakSanitizer reports a
