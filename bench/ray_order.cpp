@@ -1,4 +1,4 @@
-// Ray reordering and node layout (issue 12, items 1 and 2): per scene and Aila–Laine batch kind
+// Ray reordering and node layout: per scene and Aila–Laine batch kind
 // (host/trace/ray_batches.h), the GPU trace's device time with each combination of --reorder
 // (off; morton: the sort's order read by the indexed trace kernel, as hrpp trace and render do;
 // morton-gather: the sort then a gather of the rays into sorted order, traced by the plain

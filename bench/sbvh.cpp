@@ -1,4 +1,4 @@
-// Spatial splits (issue 12, item 3): per scene, the object-split BVH (binned SAH) against the
+// Spatial splits: per scene, the object-split BVH (binned SAH) against the
 // SBVH (--bvh-splits spatial) side by side: SAH cost, build time on --threads threads
 // (interleaved rounds, best and median), references per triangle and node counts; then the GPU
 // trace's device time and Mrays/s over each BVH on the same Aila-Laine batches

@@ -1,4 +1,4 @@
-// Ray reordering (issue 12): host/trace/ray_order.h on the CPU, host/gpu/ray_sorter.h +
+// Ray reordering: host/trace/ray_order.h on the CPU, host/gpu/ray_sorter.h +
 // shaders/ray_sort_*.comp on the Vulkan device (lavapipe here, under the validation layer).
 // The key's edge cases; the GPU permutation equals the CPU's stable counting sort exactly (no
 // ray lost, none duplicated, equal keys in queue order) at sizes around the block boundaries;

@@ -1,4 +1,4 @@
-// Ray reordering on the GPU (issue 12; Garanzha & Loop 2010, Meister et al. 2020): a stable LSD
+// Ray reordering on the GPU (Garanzha & Loop 2010, Meister et al. 2020): a stable LSD
 // radix sort of a queue of rays by ray_sort_key (host/trace/ray_order.h: direction octant, then
 // the Morton code of the origin's cell). Its result is the order, a ray index list on the device
 // (order_view()) that the indexed trace kernels read (GpuTracer::record with ray indices): no
