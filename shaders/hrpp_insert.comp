@@ -1,7 +1,7 @@
 // hrpp_insert: applies the deferred insert requests of one batch (shaders/lib/hrpp_table.glsl)
 // in request order, in a single invocation: the deterministic order that the CPU reference
 // predictor (host/hrpp/reference_predictor.h) reproduces. At most HRPP_INSERT_BATCH_MAX requests
-// per dispatch, far below lavapipe's loop limit (docs/ARCHITECTURE.md, "Lavapipe").
+// per dispatch, far below lavapipe's loop limit (docs/DEVICES.md, "Lavapipe").
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

@@ -1,7 +1,7 @@
 // Device memory on the Vulkan device (lavapipe here), under the validation layer: arrays read
 // only through texel views may pass maxStorageBufferRange, the context's ledger follows every
 // buffer a render makes and frees, and a scene whose BVH node array is bigger than the old
-// 128 MiB storage range traces as the CPU reference does (docs/ARCHITECTURE.md, "Device memory").
+// 128 MiB storage range traces as the CPU reference does (docs/DEVICES.md, "Device memory").
 #include <gtest/gtest.h>
 
 #include <functional>

@@ -1,7 +1,7 @@
 // What the wavefront renderer (host/render/) asks of a tracer on the device: closest-hit and
 // any-hit traces over device-resident ray arrays, recorded into the renderer's command buffers,
 // with their work counters and kernel times. GpuTracer (the BVH kernels, host/gpu/gpu_tracer.h)
-// is the one implementation; docs/ARCHITECTURE.md ("Adding a ...": a device tracer) says what
+// is the one implementation; docs/HRPP.md ("Adding a ...": a device tracer) says what
 // another one, such as hardware ray queries, takes.
 #pragma once
 

@@ -3,7 +3,7 @@
 // DenormPreserve for 32-bit floats when the device reports shaderDenormPreserveFloat32. Without
 // it a device may flush subnormal inputs and results to zero (NVIDIA does; lavapipe keeps them
 // but does not report the property), and C++'s answers on subnormal coordinates differ from the
-// kernels' (docs/ARCHITECTURE.md, "Bit for bit on other devices").
+// kernels' (docs/DEVICES.md, "Bit for bit on other devices").
 // The kernels' SPIR-V is compiled without the mode; ComputePipeline adds it here, at load time,
 // on a device that reports the property, because declaring it elsewhere is invalid.
 #pragma once

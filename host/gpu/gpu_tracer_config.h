@@ -11,7 +11,7 @@ struct DeviceInfo;
 struct GpuTracerConfig {
   // Most rays one kernel invocation traces before it exits (more workgroups are dispatched
   // instead); 0: the device's default, what resolved_for() fills in. Lavapipe's loop limiter
-  // (docs/ARCHITECTURE.md, "Lavapipe") ends every loop of a subgroup after 65,535 iterations in
+  // (docs/DEVICES.md, "Lavapipe") ends every loop of a subgroup after 65,535 iterations in
   // total, a few hundred rays' worth: on a CPU device the default is 16, which keeps a wide
   // margin and amortises an invocation's start. A GPU has no such limit and hides latency with
   // more invocations in flight: there the default is 1 (NVIDIA H200, bunny, 2^20 rays: 1.5x

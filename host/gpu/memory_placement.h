@@ -1,6 +1,6 @@
 // Where buffers live (--memory): the memory mode, the role of a buffer, and the pure choice of a
 // Vulkan memory type for a role from the device's VkPhysicalDeviceMemoryProperties
-// (docs/ARCHITECTURE.md, "Device memory").
+// (docs/DEVICES.md, "Device memory").
 #pragma once
 
 #include <cstdint>

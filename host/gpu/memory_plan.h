@@ -1,5 +1,5 @@
 // What a scene's device buffers need, checked against what the device has, before anything is
-// allocated or uploaded (docs/ARCHITECTURE.md, "Device memory"). Pure functions over numbers:
+// allocated or uploaded (docs/DEVICES.md, "Device memory"). Pure functions over numbers:
 // tests hold them to small made-up limits without a device.
 #pragma once
 

@@ -248,7 +248,7 @@ void describe_memory(VkPhysicalDevice pd, MemoryMode requested, DeviceInfo* info
   info->reported_heap_bytes = mp.memoryHeaps[heap].size;
   // A CPU device's buffers are the host's memory. Mesa 22.3's lavapipe reports a fixed 2 GiB
   // heap but allocates beyond it (5 GiB of buffers at once, measured), so the host's physical
-  // memory is the real limit there (docs/ARCHITECTURE.md, "Device memory").
+  // memory is the real limit there (docs/DEVICES.md, "Device memory").
   if (!info->heap_budget && info->type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     if (pages > 0 && page > 0) {

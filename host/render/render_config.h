@@ -78,7 +78,7 @@ struct RenderConfig {
   std::uint32_t camera = 0;                  // index into Scene::cameras
   std::uint32_t wavefront_paths = 1u << 18;  // paths in flight at once (memory bound)
   // Run every kernel once on a few paths before the timed frame: the first dispatch of a
-  // pipeline JIT-compiles on lavapipe (docs/ARCHITECTURE.md, "Lavapipe"). The image and
+  // pipeline JIT-compiles on lavapipe (docs/DEVICES.md, "Lavapipe"). The image and
   // the counters leave it out.
   bool warm_up = true;
   // The order in which each bounce's trace takes its rays (--reorder): kMorton sorts the

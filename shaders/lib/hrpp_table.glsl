@@ -145,7 +145,7 @@ void hrpp_add_counter(uint counter, uint value) {
 // one `uint count_<key>` per counter with HRPP_DECLARE_COUNT and adds them to the class's counters
 // once, at the end, with HRPP_FLUSH_COUNTS (summed over the subgroup) or, in a single invocation,
 // with HRPP_ADD_COUNT. The lists expand to one statement per counter: no loop, which the loop
-// limiter could cut short (docs/ARCHITECTURE.md, "Lavapipe").
+// limiter could cut short (docs/DEVICES.md, "Lavapipe").
 #define HRPP_DECLARE_COUNT(NAME, key, index) uint count_##key = 0u;
 #define HRPP_ADD_COUNT(NAME, key, index) hrpp_add_counter(index, count_##key);
 #define HRPP_SUM_COUNT(NAME, key, index) sums[index] = subgroupAdd(count_##key);

@@ -2,7 +2,7 @@
 // Vulkan only requires a shader's float division to be within 2.5 ULP and its square root as
 // close as 1 / inversesqrt(x), and NVIDIA's division (driver 580, H200) is that loose: with
 // plain `/` the trace kernels' t differed from the CPU reference's in the last bits
-// (docs/ARCHITECTURE.md, "Bit for bit on other devices"). Here both are computed in double and
+// (docs/DEVICES.md, "Bit for bit on other devices"). Here both are computed in double and
 // rounded once to float.
 // That is the correctly rounded float result even when the double operation is a double ULP or
 // two off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint

@@ -1,6 +1,6 @@
 // Buffers and push constants of the ray reordering kernels (shaders/shared/ray_sort_interface.h),
 // and the completion count each scatter and the gather report. Rays are read as 16-byte texels
-// and the gather writes them with imageStore (docs/ARCHITECTURE.md, "Texel buffers").
+// and the gather writes them with imageStore (docs/DEVICES.md, "Texel buffers").
 #ifndef HRPP_RAY_SORT_BINDINGS_GLSL
 #define HRPP_RAY_SORT_BINDINGS_GLSL
 

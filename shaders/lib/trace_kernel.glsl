@@ -5,7 +5,7 @@
 //
 // Persistent invocations: one lane per subgroup fetches the next rays with atomicAdd on a global
 // cursor, but at most pc.rays_per_invocation per invocation, because lavapipe's loop limiter
-// (docs/ARCHITECTURE.md, "Lavapipe") silently ends every loop once a subgroup has run
+// (docs/DEVICES.md, "Lavapipe") silently ends every loop once a subgroup has run
 // 65,535 loop iterations in total. Every ray proves it finished: its traversal loop must end at
 // the sentinel and a canary loop with a bound unknown to the compiler (pc.canary_iterations)
 // must still run in full. Rays that pass count in HRPP_COUNTER_RAYS; the others in

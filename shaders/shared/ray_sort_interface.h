@@ -25,7 +25,7 @@ namespace hrpp::gpu {
 #define HRPP_SORT_BINS 256
 #define HRPP_SORT_PASSES 2
 // At most this many blocks (one invocation each) per pass: the scan's loops stay far inside
-// lavapipe's loop limiter (docs/ARCHITECTURE.md, "Loop limiter").
+// lavapipe's loop limiter (docs/DEVICES.md, "Loop limiter").
 #define HRPP_SORT_MAX_BLOCKS 1024
 #define HRPP_SORT_MIN_BLOCK_ITEMS 64
 

@@ -127,7 +127,7 @@ struct ShadowRecord {
 // the indirect dispatch arguments render_shade makes of the shadow queue, and completion
 // counts. The host resets it (kRenderQueuesStart) at the start of the bounce's command buffer,
 // reads it back after the submit and compares the completion counts with the work submitted
-// (docs/ARCHITECTURE.md, "Loop limiter").
+// (docs/DEVICES.md, "Loop limiter").
 #define HRPP_RENDER_DONE_GENERATE 0
 #define HRPP_RENDER_DONE_SHADE 1
 #define HRPP_RENDER_DONE_ACCUMULATE 2
