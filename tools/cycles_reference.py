@@ -114,7 +114,10 @@ def make_mesh(s):
                 loops += [tuple(tri[0:3]), tuple(tri[3:6]), tuple(tri[6:9])]
             else:
                 loops += [(0.0, 0.0, 0.0)] * 3  # Blender: keep the face normal
-        mesh.use_auto_smooth = True
+        if hasattr(mesh, "use_auto_smooth"):  # Blender 3.x: custom normals need auto smooth
+            mesh.use_auto_smooth = True
+        else:  # Blender 4.1+: smooth faces take custom normals, flat ones their face normal
+            mesh.polygons.foreach_set("use_smooth", [any(normals[9 * t:9 * t + 9]) for t in tris])
         mesh.normals_split_custom_set(loops)
     mesh.update()
     obj = bpy.data.objects.new("hrpp", mesh)
