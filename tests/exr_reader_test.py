@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""tools/hrpp_bench.py's numpy EXR reader (for a Python without OpenImageIO, reading what a
+"""tools/hrpp_common.py's numpy EXR reader (for a Python without OpenImageIO, reading what a
 portable build writes) against OpenImageIO on the same files: a small hrpp render, rewritten
 by oiiotool as an uncompressed float EXR, reads back equal value for value; a compressed file is
 refused with a message that says so. Usage: exr_reader_test.py HRPP_BINARY WORK_DIR"""
@@ -9,7 +9,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 import numpy as np  # noqa: E402
-import hrpp_bench  # noqa: E402
+import hrpp_common  # noqa: E402
 
 
 def main():
@@ -21,13 +21,13 @@ def main():
                    check=True, capture_output=True)
     subprocess.run(["oiiotool", compressed, "-d", "float", "--compression", "none", "-o", plain],
                    check=True)
-    mine = hrpp_bench.read_uncompressed_exr(plain)
+    mine = hrpp_common.read_uncompressed_exr(plain)
     assert mine.shape == (16, 24, 3), mine.shape
     assert mine.max() > 0, "the render is black: the comparison would prove little"
-    assert np.array_equal(mine, hrpp_bench.read_exr(plain)), "differs from OpenImageIO's read"
-    assert np.array_equal(mine, hrpp_bench.read_exr(compressed)), "differs from the render"
+    assert np.array_equal(mine, hrpp_common.read_exr(plain)), "differs from OpenImageIO's read"
+    assert np.array_equal(mine, hrpp_common.read_exr(compressed)), "differs from the render"
     try:
-        hrpp_bench.read_uncompressed_exr(compressed)
+        hrpp_common.read_uncompressed_exr(compressed)
     except RuntimeError as e:
         assert "compressed" in str(e), e
     else:

@@ -28,11 +28,9 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from hrpp_bench import read_exr  # noqa: E402
-from estimator_error import (DEFAULT_SCENES, EPS, errors, mean_text,  # noqa: E402
-                             output_dir, run, scene_arg, write_json)
-
-DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
+from hrpp_common import (DEFAULT_BIN, EPS, ESTIMATOR_SCENES, read_exr, run,  # noqa: E402
+                         scene_arg)
+from estimator_error import error_summary, mean_text, output_dir, write_json  # noqa: E402
 HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobol"],
                 "hrpp light/independent": ["--light-sampling", "light", "--sampler",
                                            "independent"]}
@@ -42,18 +40,18 @@ def cycles(a, export, out, seed):
     run([a.blender, "--background", "--factory-startup", "--python",
          os.path.join(HERE, "cycles_reference.py"), "--", "--scene", export, "--out", out,
          "--size", a.size, "--spp", str(a.spp), "--max-depth", str(a.max_depth), "--seed",
-         str(seed)], "cycles_compare")
+         str(seed)], "cycles_compare", echo=True)
     return read_exr(out)
 
 
 def hrpp(a, scene, flags, out, seed=1):
     run([a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(a.spp), "--max-depth",
-         str(a.max_depth), "--seed", str(seed), "--out", out] + flags, "cycles_compare")
+         str(a.max_depth), "--seed", str(seed), "--out", out] + flags, "cycles_compare", echo=True)
     return read_exr(out)
 
 
 def pair_relmse(x, y, ref):
-    """relMSE between two renders, weighted by the reference as errors() weights: for two
+    """relMSE between two renders, weighted by the reference as error_summary() weights: for two
     independent estimates, twice their variance, comparable with the floor."""
     return float(((x - y) ** 2 / (ref ** 2 + EPS)).mean())
 
@@ -61,15 +59,15 @@ def pair_relmse(x, y, ref):
 def compare_scene(a, scene, out_dir):
     base = os.path.basename(scene).replace(":", "_")
     export = os.path.join(out_dir, f"{base}.json")
-    run([a.hrpp, "scene", scene_arg(scene), "--export-json", export], "cycles_compare")
+    run([a.hrpp, "scene", scene_arg(scene), "--export-json", export], "cycles_compare", echo=True)
     ref = cycles(a, export, os.path.join(out_dir, f"{base}_cycles0.exr"), 0)
     other = cycles(a, export, os.path.join(out_dir, f"{base}_cycles1.exr"), 1)
-    floor, _, floor_mean = errors(other, ref)
+    floor, _, floor_mean = error_summary(other, ref)
     rows = {"cycles seed 1": {"relmse": floor, "mean_ratio": floor_mean}}
     for name, flags in HRPP_CONFIGS.items():
         tag = name.split()[1].replace("/", "_")
         img = hrpp(a, scene, flags, os.path.join(out_dir, f"{base}_{tag}.exr"))
-        rel, worst, mean_ratio = errors(img, ref)
+        rel, worst, mean_ratio = error_summary(img, ref)
         rows[name] = {"relmse": rel, "worst_1pct_share": worst, "mean_ratio": mean_ratio}
     first = "hrpp mis/sobol"
     second = hrpp(a, scene, HRPP_CONFIGS[first],
@@ -86,7 +84,7 @@ def compare_scene(a, scene, out_dir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes", default=DEFAULT_SCENES)
+    ap.add_argument("--scenes", default=ESTIMATOR_SCENES)
     ap.add_argument("--size", default="64x64")
     ap.add_argument("--spp", type=int, default=1024)
     ap.add_argument("--max-depth", type=int, default=8)

@@ -20,36 +20,16 @@ Usage: tools/estimator_error.py
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from hrpp_bench import read_exr  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import hrpp_common  # noqa: E402
+from hrpp_common import DEFAULT_BIN, EPS, ESTIMATOR_SCENES, read_exr  # noqa: E402
 
-DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
 CONFIGS = [("light", "independent"), ("mis", "independent"), ("light", "sobol"),
            ("mis", "sobol"), ("bsdf", "sobol")]
 BASELINE = ("light", "independent")
-EPS = 1e-2
-# The estimator scripts' scenes: the Cornell boxes, two stand-ins, two lights near surfaces.
-DEFAULT_SCENES = "builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel"
-
-
-def scene_arg(name):
-    """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json."""
-    if name.startswith("builtin:") or "/" in name or name.endswith((".glb", ".gltf", ".json")):
-        return name
-    return os.path.join(HERE, "..", "scenes", f"{name}.scene.json")
-
-
-def run(cmd, who):
-    """Runs cmd, echoed to stderr; exits naming `who` and the command when it fails."""
-    print(f"  {' '.join(cmd)}", file=sys.stderr, flush=True)
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"{who}: {' '.join(cmd)} failed:\n{(r.stderr or r.stdout).strip()}")
 
 
 def output_dir(a, who, prefix):
@@ -72,18 +52,16 @@ def write_json(path, report):
 
 
 def render(a, scene, spp, seed, strategy, sampler, out_dir, tag):
-    base = os.path.basename(scene).replace(":", "_")
-    exr = os.path.join(out_dir, f"{base}_{tag}.exr")
-    stats = os.path.join(out_dir, f"{base}_{tag}.json")
-    cmd = [a.hrpp, "render", scene_arg(scene), "--size", a.size, "--spp", str(spp), "--seed",
-           str(seed), "--light-sampling", strategy, "--sampler", sampler, "--out", exr,
-           "--stats", stats]
-    run(cmd, "estimator_error")
-    with open(stats) as f:
-        return read_exr(exr), json.load(f)["wall_s"]
+    """One render's image and wall time."""
+    out = os.path.join(out_dir, f"{os.path.basename(scene).replace(':', '_')}_{tag}")
+    stats, exr = hrpp_common.render(a.hrpp, scene, out, a.size, spp, seed,
+                                    ["--light-sampling", strategy, "--sampler", sampler],
+                                    "estimator_error", echo=True)
+    return read_exr(exr), stats["wall_s"]
 
 
-def errors(img, ref):
+def error_summary(img, ref):
+    """relMSE against ref, the worst 1% of pixels' share of it, and the means' ratio per channel."""
     import numpy as np
     sq = (img - ref) ** 2 / (ref ** 2 + EPS)
     per_pixel = sq.mean(axis=-1).ravel()
@@ -94,7 +72,7 @@ def errors(img, ref):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes", default=DEFAULT_SCENES,
+    ap.add_argument("--scenes", default=ESTIMATOR_SCENES,
                     help="builtin:cornell and names of scenes/NAME.scene.json (cornell: the "
                          "glTF Cornell box)")
     ap.add_argument("--size", default="64x64")
@@ -113,7 +91,7 @@ def main():
         for strategy, sampler in CONFIGS:
             img, wall = render(a, scene, a.spp, 1, strategy, sampler, out_dir,
                                f"{strategy}_{sampler}")
-            rel, worst, mean_ratio = errors(img, ref)
+            rel, worst, mean_ratio = error_summary(img, ref)
             rows[f"{strategy}/{sampler}"] = {"relmse": rel, "worst_1pct_share": worst,
                                              "mean_ratio": mean_ratio, "wall_s": wall}
         base = rows["/".join(BASELINE)]

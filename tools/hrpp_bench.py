@@ -27,85 +27,19 @@ Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--re
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
-STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "dragon"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hrpp_common import DEFAULT_BIN, STAND_INS, image_errors, read_exr, render  # noqa: E402
+
 CLASSES = ["camera", "bounce", "shadow"]
-EPS = 1e-2  # relMSE's guard, as tools/sweep_collect.py
 
 
-def read_exr(path):
-    """An EXR's RGB as float64: OpenImageIO (Debian's python3-openimageio), else, for an
-    uncompressed file (what hrpp writes when built without OpenImageIO), numpy alone."""
-    import numpy as np
-    try:
-        import OpenImageIO as oiio
-    except ImportError:
-        return read_uncompressed_exr(path)
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        raise RuntimeError(f"cannot read {path}")
-    px = inp.read_image("float")
-    inp.close()
-    return np.asarray(px, dtype=np.float64)[..., :3]
-
-
-def read_uncompressed_exr(path):
-    """R, G, B of a single-part scanline EXR without compression and with float channels."""
-    import numpy as np
-    data = open(path, "rb").read()
-    if data[:4] != b"\x76\x2f\x31\x01":
-        raise RuntimeError(f"{path}: not an OpenEXR file")
-    pos, attrs = 8, {}
-    while data[pos] != 0:  # attributes: name, type, size, value; an empty name ends them
-        name_end = data.index(b"\0", pos)
-        type_end = data.index(b"\0", name_end + 1)
-        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
-        attrs[data[pos:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
-        pos = type_end + 5 + size
-    if attrs.get("compression") != b"\0":
-        raise RuntimeError(f"{path}: a compressed EXR needs python3-openimageio")
-    x0, y0, x1, y1 = (int(v) for v in np.frombuffer(attrs["dataWindow"], "<i4"))
-    width, height = x1 - x0 + 1, y1 - y0 + 1
-    names, chlist = [], attrs["channels"]
-    i = 0
-    while chlist[i] != 0:  # name, pixel type, pLinear + 3 reserved, x and y sampling
-        end = chlist.index(b"\0", i)
-        if int.from_bytes(chlist[end + 1:end + 5], "little") != 2:
-            raise RuntimeError(f"{path}: channel {chlist[i:end].decode()} is not 32-bit float")
-        names.append(chlist[i:end].decode())
-        i = end + 17
-    img = np.empty((height, width, len(names)))
-    for off in np.frombuffer(data, "<u8", height, pos + 1).tolist():  # a block per scanline
-        y = int.from_bytes(data[off:off + 4], "little", signed=True) - y0
-        line = np.frombuffer(data, "<f4", width * len(names), off + 8)
-        img[y] = line.reshape(len(names), width).T  # each channel's whole line in turn
-    return np.stack([img[..., names.index(c)] for c in "RGB"], axis=-1)
-
-
-def image_error(on, off):
-    import numpy as np
-    d = on - off
-    relmse = float(np.mean(d * d / (off * off + EPS)))
-    differ = float(np.mean(np.any(d != 0, axis=-1)))
-    return relmse, differ
-
-
-def render(binary, scene, a, flags, out_dir, tag):
-    name = os.path.basename(scene).replace(":", "_")
-    exr = os.path.join(out_dir, f"{name}_{tag}.exr")
-    stats = os.path.join(out_dir, f"{name}_{tag}.json")
-    cmd = [binary, "render", scene, "--size", a.size, "--spp", str(a.spp), "--seed",
-           str(a.seed), "--out", exr, "--stats", stats] + flags
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"hrpp_bench: {' '.join(cmd)} failed:\n{r.stderr.strip()}")
-    with open(stats) as f:
-        return json.load(f), exr
+def render_pair_side(binary, scene, a, flags, out_dir, tag):
+    """One side of an off/on pair: its stats and its image's path."""
+    out = os.path.join(out_dir, f"{os.path.basename(scene).replace(':', '_')}_{tag}")
+    return render(binary, scene, out, a.size, a.spp, a.seed, flags, "hrpp_bench")
 
 
 def class_ms(stats, c):
@@ -145,9 +79,10 @@ def bench_scene(binary, scene, a, tmp):
     offs, ons = [], []
     exr_off = exr_on = None
     for i in range(a.repeat):
-        s, exr_off = render(binary, scene, a, ["--hrpp", "off"], tmp, f"off{i}")
+        s, exr_off = render_pair_side(binary, scene, a, ["--hrpp", "off"], tmp, f"off{i}")
         offs.append(s)
-        s, exr_on = render(binary, scene, a, ["--hrpp", "on"] + a.flags.split(), tmp, f"on{i}")
+        s, exr_on = render_pair_side(binary, scene, a, ["--hrpp", "on"] + a.flags.split(), tmp,
+                                     f"on{i}")
         ons.append(s)
     off, on = fastest(offs), fastest(ons)
     row = {"scene": scene, "off": off, "on": on,
@@ -165,7 +100,7 @@ def bench_scene(binary, scene, a, tmp):
                   "wrong_closest": h.get("wrong_closest", 0),
                   "frames_all": modes.count("all"), "frames_sample": modes.count("sample"),
                   "frames": len(frames), **floor(ons, offs, c)}
-    row["relmse"], row["pixels_differ"] = image_error(read_exr(exr_on), read_exr(exr_off))
+    _, row["relmse"], row["pixels_differ"] = image_errors(read_exr(exr_on), read_exr(exr_off))
     return row
 
 

@@ -29,7 +29,6 @@ tools/sweep.sh runs it as its `model` grid (--results RESULTS.md, block hrpp_mod
 import argparse
 import json
 import os
-import subprocess
 import sys
 import time
 
@@ -37,11 +36,10 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cost_model as cm  # noqa: E402
+import hrpp_common  # noqa: E402
+from hrpp_common import HERE, REPO, STAND_INS  # noqa: E402
 from sweep_common import rewrite_block  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
-STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "dragon"]
 PREDICT_ALL = ["--hrpp", "on", "--hrpp-adaptive", "off"]
 SETTINGS = {
     "off": ["--hrpp", "off"],
@@ -73,16 +71,10 @@ def default_binary():
 
 def render(a, scene, setting, repeat):
     """One render's stats (reused from --runs when --reuse and present)."""
-    name = f"{scene.replace(':', '_')}_{setting}_{repeat}"
-    stats = os.path.join(a.runs, name + ".json")
-    if not (a.reuse and os.path.exists(stats)):
-        cmd = [a.hrpp, "render", scene, "--size", a.size, "--spp", str(a.spp), "--seed",
-               str(a.seed), "--out", os.path.join(a.runs, name + ".exr"), "--stats", stats]
-        r = subprocess.run(cmd + SETTINGS[setting], capture_output=True, text=True)
-        if r.returncode != 0:
-            sys.exit(f"hrpp_model: {' '.join(cmd + SETTINGS[setting])} failed:\n{r.stderr.strip()}")
-    with open(stats) as f:
-        return json.load(f)
+    out = os.path.join(a.runs, f"{scene.replace(':', '_')}_{setting}_{repeat}")
+    stats, _ = hrpp_common.render(a.hrpp, scene, out, a.size, a.spp, a.seed, SETTINGS[setting],
+                                  "hrpp_model", a.reuse)
+    return stats
 
 
 def collect(a):

@@ -18,19 +18,17 @@ grid):
                      [--results MD] [--command TEXT]
 """
 import argparse
-import json
 import os
-import subprocess
 import sys
 import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_collect import errors, read_exr  # noqa: E402
+import hrpp_common  # noqa: E402
+from hrpp_common import REPO, image_errors, read_exr  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
 N4 = ["--table-preset", "beam"]  # 4096 x 2 x 4 lru: 224 KiB
 SHADOW = {
@@ -95,16 +93,12 @@ def render(a, scene, name, flags, size=None):
     size, spp = size or (a.size, a.spp)
     out = os.path.join(a.runs, f"{scene}-{size}-{spp}-{slug(name)}")
     present = os.path.exists(out + ".json") and os.path.exists(out + ".exr")
-    if not (present and (a.reuse or out in a.made)):  # each render once per invocation
-        cmd = [a.hrpp, "render", os.path.join(REPO, "scenes", scene + ".scene.json"), "--size",
-               size, "--spp", str(spp), "--seed", "5", "--out", out + ".exr", "--stats",
-               out + ".json"]
-        subprocess.run(cmd + flags, check=True, stdout=subprocess.DEVNULL)
+    reuse = a.reuse or out in a.made  # each render once per invocation
+    if not (present and reuse):
         a.made.add(out)
     elif out not in a.made:
         a.reused.add(out)
-    with open(out + ".json") as f:
-        return json.load(f), out + ".exr"
+    return hrpp_common.render(a.hrpp, scene, out, size, spp, 5, flags, "key_study", reuse)
 
 
 def pct(x):
@@ -141,7 +135,7 @@ def study(a):
                                       pct(s["net_savings"]), pct(occ / 4)])
                 else:
                     probes = max(s["probes"], 1)
-                    relmse = errors(read_exr(exr), off_image)[1]
+                    relmse = image_errors(read_exr(exr), off_image)[1]
                     rows[cls].append([scene, name, pct(s["net_savings"]),
                                       pct(s["true_positives"] / probes),
                                       f"{100 * s['wrong_closest'] / probes:.2f}%",
@@ -165,7 +159,7 @@ def study_setup(a):
             shadow[table] = (*shadow_shares(j), j["hrpp_predictor"]["shadow"]["net_savings"])
             bounce[table] = (f"{pct(b['net_savings'])}, "
                              f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
-                             f"{errors(read_exr(exr), off_image)[1]:.2e}")
+                             f"{image_errors(read_exr(exr), off_image)[1]:.2e}")
         occluded = shadow["tuned"][0]
         row += [pct(occluded), pct(shadow["tuned"][1]), pct(shadow["beam"][1]),
                 pct(shadow["tuned"][2]), pct(shadow["beam"][2]), pct(occluded / 4),

@@ -12,9 +12,9 @@ import json
 import os
 import sys
 
-import numpy as np
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hrpp_common import image_errors, read_exr  # noqa: E402
 
-EPS = 0.01
 META = ["id", "grid", "scene", "size", "spp", "seed", "variant", "bits", "goup", "hash", "kib",
         "policy", "ways", "ok"]
 CONFIG = ["hrpp", "mode", "count_baseline", "hash_bits", "go_up", "hash_fn", "table_sets",
@@ -30,24 +30,6 @@ DERIVED = ["rays", "nodes_per_entry", "used_bytes", "compact_bytes", "occupancy"
 TIMES = ["wall_s", "kernels_ms_total", "trace_ms"]
 ERRORS = ["rmse_off", "relmse_off", "pixels_differ_off", "rmse_ref", "relmse_ref"]
 TAIL = ["flags", "cmd"]
-
-
-def read_exr(path):
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        raise RuntimeError(f"cannot read {path}: {oiio.geterror()}")
-    px = inp.read_image(oiio.FLOAT)
-    inp.close()
-    return np.asarray(px, dtype=np.float64)[..., :3]
-
-
-def errors(x, y):
-    d = x - y
-    rmse = float(np.sqrt(np.mean(d * d)))
-    relmse = float(np.mean(d * d / (y * y + EPS)))
-    differ = float(np.mean(np.any(d != 0, axis=-1)))
-    return rmse, relmse, differ
 
 
 def flatten(meta, stats):
@@ -153,10 +135,10 @@ def main():
                 continue
             o = offs.get(key(r))
             if o is not None and img(o) is not None:
-                r["rmse_off"], r["relmse_off"], r["pixels_differ_off"] = errors(x, img(o))
+                r["rmse_off"], r["relmse_off"], r["pixels_differ_off"] = image_errors(x, img(o))
             ref = refs.get((r["scene"], r["size"]))
             if ref is not None and ref != r["id"] and img(ref) is not None:
-                r["rmse_ref"], r["relmse_ref"], _ = errors(x, img(ref))
+                r["rmse_ref"], r["relmse_ref"], _ = image_errors(x, img(ref))
             if len(cache) > 64:   # keep memory bounded (1024^2 images are 24 MiB each)
                 for k in list(cache)[:32]:
                     if k not in offs.values() and k not in refs.values():

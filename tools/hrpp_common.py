@@ -1,0 +1,103 @@
+"""The tools' shared library (not a command): the stand-in scenes, the scene argument, running
+an hrpp command, one `hrpp render` wrapper, reading EXR images and the image error metrics, so
+that every script computes them the same way. The commands import it (sys.path holds tools/).
+"""
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.normpath(os.path.join(HERE, ".."))
+DEFAULT_BIN = os.path.join(REPO, "build", "release", "host", "hrpp")
+# The paper's Table 1 stand-ins (scenes/SCENES.md), smallest first.
+STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "dragon"]
+# The estimator scripts' scenes: the Cornell boxes, two stand-ins, two lights near surfaces.
+ESTIMATOR_SCENES = "builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel"
+EPS = 1e-2  # relMSE's guard: (x - ref)^2 / (ref^2 + EPS)
+
+
+def scene_arg(name):
+    """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json."""
+    if name.startswith("builtin:") or "/" in name or name.endswith((".glb", ".gltf", ".json")):
+        return name
+    return os.path.join(REPO, "scenes", f"{name}.scene.json")
+
+
+def run(cmd, who, echo=False):
+    """Runs cmd (echoed to stderr when `echo`); exits naming `who` and the command when it fails."""
+    if echo:
+        print(f"  {' '.join(cmd)}", file=sys.stderr, flush=True)
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"{who}: {' '.join(cmd)} failed:\n{(r.stderr or r.stdout).strip()}")
+
+
+def render(hrpp, scene, out, size, spp, seed, flags=(), who="hrpp", reuse=False, echo=False):
+    """`hrpp render SCENE --size --spp --seed FLAGS` into OUT.exr and OUT.json; returns the stats
+    and the image's path. With `reuse`, a render already there is read instead."""
+    exr, stats = out + ".exr", out + ".json"
+    if not (reuse and os.path.exists(exr) and os.path.exists(stats)):
+        run([hrpp, "render", scene_arg(scene), "--size", size, "--spp", str(spp), "--seed",
+             str(seed), "--out", exr, "--stats", stats] + list(flags), who, echo)
+    with open(stats) as f:
+        return json.load(f), exr
+
+
+def read_exr(path):
+    """An EXR's RGB as float64: OpenImageIO (Debian's python3-openimageio), else, for an
+    uncompressed file (what hrpp writes when built without OpenImageIO), numpy alone."""
+    import numpy as np
+    try:
+        import OpenImageIO as oiio
+    except ImportError:
+        return read_uncompressed_exr(path)
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RuntimeError(f"cannot read {path}")
+    px = inp.read_image("float")
+    inp.close()
+    return np.asarray(px, dtype=np.float64)[..., :3]
+
+
+def read_uncompressed_exr(path):
+    """R, G, B of a single-part scanline EXR without compression and with float channels."""
+    import numpy as np
+    data = open(path, "rb").read()
+    if data[:4] != b"\x76\x2f\x31\x01":
+        raise RuntimeError(f"{path}: not an OpenEXR file")
+    pos, attrs = 8, {}
+    while data[pos] != 0:  # attributes: name, type, size, value; an empty name ends them
+        name_end = data.index(b"\0", pos)
+        type_end = data.index(b"\0", name_end + 1)
+        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
+        attrs[data[pos:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
+        pos = type_end + 5 + size
+    if attrs.get("compression") != b"\0":
+        raise RuntimeError(f"{path}: a compressed EXR needs python3-openimageio")
+    x0, y0, x1, y1 = (int(v) for v in np.frombuffer(attrs["dataWindow"], "<i4"))
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    names, chlist = [], attrs["channels"]
+    i = 0
+    while chlist[i] != 0:  # name, pixel type, pLinear + 3 reserved, x and y sampling
+        end = chlist.index(b"\0", i)
+        if int.from_bytes(chlist[end + 1:end + 5], "little") != 2:
+            raise RuntimeError(f"{path}: channel {chlist[i:end].decode()} is not 32-bit float")
+        names.append(chlist[i:end].decode())
+        i = end + 17
+    img = np.empty((height, width, len(names)))
+    for off in np.frombuffer(data, "<u8", height, pos + 1).tolist():  # a block per scanline
+        y = int.from_bytes(data[off:off + 4], "little", signed=True) - y0
+        line = np.frombuffer(data, "<f4", width * len(names), off + 8)
+        img[y] = line.reshape(len(names), width).T  # each channel's whole line in turn
+    return np.stack([img[..., names.index(c)] for c in "RGB"], axis=-1)
+
+
+def image_errors(x, ref):
+    """x against ref: RMSE, relMSE (guarded by EPS) and the share of pixels that differ at all."""
+    import numpy as np
+    d = x - ref
+    rmse = float(np.sqrt(np.mean(d * d)))
+    relmse = float(np.mean(d * d / (ref * ref + EPS)))
+    differ = float(np.mean(np.any(d != 0, axis=-1)))
+    return rmse, relmse, differ
