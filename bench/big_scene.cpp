@@ -1,6 +1,6 @@
 // Resource limits: a generated scene of several million triangles (default 4M, a soup of small
 // random triangles in a 100³ box) against the device's buffer limits and memory heap
-// (gpu/memory_plan.h). Prints the device's limits, each array the tracer allocates with its
+// (vk/memory_plan.h). Prints the device's limits, each array the tracer allocates with its
 // binding's limit, and their sum against the heap, then either the trace speed of a batch of
 // rays (the scene fits) or the error the tracer gives and how long it took to come (the scene
 // does not fit: it must come before any GPU work). Not a test.
@@ -19,8 +19,8 @@
 #include "common/bytes.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/memory_plan.h"
-#include "gpu/vulkan_context.h"
+#include "vk/memory_plan.h"
+#include "vk/vulkan_context.h"
 #include "scene/triangle_soup.h"
 
 namespace {

@@ -24,7 +24,7 @@
 #include "common/median.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "scene/load_scene.h"
 #include "trace/ray_batches.h"
 #include "trace/ray_order.h"

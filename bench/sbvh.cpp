@@ -21,7 +21,7 @@
 #include "common/median.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "scene/load_scene.h"
 #include "trace/ray_batches.h"
 

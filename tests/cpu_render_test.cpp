@@ -24,7 +24,7 @@
 #include "common/error.h"
 #include "cpu_render/cpu_renderer.h"
 #include "cpu_render/scene_lookups.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "render/wavefront_renderer.h"
 #include "scene/load_scene.h"

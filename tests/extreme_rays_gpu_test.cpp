@@ -20,7 +20,7 @@
 #include "cli_runner.h"
 #include "extreme_cases.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp/predictor_config.h"
 #include "trace/cpu_traversal.h"

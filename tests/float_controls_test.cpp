@@ -1,4 +1,4 @@
-// Float subnormals on the device (host/gpu/float_controls.h): every kernel's SPIR-V with the
+// Float subnormals on the device (host/vk/float_controls.h): every kernel's SPIR-V with the
 // DenormPreserve execution mode added is a valid module by spirv-val (SPIRV-Tools, the
 // independent witness; skipped where it is not installed), and the device's
 // shaderDenormPreserveFloat32, read here straight from Vulkan, is what hrpp reports on its
@@ -17,9 +17,9 @@
 
 #include "cli_runner.h"
 #include "common/error.h"
-#include "gpu/embedded_shaders.h"
-#include "gpu/float_controls.h"
-#include "gpu/vulkan_context.h"
+#include "vk/embedded_shaders.h"
+#include "vk/float_controls.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 
 namespace hrpp {

@@ -3,7 +3,7 @@
 // first use and kept to the end, so each pipeline JIT-compiles once per binary.
 #pragma once
 
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 
 namespace hrpp::test {
 

@@ -18,10 +18,10 @@
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/memory_plan.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
-#include "gpu/vulkan_context.h"
+#include "vk/memory_plan.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
@@ -363,7 +363,7 @@ TEST(StorageBuffer, OverTheLargestBufferNamesArrayAndLimit) {
   }
 }
 
-// The kernels read BVH and rays through 16-byte texels (gpu/texel_view.h): an array that is not
+// The kernels read BVH and rays through 16-byte texels (vk/texel_view.h): an array that is not
 // a whole number of texels is refused with its name, never read short.
 TEST(TexelView, PartialTexelNamesArray) {
   StorageBuffer b(context(), 40, "odd array");

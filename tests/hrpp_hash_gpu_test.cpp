@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu/gpu_ray_hash.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp/ray_hash.h"
 

@@ -22,7 +22,7 @@
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp/reference_predictor.h"
 #include "hrpp/reference_table.h"

@@ -12,7 +12,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp_counter_checks.h"
 #include "render/wavefront_renderer.h"

@@ -17,9 +17,9 @@
 
 #include "cli_runner.h"
 #include "error_of.h"
-#include "gpu/staged_transfer.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/staged_transfer.h"
+#include "vk/storage_buffer.h"
+#include "vk/vulkan_context.h"
 #include "scene/load_scene.h"
 #include "trace/ray_batches.h"
 

@@ -1,4 +1,4 @@
-// The memory-type choice of --memory (gpu/memory_placement.h) on hand-made
+// The memory-type choice of --memory (vk/memory_placement.h) on hand-made
 // VkPhysicalDeviceMemoryProperties: a discrete GPU with a 256 MiB host-visible device-local
 // window (no resizable BAR), the same with resizable BAR, a CPU device (lavapipe's one type), an
 // integrated GPU; and the mode auto resolves to by device type.
@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "error_of.h"
-#include "gpu/memory_placement.h"
+#include "vk/memory_placement.h"
 
 namespace hrpp {
 namespace {

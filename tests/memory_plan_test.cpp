@@ -1,4 +1,4 @@
-// The device-memory checks made before any upload (host/gpu/memory_plan.h) against small
+// The device-memory checks made before any upload (host/vk/memory_plan.h) against small
 // made-up limits, and the one byte formatter (host/common/bytes.h).
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include "common/bytes.h"
 #include "common/error.h"
 #include "gpu/device_bvh.h"
-#include "gpu/memory_plan.h"
+#include "vk/memory_plan.h"
 
 namespace hrpp {
 namespace {

@@ -13,7 +13,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"

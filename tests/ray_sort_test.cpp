@@ -24,7 +24,7 @@
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "ray_sort_interface.h"
 #include "render/wavefront_renderer.h"

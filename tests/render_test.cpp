@@ -17,7 +17,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "render/image_output.h"
 #include "render/render_stats.h"

@@ -18,7 +18,7 @@
 #include "extreme_cases.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"

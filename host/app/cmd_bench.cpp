@@ -33,7 +33,7 @@
 #include "common/median.h"
 #include "common/task_pool.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "render/render_stats.h"
 #include "reference/embree_tracer.h"
 #include "scene/load_scene.h"

@@ -22,7 +22,7 @@
 #include "common/error.h"
 #include "common/free_array.h"
 #include "cpu_render/cpu_renderer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "render/image_output.h"
 #include "render/render_progress.h"
 #include "render/render_stats.h"

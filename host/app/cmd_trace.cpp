@@ -22,7 +22,7 @@
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "render/render_stats.h"
 #include "scene/load_scene.h"
 #include "trace/ray_order.h"

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "common/free_array.h"
-#include "gpu/compute_pipeline.h"
+#include "vk/compute_pipeline.h"
 
 namespace hrpp {
 

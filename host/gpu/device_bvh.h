@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "bvh/gpu_layout.h"
-#include "gpu/memory_plan.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
+#include "vk/memory_plan.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
 #include "trace_interface.h"
 
 namespace hrpp {
@@ -21,7 +21,7 @@ class VulkanContext;
 class DeviceBvh {
  public:
   // The arrays a DeviceBvh of `bvh` allocates (read through texel views only), for check_fits
-  // (gpu/memory_plan.h).
+  // (vk/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh);
 
   DeviceBvh() = default;

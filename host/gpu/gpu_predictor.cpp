@@ -9,14 +9,14 @@
 #include <vector>
 
 #include "common/error.h"
-#include "gpu/compute_pipeline.h"
+#include "vk/compute_pipeline.h"
 #include "gpu/device_bvh.h"
-#include "gpu/embedded_shaders.h"
+#include "vk/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
 #include "gpu/trace_counters.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "hrpp/prediction_node.h"
 
 namespace hrpp {

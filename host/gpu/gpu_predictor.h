@@ -18,7 +18,7 @@
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
-#include "gpu/memory_plan.h"
+#include "vk/memory_plan.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/predictor_stats.h"
@@ -62,7 +62,7 @@ class GpuPredictor {
   // The buffers the predictor allocates for `bvh` and `capacity` queued rays per query kind: the
   // node-of-triangle arrays (read through texel views: 4 bytes per triangle, one per go-up rule of
   // the predicting classes), each predicting class's table and the queues. For check_fits
-  // (gpu/memory_plan.h).
+  // (vk/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
                                               std::size_t capacity);
 

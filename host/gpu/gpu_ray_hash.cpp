@@ -4,10 +4,10 @@
 #include <string>
 
 #include "common/error.h"
-#include "gpu/compute_pipeline.h"
-#include "gpu/embedded_shaders.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/compute_pipeline.h"
+#include "vk/embedded_shaders.h"
+#include "vk/storage_buffer.h"
+#include "vk/vulkan_context.h"
 #include "hrpp_interface.h"
 
 namespace hrpp {

@@ -8,16 +8,16 @@
 
 #include "common/error.h"
 #include "common/free_array.h"
-#include "gpu/compute_pipeline.h"
+#include "vk/compute_pipeline.h"
 #include "gpu/device_bvh.h"
-#include "gpu/embedded_shaders.h"
+#include "vk/embedded_shaders.h"
 #include "gpu/kernel_bindings.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
 #include "gpu/trace_counters.h"
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 #include "trace/slab_test.h"
 #include "hrpp_interface.h"
 #include "trace_interface.h"
@@ -57,7 +57,7 @@ std::uint32_t spec_value(NodeFormat f) {
   return HRPP_NODES_BINARY;
 }
 
-// Before anything is allocated: the tracer's buffers against the device (gpu/memory_plan.h),
+// Before anything is allocated: the tracer's buffers against the device (vk/memory_plan.h),
 // and HRPP's need for binary nodes.
 void check_tracer_fits(const VulkanContext& ctx, const GpuBvh& bvh,
                        const PredictorConfig& predictor) {

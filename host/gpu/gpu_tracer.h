@@ -16,7 +16,7 @@
 #include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer_config.h"
-#include "gpu/memory_plan.h"
+#include "vk/memory_plan.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
 
@@ -33,13 +33,13 @@ class GpuTracer final : public DeviceTracer {
  public:
   // The device buffers a tracer over `bvh` allocates with `resident_rays` rays of each query
   // kind resident (0: none yet): the BVH arrays (read through texel views only), with HRPP on
-  // the GpuPredictor's, then the ray and hit arrays. For check_fits (gpu/memory_plan.h).
+  // the GpuPredictor's, then the ray and hit arrays. For check_fits (vk/memory_plan.h).
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& predictor,
                                               std::size_t resident_rays);
 
   // Checks buffer_needs(bvh, predictor, 0) against the device (check_fits, naming the BVH by its
   // triangle count), then uploads the BVH. Throws hrpp::Error when an array exceeds its limit
-  // (gpu/memory_plan.h) or all of them the device's heap, before anything is allocated. With
+  // (vk/memory_plan.h) or all of them the device's heap, before anything is allocated. With
   // predictor.enabled (HRPP on), the classes it names trace through the HRPP stage
   // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},

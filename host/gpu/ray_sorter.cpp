@@ -5,11 +5,11 @@
 #include <string>
 
 #include "common/error.h"
-#include "gpu/compute_pipeline.h"
-#include "gpu/embedded_shaders.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
-#include "gpu/vulkan_context.h"
+#include "vk/compute_pipeline.h"
+#include "vk/embedded_shaders.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
+#include "vk/vulkan_context.h"
 #include "ray_sort_interface.h"
 #include "trace/ray_order.h"
 

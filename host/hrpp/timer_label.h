@@ -1,6 +1,6 @@
 // What a timed dispatch is booked under: the kernel (shaders/CMakeLists.txt's list), the ray
 // class it traced or predicted for (none for the renderer's own kernels) and the phase (a frame's
-// work, or the adaptive predictor's sample). KernelTimer (gpu/compute_pipeline.h) sums device
+// work, or the adaptive predictor's sample). KernelTimer (vk/compute_pipeline.h) sums device
 // time per label; the render stats keep it per label without the class, per class; the adaptive
 // predictor reads it by field (add_kernel_times).
 #pragma once

@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gpu/memory_ledger.h"
-#include "gpu/vulkan_context.h"
+#include "vk/memory_ledger.h"
+#include "vk/vulkan_context.h"
 #include "render/wavefront_renderer.h"
 
 namespace hrpp {
@@ -17,7 +17,7 @@ nlohmann::json render_stats_json(const std::string& scene, const RenderConfig& c
                                  const DeviceInfo& device, const RenderResult& result);
 
 // The "memory" object of the stats: bytes allocated per named device buffer ("buffers"), their
-// total, the peak total, the device heap they were checked against (gpu/memory_plan.h), the
+// total, the peak total, the device heap they were checked against (vk/memory_plan.h), the
 // memory mode and where each role's buffers live ("mode", "placement": placement_json). With
 // `triangles` (the scene's), also each buffer's and the total's bytes per triangle
 // ("bytes_per_triangle", "total_bytes_per_triangle") and the host's peak resident memory
@@ -29,7 +29,7 @@ nlohmann::json memory_json(const MemoryReport& memory, std::size_t triangles = 0
 // bytes/triangle)".
 std::string memory_text(const MemoryReport& memory, std::size_t triangles = 0);
 
-// {"device": {"type", "heap", "flags", "mapped"}, "host_shared": {...}} (gpu/memory_placement.h).
+// {"device": {"type", "heap", "flags", "mapped"}, "host_shared": {...}} (vk/memory_placement.h).
 nlohmann::json placement_json(const MemoryPlacement& placement);
 
 // "staged: device buffers in type 1 (device-local) heap 0, host_shared buffers in type 3

@@ -12,16 +12,16 @@
 
 #include "common/error.h"
 #include "common/free_array.h"
-#include "gpu/compute_pipeline.h"
+#include "vk/compute_pipeline.h"
 #include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/embedded_shaders.h"
+#include "vk/embedded_shaders.h"
 #include "gpu/ray_sorter.h"
-#include "gpu/memory_plan.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
-#include "gpu/vulkan_context.h"
+#include "vk/memory_plan.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
+#include "vk/vulkan_context.h"
 #include "render/render_params.h"
 #include "render/render_result.h"
 #include "render_interface.h"
@@ -113,7 +113,7 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
 }
 
 // Before anything is allocated: every buffer of the render against the device's limits and
-// heap, naming the scene (gpu/memory_plan.h).
+// heap, naming the scene (vk/memory_plan.h).
 const RenderBufferNeeds& check_render_fits(const VulkanContext& c, const Scene& scene,
                                            const GpuBvh& bvh, const RenderConfig& config,
                                            std::uint32_t wave, const RenderBufferNeeds& needs) {

@@ -8,7 +8,7 @@
 // two off: a quotient or root of floats is at least 2^-50 (relative) away from a midpoint
 // between two floats, and a double ULP is at most 2^-52 of the value. Subnormal inputs or results stay exact only
 // where the device keeps float denormals (lavapipe does; elsewhere ComputePipeline asks for
-// DenormPreserve when the device offers it, host/gpu/float_controls.h).
+// DenormPreserve when the device offers it, host/vk/float_controls.h).
 // The shared shading headers (shaders/shared/) call these by the same names as C++, where
 // glsl_cpp.h defines them as plain division, std::sqrt and glm's normalize, length and refract;
 // the vector forms below compute what glm computes, in glm's order and with each step rounded:

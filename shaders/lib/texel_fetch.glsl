@@ -1,5 +1,5 @@
 // The trace kernels' inputs (the BVH arrays and the rays of shaders/shared/gpu_types.h) read
-// through uniform texel buffers (R32G32B32A32_UINT views, host/gpu/texel_view.h): a BvhNode is 4
+// through uniform texel buffers (R32G32B32A32_UINT views, host/vk/texel_view.h): a BvhNode is 4
 // texels (a WideNode too; a WideFloatNode 7), a BvhLeaf 1, a TriangleRecord 3 (one in each of the
 // three triangle planes), a Ray 2; bits are reinterpreted, never converted, so values are exactly
 // the host's.

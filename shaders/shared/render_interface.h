@@ -42,7 +42,7 @@ namespace hrpp::gpu {
 #define HRPP_RENDER_BINDING_COUNT 20
 // Read-only arrays are uniform texel buffers (R32G32B32A32_UINT): on lavapipe a texel fetch
 // gathers the lanes' 16-byte records at once where a storage-buffer load with per-lane
-// addresses is a loop over the lanes (host/gpu/texel_view.h).
+// addresses is a loop over the lanes (host/vk/texel_view.h).
 
 // Specialization constant ids (bool): what the scene needs. A kernel compiled with one off has
 // that code removed (llvmpipe folds the constant before code generation).

@@ -1,13 +1,13 @@
-#include "gpu/compute_pipeline.h"
+#include "vk/compute_pipeline.h"
 
 #include <map>
 #include <vector>
 
 #include "common/error.h"
-#include "gpu/float_controls.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/texel_view.h"
-#include "gpu/vulkan_context.h"
+#include "vk/float_controls.h"
+#include "vk/storage_buffer.h"
+#include "vk/texel_view.h"
+#include "vk/vulkan_context.h"
 
 namespace hrpp {
 
@@ -50,7 +50,7 @@ ComputePipeline::ComputePipeline(VulkanContext& ctx, Kernel kernel,
           std::vector<VkDescriptorType>(binding_count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
           push_constant_bytes, specialization) {}
 
-// With DenormPreserve where the device offers it (gpu/float_controls.h).
+// With DenormPreserve where the device offers it (vk/float_controls.h).
 void ComputePipeline::State::create_module(std::span<const std::uint32_t> spirv,
                                            bool denorm_preserve) {
   std::vector<std::uint32_t> preserving;

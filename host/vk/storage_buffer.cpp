@@ -1,4 +1,4 @@
-#include "gpu/storage_buffer.h"
+#include "vk/storage_buffer.h"
 
 #include <algorithm>
 #include <cstring>
@@ -6,8 +6,8 @@
 
 #include "common/bytes.h"
 #include "common/error.h"
-#include "gpu/staged_transfer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/staged_transfer.h"
+#include "vk/vulkan_context.h"
 
 namespace hrpp {
 StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string name,
@@ -28,7 +28,7 @@ StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string 
   VkBufferCreateInfo bci{};
   bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
   bci.size = alloc;
-  // Texel-buffer use too: kernels may read an array through a TexelView (gpu/texel_view.h).
+  // Texel-buffer use too: kernels may read an array through a TexelView (vk/texel_view.h).
   bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |

@@ -1,4 +1,4 @@
-#include "gpu/float_controls.h"
+#include "vk/float_controls.h"
 
 #include "common/error.h"
 

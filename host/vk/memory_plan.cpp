@@ -1,12 +1,12 @@
-#include "gpu/memory_plan.h"
+#include "vk/memory_plan.h"
 
 #include <algorithm>
 #include <vector>
 
 #include "common/bytes.h"
 #include "common/error.h"
-#include "gpu/texel_view.h"
-#include "gpu/vulkan_context.h"
+#include "vk/texel_view.h"
+#include "vk/vulkan_context.h"
 
 namespace hrpp {
 

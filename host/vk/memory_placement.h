@@ -13,7 +13,7 @@
 namespace hrpp {
 
 // staged: the kernels' data in device-local memory, filled and read back through a staging
-// buffer (gpu/staged_transfer.h); mapped: every buffer host-visible and mapped for its life;
+// buffer (vk/staged_transfer.h); mapped: every buffer host-visible and mapped for its life;
 // auto: mapped on a CPU device (lavapipe) or an integrated GPU, staged on the others.
 enum class MemoryMode : std::uint8_t { kAuto, kStaged, kMapped };
 inline constexpr NameTable<MemoryMode, 3> kMemoryModeNames = {{{MemoryMode::kAuto, "auto"},

@@ -1,4 +1,4 @@
-#include "gpu/memory_placement.h"
+#include "vk/memory_placement.h"
 
 #include <functional>
 #include <optional>

@@ -10,7 +10,7 @@
 
 namespace hrpp {
 
-// The memory type buffers of one role get (gpu/memory_placement.h), for the reports.
+// The memory type buffers of one role get (vk/memory_placement.h), for the reports.
 struct MemoryTypeReport {
   std::uint32_t type = 0;  // Vulkan memory type index
   std::uint32_t heap = 0;  // its heap

@@ -1,4 +1,4 @@
-#include "gpu/memory_ledger.h"
+#include "vk/memory_ledger.h"
 
 #include <algorithm>
 

@@ -1,11 +1,11 @@
-#include "gpu/texel_view.h"
+#include "vk/texel_view.h"
 
 #include <string>
 #include <utility>
 
 #include "common/error.h"
-#include "gpu/storage_buffer.h"
-#include "gpu/vulkan_context.h"
+#include "vk/storage_buffer.h"
+#include "vk/vulkan_context.h"
 
 namespace hrpp {
 

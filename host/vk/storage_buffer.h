@@ -1,7 +1,7 @@
 // A storage buffer in the memory its role takes under the context's memory mode
-// (gpu/memory_placement.h): mapped for its whole life, where upload, download and fill are memcpy
+// (vk/memory_placement.h): mapped for its whole life, where upload, download and fill are memcpy
 // (plus flush/invalidate on non-coherent memory), or staged in device-local memory, where they
-// are copies through the context's staging buffer (gpu/staged_transfer.h), as synchronous as
+// are copies through the context's staging buffer (vk/staged_transfer.h), as synchronous as
 // memcpy. Move-only.
 #pragma once
 
@@ -12,8 +12,8 @@
 
 #include <vulkan/vulkan.h>
 
-#include "gpu/memory_placement.h"
-#include "gpu/memory_plan.h"
+#include "vk/memory_placement.h"
+#include "vk/memory_plan.h"
 
 namespace hrpp {
 
@@ -26,7 +26,7 @@ class StorageBuffer {
   StorageBuffer() = default;
   // `name` says what the array is in errors and in the context's memory ledger. `binding`: how
   // the kernels see it; a kTexelOnly buffer is read through TexelViews only, so its limit is
-  // maxTexelBufferElements, not maxStorageBufferRange (gpu/memory_plan.h), and
+  // maxTexelBufferElements, not maxStorageBufferRange (vk/memory_plan.h), and
   // ComputePipeline refuses to bind it as a storage buffer. Throws hrpp::Error when `bytes`
   // exceeds the limit of its binding (naming the array and the limit), when it would take the
   // context's buffers past the device's heap (DeviceInfo::heap_bytes), or memory runs out.

@@ -1,4 +1,4 @@
-#include "gpu/staged_transfer.h"
+#include "vk/staged_transfer.h"
 
 #include <algorithm>
 #include <utility>

@@ -1,4 +1,4 @@
-// The copies of a staged buffer (--memory staged, gpu/memory_placement.h): upload, download and
+// The copies of a staged buffer (--memory staged, vk/memory_placement.h): upload, download and
 // fill of a device-local VkBuffer through one host-visible staging buffer, in chunks of
 // kChunkBytes, each a one-time command buffer on the context's queue waited on with its fence,
 // so the callers keep their synchronous semantics. Barriers: earlier shader writes, indirect
@@ -13,7 +13,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "gpu/storage_buffer.h"
+#include "vk/storage_buffer.h"
 
 namespace hrpp {
 

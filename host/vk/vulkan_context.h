@@ -10,8 +10,8 @@
 
 #include <vulkan/vulkan.h>
 
-#include "gpu/memory_ledger.h"
-#include "gpu/memory_placement.h"
+#include "vk/memory_ledger.h"
+#include "vk/memory_placement.h"
 
 namespace hrpp {
 
@@ -24,7 +24,7 @@ struct VulkanOptions {
   // HRPP_VALIDATE=1 (CI runs every GPU test so, and the commands treat any message as an error).
   // Synchronization validation is on with it.
   bool validate = false;
-  // --memory: where buffers live (gpu/memory_placement.h); kAuto is resolved by the device's type.
+  // --memory: where buffers live (vk/memory_placement.h); kAuto is resolved by the device's type.
   MemoryMode memory = MemoryMode::kAuto;
 };
 
@@ -41,7 +41,7 @@ struct DeviceInfo {
   bool float64 = false;             // shaderFloat64 (required: watertight double fallback)
   bool int64 = false;               // shaderInt64
   bool int64_atomics = false;       // shaderBufferInt64Atomics
-  // shaderDenormPreserveFloat32: the kernels keep float subnormals (gpu/float_controls.h);
+  // shaderDenormPreserveFloat32: the kernels keep float subnormals (vk/float_controls.h);
   // false: the device may flush them, and C++'s answers on subnormals may differ.
   bool denorm_preserve = false;
   std::uint64_t max_storage_buffer_range = 0;  // bytes one storage-buffer binding may span
@@ -53,7 +53,7 @@ struct DeviceInfo {
   MemoryMode memory_mode = MemoryMode::kMapped;
   MemoryTypeChoice device_memory;       // MemoryRole::kDevice
   MemoryTypeChoice host_shared_memory;  // MemoryRole::kHostShared
-  // What all of a scene's buffers together must fit (gpu/memory_plan.h): the heap of the memory
+  // What all of a scene's buffers together must fit (vk/memory_plan.h): the heap of the memory
   // type kDevice buffers use (device_memory), or its budget where the device has
   // VK_EXT_memory_budget, or on a CPU device the host's physical memory; at most
   // HRPP_DEVICE_HEAP_MIB when that is set.

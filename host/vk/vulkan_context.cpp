@@ -1,4 +1,4 @@
-#include "gpu/vulkan_context.h"
+#include "vk/vulkan_context.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "common/error.h"
-#include "gpu/staged_transfer.h"
+#include "vk/staged_transfer.h"
 
 namespace hrpp {
 
@@ -208,7 +208,7 @@ bool has_device_extension(VkPhysicalDevice pd, const char* name) {
   return false;
 }
 
-// The buffer and memory limits of DeviceInfo (gpu/memory_plan.h): maxMemoryAllocationSize
+// The buffer and memory limits of DeviceInfo (vk/memory_plan.h): maxMemoryAllocationSize
 // (Vulkan 1.1), maxBufferSize (VK_KHR_maintenance4; no limit without it: the instance asks for
 // Vulkan 1.2, so the 1.3 core query is not ours to make) and the heap of the memory type
 // kDevice buffers take under the requested memory mode, or that heap's budget with
