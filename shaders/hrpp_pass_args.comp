@@ -3,7 +3,8 @@
 // shaders/shared/hrpp_passes.h) from the queue's ray count, so that the pass launches only the
 // workgroups that have rays. The trace's own indirect arguments launch a workgroup per
 // trace_group_rays of every ray, and on lavapipe a workgroup that leaves at once still costs
-// about 3 us (256 of them 0.8 ms, a dispatch of one 0.02 ms: docs/ARCHITECTURE.md).
+// about 3 us (256 of them 0.8 ms, a dispatch of one 0.02 ms: docs/DEVICES.md,
+// "Workgroup cost").
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

@@ -270,7 +270,7 @@ HRPP_INLINE bool closes_path(PathState path, uint max_depth) { return path.depth
 // roulette applies (from rr_depth interactions on); false: the path ends here. q is the square
 // root of the throughput's largest channel, as in Cycles: a dim path lives longer than with q =
 // the channel itself, at 0.7x that choice's variance per sample on the Cornell boxes
-// (bench/README.md, "Russian roulette").
+// (docs/VALIDATION.md, "... Russian roulette").
 HRPP_INLINE bool survives(HRPP_INOUT(vec3) throughput, uint next_depth, uint rr_depth, float u_rr) {
   bool alive = max(throughput.r, max(throughput.g, throughput.b)) > 0.0f;
   if (alive && next_depth >= rr_depth) {
