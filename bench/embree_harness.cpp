@@ -1,7 +1,7 @@
 // An independent check of `hrpp bench`'s Embree figures: Embree (3 or 4) driven directly from
 // the files of docs/FORMATS.md, sharing no code with hrpp but the API adapter (no scene loader,
-// no BVH, no host/reference/embree_tracer). It reads a triangle dump (`hrpp scene --dump-triangles`) and a
-// ray file (`hrpp bench --save-rays`), builds the scene as Embree's users build for
+// no BVH, no host/reference/embree_tracer). It reads a triangle dump (`hrpp scene
+// --dump-triangles`) and a ray file (`hrpp bench --save-rays`), builds the scene as Embree's users build for
 // correctness-sensitive work (RTC_BUILD_QUALITY_HIGH, RTC_SCENE_FLAG_ROBUST), traces every ray
 // with rtcIntersect1 / rtcOccluded1 on N threads pulling blocks of rays, and prints the median
 // wall time, Mrays/s and what it found. `--gpu-ms` (the device time `hrpp trace --repeat 5`

@@ -111,8 +111,9 @@ TEST_F(SanitizerReport, PresetPassesTheProjectSuppressions) {
 // the refusal tests' verdict (exit 1, exactly one line on stderr) on every CPU path lavapipe
 // takes: this CPU's own, and where CPUID faulting lets tests/sanitizers/cpuid_override.cpp fake
 // them, an AMD Zen CPU's (family17h: Mesa walks the Zen L3 topology and keeps a block that
-// tests/sanitizers/keep_libraries.cpp leaves reachable) and one without AVX-512. A path is told by a second run with GALLIUM_DUMP_CPU
-// (whose lines would break the one-line check, so the verdict run goes without it).
+// tests/sanitizers/keep_libraries.cpp leaves reachable) and one without AVX-512. A path is told
+// by a second run with GALLIUM_DUMP_CPU (whose lines would break the one-line check, so the
+// verdict run goes without it).
 struct CpuPath {
   std::string name;  // CPUID_OVERRIDE's value; empty: this CPU as it is
   std::string env;   // the variables that select it

@@ -6,8 +6,9 @@ rounds), the per-round time ratio B/A, the GPU/Embree speed under each (Embree r
 process, so it is the same under both) and the GPU's mismatches against the CPU reference; then
 one line of provenance (command, commit, date, drivers, load).
 
-Usage: tools/driver_ab.py --driver A=ICD.json --driver B=ICD.json [--scenes bunny,lamborghini,dragon]
-                          [--rounds 2] [--hrpp BIN] [--json FILE]
+Usage: tools/driver_ab.py --driver A=ICD.json --driver B=ICD.json
+                          [--scenes bunny,lamborghini,dragon] [--rounds 2] [--hrpp BIN]
+                          [--json FILE]
 Example (Mesa 22.3 unpacked beside the system's Mesa 25):
   tools/driver_ab.py --driver 22.3=/opt/mesa22/lvp_icd.json \\
                      --driver 25.0=/usr/share/vulkan/icd.d/lvp_icd.json

@@ -21,7 +21,8 @@
 // rewrite), so a quotient by ieee_sqrt's result would divide by the unrounded root.
 double exact_double(float x) {
   const uint bits = floatBitsToUint(x);
-  const uint sign = bits & 0x80000000u, exponent = (bits >> 23) & 0xFFu, mantissa = bits & 0x7FFFFFu;
+  const uint sign = bits & 0x80000000u, exponent = (bits >> 23) & 0xFFu;
+  const uint mantissa = bits & 0x7FFFFFu;
   if (exponent == 0u) {  // zero or subnormal: mantissa · 2^-149
     const double magnitude = double(mantissa) * 1.4012984643248171e-45LF;
     return sign != 0u ? -magnitude : magnitude;

@@ -19,7 +19,7 @@ vec3 offset_ray_origin(vec3 p, vec3 n) {
   const vec3 p_i = intBitsToFloat(bits + ivec3(p.x < 0.0 ? -of_i.x : of_i.x,
                                                p.y < 0.0 ? -of_i.y : of_i.y,
                                                p.z < 0.0 ? -of_i.z : of_i.z));
-  precise vec3 p_f = p + kOffsetFloatScale * n;  // Mesa 25 fuses it into an FMA otherwise
+  precise vec3 p_f = p + kOffsetFloatScale * n;  // precise: no fused multiply-add, as C++
   return vec3(abs(p.x) < kOffsetOrigin ? p_f.x : p_i.x, abs(p.y) < kOffsetOrigin ? p_f.y : p_i.y,
               abs(p.z) < kOffsetOrigin ? p_f.z : p_i.z);
 }
