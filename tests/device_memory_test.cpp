@@ -38,7 +38,11 @@ using test::context;
 TEST(DeviceMemory, TexelOnlyBuffersMayPassTheStorageRange) {
   VulkanContext& ctx = context();
   const std::size_t bytes = ctx.info().max_storage_buffer_range + TexelView::kTexelBytes;
-  ASSERT_LE(bytes, std::uint64_t{ctx.info().max_texel_buffer_elements} * TexelView::kTexelBytes);
+  const std::uint64_t texel_limit =
+      std::uint64_t{ctx.info().max_texel_buffer_elements} * TexelView::kTexelBytes;
+  if (bytes > texel_limit)  // NVIDIA: a 4 GiB storage range, 2 GiB texel views
+    GTEST_SKIP() << "maxStorageBufferRange " << ctx.info().max_storage_buffer_range
+                 << " reaches past one texel view's " << texel_limit << " bytes here";
   const std::string storage = test::error_of([&] { StorageBuffer(ctx, bytes, "wide storage array"); });
   EXPECT_NE(storage.find("wide storage array is"), std::string::npos) << storage;
   EXPECT_NE(storage.find("maxStorageBufferRange"), std::string::npos) << storage;
@@ -126,7 +130,10 @@ TEST(DeviceMemory, ANodeArrayPastTheStorageRangeTracesAsTheCpu) {
   VulkanContext& ctx = context();
   const Scene scene = make_triangle_soup(2'300'000, 11);
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, BvhConfig{}), scene);
-  ASSERT_GT(bvh.nodes.size() * sizeof(gpu::BvhNode), ctx.info().max_storage_buffer_range);
+  const std::uint64_t node_bytes = bvh.nodes.size() * sizeof(gpu::BvhNode);
+  if (node_bytes <= ctx.info().max_storage_buffer_range)  // NVIDIA: 4 GiB
+    GTEST_SKIP() << "the soup's " << node_bytes << " bytes of nodes fit this device's "
+                 << "maxStorageBufferRange " << ctx.info().max_storage_buffer_range;
   GpuTracer tracer(ctx, bvh);
   std::mt19937 rng(5);
   // Rays from random points at random triangles' centroids: they reach leaves all over the tree.

@@ -508,17 +508,55 @@ bool same_bits(const float* a, const float* b, int n) {
   return true;
 }
 
+float flushed(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
+V flushed(V v) { return V(flushed(v.x), flushed(v.y), flushed(v.z)); }
+bool has_subnormal(const gpu::OffsetRayCase& c) {
+  for (const glm::vec4& v : {c.p, c.n, c.q, c.nq})
+    for (int i = 0; i < 3; ++i)
+      if (std::fpclassify(v[i]) == FP_SUBNORMAL) return true;
+  return false;
+}
+
+// The mirror's answer: the offset origin and the shadow ray, with every input and output
+// subnormal flushed to zero when `flush` (a device that flushes float denormals: Vulkan allows
+// it where the device does not report shaderDenormPreserveFloat32).
+struct Mirror {
+  V origin;
+  gpu::Ray shadow;
+};
+Mirror mirror(const gpu::OffsetRayCase& c, bool flush) {
+  const auto in = [&](const glm::vec4& v) { return flush ? flushed(V(v)) : V(v); };
+  Mirror m{offset_ray_origin(in(c.p), in(c.n)), shadow_ray_to(in(c.p), in(c.n), in(c.q), in(c.nq))};
+  if (flush) {
+    m.origin = flushed(m.origin);
+    float* f = &m.shadow.origin.x;  // the ray's 8 floats, as same_bits reads them
+    for (int i = 0; i < 8; ++i) f[i] = flushed(f[i]);
+  }
+  return m;
+}
+
+bool equals(const Mirror& m, const gpu::OffsetRayResult& g) {
+  return same_bits(&m.origin.x, &g.origin.x, 3) &&
+         same_bits(&m.shadow.origin.x, &g.shadow.origin.x, 8);
+}
+
+// Bit for bit; on a device that may flush denormals, a case with a subnormal input may instead
+// equal the mirror on flushed inputs and outputs (counted and printed).
 TEST(LightTransport, OffsetRaysOnDeviceEqualTheMirrorBitForBit) {
   const std::vector<gpu::OffsetRayCase> cases = offset_ray_cases();
   const std::vector<gpu::OffsetRayResult> gpu_results = offset_rays_on_device(cases);
-  int mismatches = 0;
+  const bool may_flush = !context().info().denorm_preserve;
+  int mismatches = 0, flushed_cases = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const gpu::OffsetRayCase& c = cases[i];
-    const V origin = offset_ray_origin(V(c.p), V(c.n));
-    const gpu::Ray shadow = shadow_ray_to(V(c.p), V(c.n), V(c.q), V(c.nq));
     const gpu::OffsetRayResult& g = gpu_results[i];
-    if (same_bits(&origin.x, &g.origin.x, 3) && same_bits(&shadow.origin.x, &g.shadow.origin.x, 8))
+    const Mirror exact = mirror(c, false);
+    if (equals(exact, g)) continue;
+    if (may_flush && has_subnormal(c) && equals(mirror(c, true), g)) {
+      ++flushed_cases;
       continue;
+    }
+    const gpu::Ray& shadow = exact.shadow;
     if (++mismatches <= 5)
       ADD_FAILURE() << "case " << i << ": p (" << c.p.x << ", " << c.p.y << ", " << c.p.z
                     << ") q (" << c.q.x << ", " << c.q.y << ", " << c.q.z << "): C++ dir ("
@@ -526,6 +564,9 @@ TEST(LightTransport, OffsetRaysOnDeviceEqualTheMirrorBitForBit) {
                     << shadow.tmax << ", device dir (" << g.shadow.dir.x << ", "
                     << g.shadow.dir.y << ", " << g.shadow.dir.z << ") tmax " << g.shadow.tmax;
   }
+  std::printf("%zu cases: %d equal the mirror only with subnormals flushed (the device %s)\n",
+              cases.size(), flushed_cases,
+              may_flush ? "may flush them" : "keeps them: none may differ");
   EXPECT_EQ(mismatches, 0) << "of " << cases.size() << " cases";
   expect_no_validation_messages();
 }

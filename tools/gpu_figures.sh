@@ -5,14 +5,15 @@
 # $OUT/gpu_figures.tar.gz. Steps, each with its own time limit, so a slow or failing one leaves
 # the others' figures:
 #   1. the machine: device, driver, subgroup size, float denormals, every memory type and heap
-#      (vulkaninfo --summary when it is there: the kit carries one), where each role's buffers
-#      live under --memory staged and mapped;
+#      (vulkaninfo --summary when it is there: the kit carries one), the ray-tracing extensions it
+#      lists, where each role's buffers live under --memory staged and mapped;
 #   2. hrpp bench on bunny, lamborghini and dragon with --memory staged and with --memory mapped:
 #      the device against Embree on all the machine's threads per query kind, answers checked
 #      against the CPU reference (--strict);
 #   3. the query kinds' order in one process (--kinds ao, primary,ao, ao,primary, diffuse,ao) for
 #      both memory modes, and on bunny's rays hrpp trace against the independent Embree harness;
-#   4. per-kernel times: hrpp render bunny with HRPP on under each memory mode (render --stats);
+#   4. per-kernel times: hrpp render bunny with HRPP on under each memory mode (render --stats),
+#      twice, interleaved;
 #   5. tools/hrpp_bench.py at its defaults (the adaptive predictor): HRPP on against off;
 #   6. every GPU test binary (CTest label gpu), each alone;
 #   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off);
@@ -32,11 +33,12 @@
 # glvnd's libGLX and libGLdispatch, which NVIDIA's driver loads), the Khronos validation layer,
 # vulkaninfo, and the dragon when scenes/fetched has it. Run there, the script unpacks it in
 # place, points LD_LIBRARY_PATH, VK_LAYER_PATH and (when unset) VK_DRIVER_FILES at it and the
-# NVIDIA driver, and links the build's source path to this checkout when they differ, since the
-# test binaries name their data by the path they were built at.
+# NVIDIA driver (the first manifest under which its vulkaninfo sees a GPU), and links the
+# build's source path to this checkout when they differ, since the test binaries name their
+# data by the path they were built at.
 #
 # Usage: tools/gpu_figures.sh [--kit FILE] [--bin DIR] [--tests DIR] [--out DIR] [--repeat N]
-#                             [--deadline S] [--quick]
+#                             [--deadline S] [--quick] [--steps LIST]
 #        tools/gpu_figures.sh --pack [--build DIR] [--kit FILE]
 #   --kit FILE    the kit to use or write (default build/portable/gpu_kit.tar.xz)
 #   --bin DIR     where hrpp is (default: the kit's, else build/portable/host, else
@@ -45,6 +47,9 @@
 #   --out DIR     where the figures go (default build/gpu_figures)
 #   --repeat N    hrpp bench's timed runs per tracer and batch (default 5)
 #   --deadline S  start no step after S seconds, and cut a running one there (default 480)
+#   --steps LIST  only these steps, comma-separated (default all; the machine's is always run):
+#                 bench order trace render hrpp_bench tests every_ray model root (order and trace
+#                 use the rays of bench's bunny run, which they run when bench is not named)
 #   --quick       small sizes and one scene: a run of the whole script on lavapipe in about a
 #                 minute (the test suite's gpu_figures_quick)
 #   --pack        write the kit (above) from --build (default build/portable)
@@ -61,6 +66,8 @@ out=build/gpu_figures
 repeat=5
 deadline=480
 quick=0
+all_steps="bench order trace render hrpp_bench tests every_ray model root"
+steps=",${all_steps// /,},"
 pack=0
 build=build/portable
 while [[ $# -gt 0 ]]; do
@@ -72,6 +79,7 @@ while [[ $# -gt 0 ]]; do
     --repeat) repeat="${2:?--repeat needs a number}"; shift 2 ;;
     --deadline) deadline="${2:?--deadline needs seconds}"; shift 2 ;;
     --quick) quick=1; shift ;;
+    --steps) steps=",${2:?--steps needs a list}," ; shift 2 ;;
     --pack) pack=1; shift ;;
     --build) build="${2:?--build needs a directory}"; shift 2 ;;
     --help|-h) sed -n '2,/^set /p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -80,6 +88,10 @@ while [[ $# -gt 0 ]]; do
 done
 [[ "$repeat" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --repeat $repeat: not a count" >&2; exit 2; }
 [[ "$deadline" =~ ^[1-9][0-9]*$ ]] || { echo "gpu_figures: --deadline $deadline: not seconds" >&2; exit 2; }
+for name in ${steps//,/ }; do
+  [[ " $all_steps " == *" $name "* ]] || { echo "gpu_figures: --steps: no step $name (--help)" >&2; exit 2; }
+done
+want() { [[ "$steps" == *",$1,"* ]]; }
 
 # The GPU test binaries, as tests/CMakeLists.txt declares them (label gpu).
 gpu_tests() { grep -oP 'hrpp_test\(\K\w+(?= gpu)' tests/CMakeLists.txt; }
@@ -138,6 +150,45 @@ PY
   fi
 }
 
+# find_driver KITDIR: unless VK_DRIVER_FILES is set, the first NVIDIA manifest under which the
+# kit's vulkaninfo sees a GPU: the installed manifests, then ones naming each libGLX_nvidia
+# found by its full path. The driver's own folder goes on LD_LIBRARY_PATH: its Vulkan library
+# loads the driver's other libraries by name, which an outdated ld.so cache does not hold.
+find_driver() {
+  local vi="$1/host/vulkaninfo" icd lib n=0 candidates=()
+  local nv=/usr/local/nvidia/lib64  # the driver's folder on the lent machines
+  [ -d "$nv" ] && export LD_LIBRARY_PATH="$LD_LIBRARY_PATH:$nv"
+  [ -z "${VK_DRIVER_FILES:-}" ] || return 0
+  for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json \
+             /usr/share/vulkan/icd.d/nvidia_icd.json /etc/vulkan/icd.d/nvidia_icd.json; do
+    [ -f "$icd" ] && candidates+=("$icd")
+  done
+  for lib in "$nv" /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib; do
+    lib="$lib/libGLX_nvidia.so.0"
+    [ -f "$lib" ] || continue
+    n=$((n + 1))
+    printf '{"file_format_version": "1.0.1",
+             "ICD": {"library_path": "%s", "api_version": "1.3.0"}}\n' "$lib" > "$1/nvidia_icd_$n.json"
+    candidates+=("$PWD/$1/nvidia_icd_$n.json")
+  done
+  if [ ! -x "$vi" ]; then
+    [ ${#candidates[@]} -gt 0 ] && export VK_DRIVER_FILES="${candidates[0]}"
+    return 0
+  fi
+  for icd in "${candidates[@]}"; do
+    if VK_DRIVER_FILES="$icd" timeout 30 "$vi" --summary 2>/dev/null |
+        grep -q "deviceType *= PHYSICAL_DEVICE_TYPE_\(DISCRETE\|INTEGRATED\)_GPU"; then
+      export VK_DRIVER_FILES="$icd"
+      driver_note+="Vulkan driver: $icd"$'\n'
+      return 0
+    fi
+    driver_note+="no GPU through $icd: $(VK_DRIVER_FILES="$icd" VK_LOADER_DEBUG=error \
+      timeout 30 "$vi" --summary 2>&1 | grep -m 1 -E "ERROR|error")"$'\n'
+  done
+  [ ${#candidates[@]} -gt 0 ] || driver_note+="no NVIDIA Vulkan manifest or libGLX_nvidia"$'\n'
+}
+driver_note=""
+
 # The kit, when there and no --bin was given: unpacked in place, its libraries and layer used.
 use_kit() {
   local kdir src
@@ -147,12 +198,7 @@ use_kit() {
   bin="$kdir/host"
   export LD_LIBRARY_PATH="$PWD/$kdir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   export VK_LAYER_PATH="$PWD/$kdir/layers"
-  if [ -z "${VK_DRIVER_FILES:-}" ]; then
-    for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json \
-               /usr/share/vulkan/icd.d/nvidia_icd.json /etc/vulkan/icd.d/nvidia_icd.json; do
-      [ -f "$icd" ] && { export VK_DRIVER_FILES="$icd"; break; }
-    done
-  fi
+  find_driver "$kdir"
   # The test binaries read scenes/ and tests/data/ by the source path they were built at.
   src=$(cat "$kdir/source_dir")
   if [ "$src" != "$PWD" ] && [ ! -e "$src" ]; then
@@ -216,17 +262,25 @@ fi
 
 step "machine"
 nproc; uname -r
+printf '%s' "$driver_note"
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
 vulkaninfo=$(command -v vulkaninfo || echo "$bin/vulkaninfo")
 [ -x "$vulkaninfo" ] && timeout 30 "$vulkaninfo" --summary > "$out/vulkaninfo.txt" 2>&1 &&
   grep -E "deviceName|driverName|driverInfo|apiVersion" "$out/vulkaninfo.txt"
 [ -x "$vulkaninfo" ] && timeout 30 "$vulkaninfo" 2>/dev/null |
   sed -n '/VkPhysicalDeviceMemoryProperties/,/^VkPhysicalDeviceFeatures/p' > "$out/memory_types.txt"
+# The driver's own ray tracing (the ray-query tracer needs the first two).
+[ -x "$vulkaninfo" ] && { timeout 30 "$vulkaninfo" 2>/dev/null |
+  grep -oE "VK_KHR_(ray_query|acceleration_structure|ray_tracing_pipeline)" | sort -u |
+  tr '\n' ' '; echo; } | sed 's/^$/no ray-tracing extension/' | tee "$out/ray_tracing.txt"
 
 rays=$(mktemp -d)
 trap 'rm -rf "$rays"' EXIT
 for scene in "${scenes[@]}"; do
   for mode in "${modes[@]}"; do
+    # Bench's bunny run saves the rays that the order and trace steps use.
+    want bench || { [ "$scene/$mode" = bunny/staged ] && { want order || want trace; }; } ||
+      continue
     step "hrpp bench $scene --memory $mode"
     save=(); [ "$scene" = bunny ] && [ "$mode" = staged ] && save=(--save-rays "$rays")
     limit 60 "bench $scene $mode" "$hrpp" bench "$scene" --memory "$mode" "${bench_args[@]}" \
@@ -234,7 +288,7 @@ for scene in "${scenes[@]}"; do
   done
 done
 
-if [ -f "$rays/ao.rays" ]; then
+if [ -f "$rays/ao.rays" ] && want order; then
   for mode in "${modes[@]}"; do
     step "bunny --memory $mode: the order of the query kinds in one process"
     for kinds in ao primary,ao ao,primary diffuse,ao; do
@@ -244,7 +298,9 @@ if [ -f "$rays/ao.rays" ]; then
       grep -E "^(memory|primary|ao|diffuse) |  gpu " "$rays/out"
     done
   done
-  # bench/README.md, "Is hrpp bench's Embree figure right?": Embree alone on the same rays.
+fi
+# bench/README.md, "Is hrpp bench's Embree figure right?": Embree alone on the same rays.
+if [ -f "$rays/ao.rays" ] && want trace; then
   harness="$bin/bench_embree_harness"
   [ -x "$harness" ] || harness="$bin/../bench/bench_embree_harness"
   if [ -x "$harness" ] && [ -f "$rays/triangles.bin" ]; then
@@ -259,18 +315,23 @@ if [ -f "$rays/ao.rays" ]; then
   fi
 fi
 
-for mode in "${modes[@]}"; do
-  step "per-kernel times: hrpp render bunny --hrpp on --memory $mode"
-  limit 60 "render $mode" "$hrpp" render bunny --hrpp on --memory "$mode" "${render_args[@]}" \
-    --out "$out/render_$mode.exr" --stats "$out/render_$mode.json"
-  rm -f "$out/render_$mode.exr"
+# Twice per memory mode, interleaved: a first render can meet the GPU at idle clocks.
+want render && for round in 1 2; do
+  for mode in "${modes[@]}"; do
+    step "per-kernel times: hrpp render bunny --hrpp on --memory $mode, round $round"
+    limit 60 "render $mode" "$hrpp" render bunny --hrpp on --memory "$mode" "${render_args[@]}" \
+      --out "$out/render.exr" --stats "$out/render_${mode}_$round.json"
+    rm -f "$out/render.exr"
+  done
 done
 
-step "hrpp_bench.py, the default predictor"
-limit 120 "hrpp_bench default" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
-  "${hb_args[@]}" --json "$out/hrpp_bench_default.json"
+if want hrpp_bench; then
+  step "hrpp_bench.py, the default predictor"
+  limit 120 "hrpp_bench default" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+    "${hb_args[@]}" --json "$out/hrpp_bench_default.json"
+fi
 
-if [ -d "$tests" ]; then
+if [ -d "$tests" ] && want tests; then
   step "GPU tests (each binary alone)"
   : > "$out/tests.txt"
   for t in $(gpu_tests); do
@@ -283,25 +344,31 @@ if [ -d "$tests" ]; then
     fi
     limit 90 "$t" "$tests/$t" --gtest_brief=1 "${filter[@]}" > "$out/$t.log" 2>&1
     rc=$?
-    summary=$(grep -E "^\[  (PASSED|FAILED)  \]" "$out/$t.log" | tr '\n' ' ')
+    summary=$(grep -E "^\[  (PASSED|FAILED)  \]|^\[  SKIPPED \]" "$out/$t.log" | tr '\n' ' ')
     echo "$t: exit $rc $summary" | tee -a "$out/tests.txt"
     grep -E "^\[  FAILED  \]|Failure|Expected|Which is|actual" "$out/$t.log" | head -40 >> "$out/tests.txt"
     [ "$rc" = 0 ] && rm -f "$out/$t.log"  # a failing binary keeps its whole log
   done
 fi
 
-step "hrpp_bench.py, every ray predicted (--hrpp-adaptive off)"
-limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
-  "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
+if want every_ray; then
+  step "hrpp_bench.py, every ray predicted (--hrpp-adaptive off)"
+  limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+    "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
+fi
 
-step "hrpp_model.py: this device's costs per operation and where prediction would pay"
-limit 120 "hrpp_model" "${PYTHON:-python3}" tools/hrpp_model.py --hrpp "$hrpp" "${model_args[@]}" \
-  --runs "$rays/model" --json "$out/hrpp_model.json" --figure "$out/hrpp_model.png"
+if want model; then
+  step "hrpp_model.py: this device's costs per operation and where prediction would pay"
+  limit 120 "hrpp_model" "${PYTHON:-python3}" tools/hrpp_model.py --hrpp "$hrpp" "${model_args[@]}" \
+    --runs "$rays/model" --json "$out/hrpp_model.json" --figure "$out/hrpp_model.png"
+fi
 
-step "hrpp_bench.py, every ray predicted, the paper's fallback (--hrpp-fallback root)"
-limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
-  "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off --hrpp-fallback root" \
-  --json "$out/hrpp_bench_every_ray_root.json"
+if want root; then
+  step "hrpp_bench.py, every ray predicted, the paper's fallback (--hrpp-fallback root)"
+  limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+    "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off --hrpp-fallback root" \
+    --json "$out/hrpp_bench_every_ray_root.json"
+fi
 
 step "done"
 if [ "${#failed[@]}" -gt 0 ]; then
