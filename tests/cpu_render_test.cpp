@@ -2,8 +2,8 @@
 // device (lavapipe here, under the validation layer), pixel by pixel, on the suite's scenes and
 // on a scene with every material lobe, light type and a texture; and `hrpp render --backend
 // cpu`. Both run the shading code of shaders/shared/path_vertex.h; what may differ is the
-// device's sqrt, sin, cos and pow (last-bit differences), and the few path decisions such a bit
-// can flip (a Russian-roulette or lobe choice, a ray grazing an edge). So the images agree to
+// device's sin, cos and pow and its fused multiply-adds (last-bit differences), and the few path
+// decisions such a bit can flip (a Russian-roulette or lobe choice, a ray grazing an edge). So the images agree to
 // float rounding on nearly every pixel, and a change to a BSDF or light on one side only (a
 // 1% albedo change in render_shade.comp alone, tried) fails on most pixels.
 #include <algorithm>

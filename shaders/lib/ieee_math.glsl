@@ -44,6 +44,14 @@ float ieee_dot(vec3 a, vec3 b) {
   return d;
 }
 
+// glm's cross, each product rounded: a driver's own cross may fuse a product into the
+// subtraction, which turns an exact 0 (a wall's normal with z = 0) into the product's rounding
+// error, and the sign of that flips the orthonormal basis that samples directions (bsdf.h).
+vec3 ieee_cross(vec3 a, vec3 b) {
+  precise vec3 c = vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+  return c;
+}
+
 float ieee_length(vec3 v) { return ieee_sqrt(ieee_dot(v, v)); }
 
 vec3 ieee_normalize(vec3 v) {

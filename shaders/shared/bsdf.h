@@ -64,22 +64,22 @@ HRPP_INLINE float ggx_g1(float n_v, float a2) {
 
 // GGX metal: f(wo, wi) · cos(wi) for light sampling.
 HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float alpha) {
-  const float n_o = dot(n, wo), n_i = dot(n, wi);
+  const float n_o = ieee_dot(n, wo), n_i = ieee_dot(n, wi);
   if (n_o <= 0.0f || n_i <= 0.0f) return vec3(0.0f);
   const vec3 h = ieee_normalize(wo + wi);
   const float a2 = alpha * alpha;
-  const float d = ggx_d(max(dot(n, h), 0.0f), a2);
+  const float d = ggx_d(max(ieee_dot(n, h), 0.0f), a2);
   const float g = ggx_g1(n_o, a2) * ggx_g1(n_i, a2);
-  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * ieee_div(d * g, 4.0f * n_o);
+  return fresnel_schlick(f0, max(ieee_dot(wi, h), 0.0f)) * ieee_div(d * g, 4.0f * n_o);
 }
 
 // GGX metal: the solid-angle pdf with which ggx_sample draws wi (visible normals):
 // G1(wo) D(h) / (4 n·wo).
 HRPP_INLINE float ggx_pdf(vec3 n, vec3 wo, vec3 wi, float alpha) {
-  const float n_o = dot(n, wo);
+  const float n_o = ieee_dot(n, wo);
   const vec3 h = ieee_normalize(wo + wi);
-  const float n_h = dot(n, h);
-  if (n_o <= 0.0f || n_h <= 0.0f || dot(wo, h) <= 0.0f) return 0.0f;
+  const float n_h = ieee_dot(n, h);
+  if (n_o <= 0.0f || n_h <= 0.0f || ieee_dot(wo, h) <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
   return ieee_div(ggx_g1(n_o, a2) * ggx_d(n_h, a2), 4.0f * n_o);
 }
@@ -90,13 +90,13 @@ HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, flo
                             HRPP_OUT(vec3) wi) {
   vec3 t, b;
   basis(n, t, b);
-  const vec3 v = vec3(dot(wo, t), dot(wo, b), dot(wo, n));
+  const vec3 v = vec3(ieee_dot(wo, t), ieee_dot(wo, b), ieee_dot(wo, n));
   // Heitz 2018, listing 1: stretch, sample the projected disk, unstretch.
   const vec3 vh = ieee_normalize(vec3(alpha * v.x, alpha * v.y, v.z));
   const float len2 = vh.x * vh.x + vh.y * vh.y;
   const vec3 t1 =
       len2 > 0.0f ? vec3(-vh.y, vh.x, 0.0f) * ieee_inversesqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
-  const vec3 t2 = cross(vh, t1);
+  const vec3 t2 = ieee_cross(vh, t1);
   const float r = ieee_sqrt(u1);
   const float phi = 2.0f * kPi * u2;
   const float p1 = r * cos(phi);
@@ -107,9 +107,9 @@ HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, flo
   const vec3 m = ieee_normalize(vec3(alpha * nh.x, alpha * nh.y, max(0.0f, nh.z)));
   const vec3 h = m.x * t + m.y * b + m.z * n;
   wi = reflect(-wo, h);
-  const float n_i = dot(n, wi);
+  const float n_i = ieee_dot(n, wi);
   if (n_i <= 0.0f) return vec3(0.0f);
-  return fresnel_schlick(f0, max(dot(wi, h), 0.0f)) * ggx_g1(n_i, alpha * alpha);
+  return fresnel_schlick(f0, max(ieee_dot(wi, h), 0.0f)) * ggx_g1(n_i, alpha * alpha);
 }
 
 #ifdef __cplusplus

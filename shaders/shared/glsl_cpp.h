@@ -6,9 +6,10 @@
 // translation unit), out and inout parameters through HRPP_OUT / HRPP_INOUT, structs filled
 // member by member (GLSL's T(...) needs C++20 parenthesised aggregates, which clang has only
 // from 16), and no `precise` (C++ is built with -ffp-contract=off: no fused multiply-adds).
-// Division, square roots, normalize, length and refract go through the ieee_* names: correctly
-// rounded on the device (shaders/lib/ieee_math.glsl), C++'s own operations here. What still
-// differs is the device's sin, cos and pow, and any contraction into fused multiply-adds;
+// Division, square roots, dot and cross products, normalize, length and refract go through the
+// ieee_* names: correctly rounded, step by step in glm's order, on the device
+// (shaders/lib/ieee_math.glsl), C++'s own operations here. What still differs is the device's
+// sin, cos and pow, and the contraction of other products and sums into fused multiply-adds;
 // tests/cpu_render_test.cpp measures the images' agreement.
 #ifndef HRPP_GLSL_CPP_H
 #define HRPP_GLSL_CPP_H
@@ -24,8 +25,6 @@ using vec2 = glm::vec2;
 using ivec2 = glm::ivec2;
 using glm::abs;
 using glm::clamp;
-using glm::cross;
-using glm::dot;
 using glm::floor;
 using glm::fract;
 using glm::greaterThan;
@@ -49,6 +48,8 @@ inline float ieee_div(float a, float b) { return a / b; }
 inline glm::vec3 ieee_div(glm::vec3 a, float b) { return a / b; }
 inline float ieee_sqrt(float x) { return std::sqrt(x); }
 inline float ieee_inversesqrt(float x) { return glm::inversesqrt(x); }
+inline float ieee_dot(glm::vec3 a, glm::vec3 b) { return glm::dot(a, b); }
+inline glm::vec3 ieee_cross(glm::vec3 a, glm::vec3 b) { return glm::cross(a, b); }
 inline float ieee_length(glm::vec3 v) { return glm::length(v); }
 inline glm::vec3 ieee_normalize(glm::vec3 v) { return glm::normalize(v); }
 inline glm::vec3 ieee_refract(glm::vec3 i, glm::vec3 n, float eta) { return glm::refract(i, n, eta); }

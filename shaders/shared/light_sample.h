@@ -47,19 +47,19 @@ HRPP_INLINE float triangle_solid_angle_pdf(float area2, float cos_l, float dist)
 HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1, float u2) {
   const float r = ieee_sqrt(u1);
   const vec3 q = l.position + r * (1.0f - u2) * l.dir + r * u2 * l.edge2;
-  const vec3 c = cross(l.dir, l.edge2);
+  const vec3 c = ieee_cross(l.dir, l.edge2);
   const float area2 = ieee_length(c);
   const vec3 to = q - s.p;
-  const float d2 = dot(to, to);
+  const float d2 = ieee_dot(to, to);
   LightSample ls;
   ls.wi = ieee_div(to, ieee_sqrt(d2));
-  const float cos_l = ieee_div(dot(c, ls.wi), area2);  // > 0: s sees the side c points away from
+  const float cos_l = ieee_div(ieee_dot(c, ls.wi), area2);  // > 0: s sees the side c points away from
   ls.li = l.color * ieee_div(abs(cos_l) * 0.5f * area2, d2);
   ls.shadow = shadow_ray_to(s.p, s.ng, q, ieee_div(cos_l > 0.0f ? -c : c, area2));
   // The pdf as a BSDF ray would see q: from the offset origin that ray leaves (hit_light_pdf).
   const vec3 from_origin = q - ls.shadow.origin;
   ls.dist = ieee_length(from_origin);
-  ls.pdf = triangle_solid_angle_pdf(area2, ieee_div(dot(c, from_origin), ls.dist * area2), ls.dist);
+  ls.pdf = triangle_solid_angle_pdf(area2, ieee_div(ieee_dot(c, from_origin), ls.dist * area2), ls.dist);
   return ls;
 }
 
@@ -67,14 +67,14 @@ HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1
 // short of the light's position.
 HRPP_INLINE LightSample sample_point_light(GpuLight l, SurfaceHit s) {
   const vec3 to = l.position - s.p;
-  const float d2 = dot(to, to);
+  const float d2 = ieee_dot(to, to);
   LightSample ls;
   ls.wi = ieee_div(to, ieee_sqrt(d2));
   ls.li = ieee_div(l.color, d2);
   ls.pdf = 0.0f;
   ls.dist = 0.0f;
   if (l.type == HRPP_LIGHT_SPOT)
-    ls.li *= smoothstep(l.cos_outer, l.cos_inner, dot(-ls.wi, l.dir));
+    ls.li *= smoothstep(l.cos_outer, l.cos_inner, ieee_dot(-ls.wi, l.dir));
   ls.shadow = shadow_ray_to(s.p, s.ng, l.position, vec3(0.0f));
   return ls;
 }

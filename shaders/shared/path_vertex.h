@@ -153,9 +153,9 @@ HRPP_INLINE float emission_weight(uint strategy, PathState path, bool bsdf_sees,
 // `dist` (solid angle), with `pick` the probability of picking its light (0: not a light).
 HRPP_INLINE float hit_light_pdf(ShadeTriangle t, float pick, vec3 dir, float dist) {
   if (!(pick > 0.0f)) return 0.0f;
-  const vec3 c = cross(t.v1 - t.v0, t.v2 - t.v0);
+  const vec3 c = ieee_cross(t.v1 - t.v0, t.v2 - t.v0);
   const float area2 = ieee_length(c);
-  return pick * triangle_solid_angle_pdf(area2, ieee_div(dot(c, dir), area2), dist);
+  return pick * triangle_solid_angle_pdf(area2, ieee_div(ieee_dot(c, dir), area2), dist);
 }
 
 const uint kLobeDiffuse = 0u;
@@ -183,16 +183,16 @@ HRPP_INLINE Lobe choose_lobe(GpuMaterial m, vec3 albedo, float u_lobe) {
 
 // f · cos(wi) of the chosen lobe (the lobe choice probability cancels its mixture weight).
 HRPP_INLINE vec3 eval_lobe_cos(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
-  if (dot(wi, s.ng) <= 0.0f) return vec3(0.0f);
+  if (ieee_dot(wi, s.ng) <= 0.0f) return vec3(0.0f);
   if (kMetal && lobe.kind == kLobeMetal) return ggx_eval_cos(s.ns, wo, wi, lobe.albedo, lobe.alpha);
-  return lobe.albedo * ieee_div(max(dot(s.ns, wi), 0.0f), kPi);
+  return lobe.albedo * ieee_div(max(ieee_dot(s.ns, wi), 0.0f), kPi);
 }
 
 // The pdf with which the lobe's sampling (sample_bounce) draws wi (solid angle; delta: 0).
 HRPP_INLINE float lobe_pdf(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
   if (lobe.delta) return 0.0f;
   if (kMetal && lobe.kind == kLobeMetal) return ggx_pdf(s.ns, wo, wi, lobe.alpha);
-  return ieee_div(max(dot(s.ns, wi), 0.0f), kPi);
+  return ieee_div(max(ieee_dot(s.ns, wi), 0.0f), kPi);
 }
 
 // Next-event estimation: what light sample ls (of a light picked with probability prob) adds
@@ -211,7 +211,7 @@ HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec
 // crossed, or the point on the light) is not.
 HRPP_INLINE bool traces_shadow_ray(vec3 contribution, LightSample ls) {
   return max(contribution.r, max(contribution.g, contribution.b)) > 0.0f &&
-         dot(ls.shadow.dir, ls.wi) > 0.0f;
+         ieee_dot(ls.shadow.dir, ls.wi) > 0.0f;
 }
 
 // The continuation of a path: its direction, the lobe's f·cos/pdf, the pdf (solid angle;
@@ -233,7 +233,7 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   b.leave_normal = s.ng;
   if (kGlass && lobe.kind == kLobeGlass) {
     const float eta = s.front ? ieee_div(1.0f, m.ior) : m.ior;
-    const float cos_i = dot(s.ns, wo);
+    const float cos_i = ieee_dot(s.ns, wo);
     const float f = fresnel_dielectric(abs(cos_i), eta);
     if (u1 < f) {
       b.wi = reflect(-wo, s.ns);
@@ -246,7 +246,7 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   } else if (kMetal && lobe.kind == kLobeMetal) {
     if (lobe.delta) {
       b.wi = reflect(-wo, s.ns);
-      b.weight = fresnel_schlick(lobe.albedo, max(dot(s.ns, b.wi), 0.0f));
+      b.weight = fresnel_schlick(lobe.albedo, max(ieee_dot(s.ns, b.wi), 0.0f));
     } else {
       b.weight = ggx_sample(s.ns, wo, lobe.albedo, lobe.alpha, u1, u2, b.wi);
       b.pdf = ggx_pdf(s.ns, wo, b.wi, lobe.alpha);
@@ -254,10 +254,10 @@ HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo
   } else {
     b.wi = cosine_hemisphere(s.ns, u1, u2);
     b.weight = lobe.albedo;
-    b.pdf = ieee_div(max(dot(s.ns, b.wi), 0.0f), kPi);
+    b.pdf = ieee_div(max(ieee_dot(s.ns, b.wi), 0.0f), kPi);
   }
   // A direction on the wrong side of the geometric surface ends the path.
-  if (dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
+  if (ieee_dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
   return b;
 }
 

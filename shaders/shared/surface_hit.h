@@ -57,15 +57,15 @@ HRPP_INLINE SurfaceHit make_surface_hit(ShadeTriangle t, Hit h, vec3 dir) {
   const float w = 1.0f - h.u - h.v;
   SurfaceHit s;
   s.p = w * t.v0 + h.u * t.v1 + h.v * t.v2;  // from barycentrics, not o + t·d (offset_ray.h)
-  const vec3 ng = ieee_normalize(cross(t.v1 - t.v0, t.v2 - t.v0));
-  s.front = dot(ng, dir) < 0.0f;
+  const vec3 ng = ieee_normalize(ieee_cross(t.v1 - t.v0, t.v2 - t.v0));
+  s.front = ieee_dot(ng, dir) < 0.0f;
   s.ng = s.front ? ng : -ng;
   s.ns = s.ng;
   if ((t.vertex_data & HRPP_VERTEX_NORMALS) != 0u) {
     const vec3 n = w * vec3(t.n0) + h.u * vec3(t.n1) + h.v * vec3(t.n2);
-    if (dot(n, n) > 0.0f) {
+    if (ieee_dot(n, n) > 0.0f) {
       s.ns = ieee_normalize(n);
-      if (dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
+      if (ieee_dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
     }
   }
   s.uv = w * vec2(t.uv01) + h.u * vec2(t.uv01.z, t.uv01.w) + h.v * vec2(t.uv2);
