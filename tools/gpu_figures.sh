@@ -30,7 +30,7 @@
 #   tools/gpu_figures.sh --pack               # writes build/portable/gpu_kit.tar.xz
 # The kit holds the portable build's hrpp, bench_embree_harness and GPU test binaries (stripped),
 # every shared library they need beyond glibc and libstdc++ (Embree, TBB, the Vulkan loader,
-# glvnd's libGLX and libGLdispatch, which NVIDIA's driver loads), the Khronos validation layer,
+# glvnd's libraries, which NVIDIA's driver loads), the Khronos validation layer,
 # vulkaninfo, and the dragon when scenes/fetched has it. Run there, the script unpacks it in
 # place, points LD_LIBRARY_PATH, VK_LAYER_PATH and (when unset) VK_DRIVER_FILES at it and the
 # NVIDIA driver (the first manifest under which its vulkaninfo sees a GPU), and links the
@@ -116,9 +116,11 @@ pack_kit() {
       *) cp -L "$lib" "$stage/$build/lib/" ;;
     esac
   done
-  for lib in libVkLayer_khronos_validation.so libGLX.so.0 libGLdispatch.so.0; do
+  for lib in libVkLayer_khronos_validation.so libGLX.so.0 libGLdispatch.so.0 libEGL.so.1 \
+             libGL.so.1 libOpenGL.so.0 libGLESv2.so.2; do
     cp -L "/usr/lib/x86_64-linux-gnu/$lib" "$stage/$build/lib/" 2>/dev/null ||
-      echo "gpu_figures: $lib not found (Debian packages vulkan-validationlayers, libglx0)" >&2
+      echo "gpu_figures: $lib not found (Debian packages vulkan-validationlayers, libglx0," \
+        "libegl1, libgl1, libopengl0, libgles2)" >&2
   done
   cp /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json "$stage/$build/layers/" 2>/dev/null
   pwd > "$stage/$build/source_dir"
@@ -150,10 +152,29 @@ PY
   fi
 }
 
+# try_manifests VULKANINFO MANIFEST...: exports VK_DRIVER_FILES as the first manifest under which
+# vulkaninfo sees a GPU; notes why each other one failed.
+try_manifests() {
+  local vi=$1 icd; shift
+  for icd in "$@"; do
+    if VK_DRIVER_FILES="$icd" timeout 30 "$vi" --summary 2>/dev/null |
+        grep -q "deviceType *= PHYSICAL_DEVICE_TYPE_\(DISCRETE\|INTEGRATED\)_GPU"; then
+      export VK_DRIVER_FILES="$icd"
+      driver_note+="Vulkan driver: $icd"$'\n'
+      return 0
+    fi
+    driver_note+="no GPU through $icd: $(VK_DRIVER_FILES="$icd" VK_LOADER_DEBUG=error \
+      timeout 30 "$vi" --summary 2>&1 | grep -m 1 -E "ERROR|error")"$'\n'
+  done
+  return 1
+}
+
 # find_driver KITDIR: unless VK_DRIVER_FILES is set, the first NVIDIA manifest under which the
 # kit's vulkaninfo sees a GPU: the installed manifests, then ones naming each libGLX_nvidia
-# found by its full path. The driver's own folder goes on LD_LIBRARY_PATH: its Vulkan library
-# loads the driver's other libraries by name, which an outdated ld.so cache does not hold.
+# found by its full path; when none does and this is root, the same again after ldconfig. The
+# driver's own folder goes on LD_LIBRARY_PATH: its Vulkan library loads the driver's other
+# libraries by name. (On one H200 machine none was found until glvnd's libraries were installed
+# and ldconfig run; which of the two it took is not known: the kit carries those libraries.)
 find_driver() {
   local vi="$1/host/vulkaninfo" icd lib n=0 candidates=()
   local nv=/usr/local/nvidia/lib64  # the driver's folder on the lent machines
@@ -175,16 +196,11 @@ find_driver() {
     [ ${#candidates[@]} -gt 0 ] && export VK_DRIVER_FILES="${candidates[0]}"
     return 0
   fi
-  for icd in "${candidates[@]}"; do
-    if VK_DRIVER_FILES="$icd" timeout 30 "$vi" --summary 2>/dev/null |
-        grep -q "deviceType *= PHYSICAL_DEVICE_TYPE_\(DISCRETE\|INTEGRATED\)_GPU"; then
-      export VK_DRIVER_FILES="$icd"
-      driver_note+="Vulkan driver: $icd"$'\n'
-      return 0
-    fi
-    driver_note+="no GPU through $icd: $(VK_DRIVER_FILES="$icd" VK_LOADER_DEBUG=error \
-      timeout 30 "$vi" --summary 2>&1 | grep -m 1 -E "ERROR|error")"$'\n'
-  done
+  try_manifests "$vi" "${candidates[@]}" && return 0
+  if [ ${#candidates[@]} -gt 0 ] && [ "$(id -u)" = 0 ] && command -v ldconfig >/dev/null; then
+    driver_note+="ldconfig, then again"$'\n'
+    ldconfig && try_manifests "$vi" "${candidates[@]}" && return 0
+  fi
   [ ${#candidates[@]} -gt 0 ] || driver_note+="no NVIDIA Vulkan manifest or libGLX_nvidia"$'\n'
 }
 driver_note=""
