@@ -166,5 +166,24 @@ TEST_F(Cli, UnknownOptionsFailWithoutACrash) {
   EXPECT_NE(run("frobnicate").status, 0);
 }
 
+// --hrpp on without a GPU: HRPP inline in the CPU traversal beside the CPU reference, its
+// answers checked (exact: every one is HRPP off's) and its time ratio and counters printed.
+TEST_F(Cli, BenchRunsHrppInlineOnTheCpu) {
+  const fs::path json = dir_ / "bench.json";
+  const Result r = run("bench builtin:cornell --no-gpu --no-embree --hrpp on --hrpp-mode exact "
+                       "--rays 8192 --repeat 1 --kinds primary,ao --strict --json " + json.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("cpu-hrpp"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cpu-hrpp/cpu-ref"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(json));
+  for (const nlohmann::json& kind : j["kinds"]) {
+    ASSERT_TRUE(kind.contains("cpu_hrpp")) << kind.dump();
+    EXPECT_EQ(kind["cpu_hrpp"]["probes"], 8192) << kind["kind"];
+    EXPECT_GT(kind["cpu_hrpp"]["time_over_cpu_ref"].get<double>(), 0.0) << kind["kind"];
+    for (const nlohmann::json& t : kind["tracers"])
+      EXPECT_EQ(t["validation"]["mismatches"], 0) << t["tracer"];
+  }
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -136,8 +136,9 @@ struct TracerResult {
   double mrays = 0.0;
   std::size_t hits = 0;
   Validation validation;
-  std::optional<TraversalCounters> counters;  // GPU: work per batch
-  std::string timing;                         // what the ms measure
+  std::optional<TraversalCounters> counters;          // GPU: work per batch
+  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp: the last run's HRPP_PC_*
+  std::string timing;                                 // what the ms measure
   bool speculative = false;  // HRPP speculative hit-all: mismatches are wrong predictions
 };
 
@@ -154,6 +155,7 @@ TracerResult time_tracer(Tracer& tracer, std::span<const gpu::Ray> rays, QueryKi
     r.ms.push_back(run.ms);
     hits = std::move(run.hits);
     r.counters = run.counters;
+    r.predictor = run.predictor;
   }
   r.median_ms = median(r.ms);
   r.mrays = r.median_ms > 0.0 ? static_cast<double>(rays.size()) / (r.median_ms * 1e3) : 0.0;
@@ -264,6 +266,9 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
                        VulkanContext* ctx, int threads, nlohmann::json& report) {
   Backends b;
   b.tracers.push_back(std::make_unique<CpuReferenceTracer>(bvh, threads));
+  b.predictor = o.hrpp.config();
+  if (b.predictor.enabled)
+    b.tracers.push_back(std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads));
   if (o.no_embree) {
     std::printf("embree      off (--no-embree)\n");
   } else if (!embree_available()) {
@@ -280,7 +285,6 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.gpu->warm_up();
     b.tracers.push_back(std::make_unique<GpuBackend>(*b.gpu));
   }
-  b.predictor = o.hrpp.config();
   if (ctx && b.predictor.enabled) {
     b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
     b.hrpp->warm_up();
@@ -359,7 +363,8 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
   std::vector<TracerResult> results;
   std::vector<gpu::Hit> ref_hits, hits;
   for (const std::unique_ptr<Tracer>& t : b.tracers) {
-    if (t->kind() == TracerKind::kGpuHrpp && !b.predictor.predicts(ray_file_class(kind))) continue;
+    const bool hrpp = t->kind() == TracerKind::kGpuHrpp || t->kind() == TracerKind::kCpuHrpp;
+    if (hrpp && !b.predictor.predicts(ray_file_class(kind))) continue;
     const bool reference = t->kind() == TracerKind::kCpuReference;
     TracerResult r = time_tracer(*t, rays, kind, o.repeat, reference ? ref_hits : hits);
     if (reference) {
@@ -367,7 +372,7 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
     } else {
       r.validation = validate(rays, ref_hits, hits, subset, kind, scene_diagonal);
     }
-    r.speculative = t->kind() == TracerKind::kGpuHrpp && kind == QueryKind::kClosest &&
+    r.speculative = hrpp && kind == QueryKind::kClosest &&
                     b.predictor.mode == PredictorMode::kSpeculative;
     results.push_back(std::move(r));
   }
@@ -411,6 +416,27 @@ std::size_t print_rows(const char* kname, std::size_t rays, QueryKind kind,
   return mismatches;
 }
 
+// HRPP inline on the CPU against the CPU reference on the same threads and rays.
+void print_cpu_hrpp(const std::vector<TracerResult>& results, nlohmann::json& kj) {
+  const TracerResult* ref = find(results, TracerKind::kCpuReference);
+  const TracerResult* cpu_hrpp = find(results, TracerKind::kCpuHrpp);
+  if (!ref || !cpu_hrpp || !cpu_hrpp->predictor || cpu_hrpp->median_ms <= 0.0) return;
+  const gpu::PredictorCounters& p = *cpu_hrpp->predictor;
+  const double probes = static_cast<double>(std::max<std::uint64_t>(p.c[HRPP_PC_PROBES], 1));
+  const double ratio = cpu_hrpp->median_ms / ref->median_ms;
+  std::printf("  hrpp      cpu-hrpp/cpu-ref %.3f (wall, same run); probes %llu: predictor hits "
+              "%.1f%%, true positives %.1f%%, inserts %llu\n",
+              ratio, static_cast<unsigned long long>(p.c[HRPP_PC_PROBES]),
+              100.0 * static_cast<double>(p.c[HRPP_PC_PREDICTOR_HITS]) / probes,
+              100.0 * static_cast<double>(p.c[HRPP_PC_TRUE_POSITIVES]) / probes,
+              static_cast<unsigned long long>(p.c[HRPP_PC_INSERTS]));
+  kj["cpu_hrpp"] = {{"time_over_cpu_ref", ratio},
+                    {"probes", p.c[HRPP_PC_PROBES]},
+                    {"predictor_hits", p.c[HRPP_PC_PREDICTOR_HITS]},
+                    {"true_positives", p.c[HRPP_PC_TRUE_POSITIVES]},
+                    {"inserts", p.c[HRPP_PC_INSERTS]}};
+}
+
 // Per ray work, HRPP figures and ratios under the rows of one batch.
 void print_ratios(const std::vector<TracerResult>& results,
                   const std::optional<PredictorSummary>& hrpp_summary, QueryKind kind,
@@ -434,6 +460,7 @@ void print_ratios(const std::vector<TracerResult>& results,
       kj["hrpp"]["speedup"] = gpu_hrpp->mrays / gpu->mrays;
     }
   }
+  print_cpu_hrpp(results, kj);
   if (gpu && emb && emb->mrays > 0.0) {
     std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
     kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
@@ -492,7 +519,8 @@ void run_bench(const BenchOptions& o) {
   for (const RayKind kind : kinds) total_mismatches += bench_kind(o, backends, batches, kind, report);
 
   std::printf("\ntiming: median of %d runs after a warm-up; cpu-ref and embree: wall clock on %d "
-              "threads; gpu: device timestamps (kernel time). validation: %s rays per kind vs the "
+              "threads (cpu-hrpp: HRPP inline, per-thread tables, emptied before each run); gpu: device "
+              "timestamps (kernel time). validation: %s rays per kind vs the "
               "CPU reference (t within 1e-5 relative; same t, other triangle = tie)\n",
               o.repeat, threads, o.validate == 0 ? "all" : std::to_string(o.validate).c_str());
   report["total_mismatches"] = total_mismatches;

@@ -26,6 +26,18 @@ TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, QueryKind ki
   return r;
 }
 
+// Cold tables per run, as the GPU predictor's; emptying them is outside the clock.
+TracerRun CpuHrppTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
+  predictor_.clear();
+  TracerRun r;
+  r.hits.resize(rays.size());
+  const auto start = Clock::now();
+  const PredictorTraceResult p = predictor_.trace(rays, ray_file_class(kind), r.hits);
+  r.ms = ms_since(start);
+  r.predictor = p.predictor;
+  return r;
+}
+
 TracerRun EmbreeBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   TracerRun r;
   r.hits.resize(rays.size());
@@ -43,7 +55,7 @@ const char* GpuBackend::timing() const {
 TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   if (hrpp_) tracer_.predictor()->clear();
   GpuTraceResult g = tracer_.trace(rays, kind, sorter_);
-  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters};
+  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
 }
 
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,

@@ -11,6 +11,7 @@
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu_types.h"
+#include "hrpp/inline_predictor.h"
 #include "hrpp/predictor_stats.h"
 #include "reference/embree_tracer.h"
 #include "trace/traversal_counters.h"
@@ -19,6 +20,7 @@ namespace hrpp::app {
 
 enum class TracerKind {
   kCpuReference,  // trace/cpu_traversal.h on all threads: the ground truth
+  kCpuHrpp,       // the same with HRPP inline (hrpp/inline_predictor.h); tables emptied per run
   kEmbree,        // Embree 3 or 4 (reference/embree_tracer.h)
   kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
   kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
@@ -27,7 +29,8 @@ enum class TracerKind {
 struct TracerRun {
   std::vector<gpu::Hit> hits;
   double ms = 0.0;
-  std::optional<TraversalCounters> counters;  // the GPU's work
+  std::optional<TraversalCounters> counters;          // the GPU's work
+  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp: HRPP_PC_*
 };
 
 class Tracer {
@@ -50,6 +53,20 @@ class CpuReferenceTracer final : public Tracer {
  private:
   const GpuBvh& bvh_;
   int threads_;
+};
+
+// HRPP inline in the CPU traversal, on the same threads as the CPU reference.
+class CpuHrppTracer final : public Tracer {
+ public:
+  CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads)
+      : predictor_(bvh, config, threads) {}
+  TracerKind kind() const override { return TracerKind::kCpuHrpp; }
+  const char* name() const override { return "cpu-hrpp"; }
+  const char* timing() const override { return "wall"; }
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
+
+ private:
+  InlinePredictor predictor_;
 };
 
 class EmbreeBackend final : public Tracer {

@@ -37,6 +37,7 @@ struct ReferencePredictor::Trace {
   // `skip`; adds its work to `into`.
   gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into,
                       std::span<const int> skip = {}) const {
+    if (!p.count_work_) return trace_skipping(*p.bvh_, r, kind, skip);
     TraversalCounters f;
     const gpu::Hit h = trace_skipping(*p.bvh_, r, kind, skip, &f);
     f.rays = 0;
@@ -55,7 +56,8 @@ struct ReferencePredictor::Trace {
       if (node == HRPP_EMPTY_NODE) break;
       gpu::Ray r = ray;
       if (predicted.prim >= 0) r.tmax = predicted.t;
-      const bool answered = trace_subtree(*p.bvh_, r, node, kind, predicted, &v);
+      const bool answered =
+          trace_subtree(*p.bvh_, r, node, kind, predicted, p.count_work_ ? &v : nullptr);
       if (skips && tested_count < tested.size()) tested[tested_count++] = node;
       if (answered) break;
     }
@@ -83,8 +85,8 @@ struct ReferencePredictor::Trace {
   // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,
   // whether the accepted hit was the closest.
   void count_baseline(const gpu::Ray& ray, const gpu::Hit& predicted) {
-    TraversalCounters b;
-    const gpu::Hit truth = full_trace(ray, b);
+    TraversalCounters b;  // counted whether or not the work is
+    const gpu::Hit truth = trace_skipping(*p.bvh_, ray, kind, {}, &b);
     counter(HRPP_PC_BASELINE_INTERIOR) += b.interior_visited;
     if (predicted.prim >= 0 && kind == QueryKind::kClosest && !exact &&
         (truth.prim != predicted.prim || truth.t != predicted.t))
@@ -139,8 +141,15 @@ struct ReferencePredictor::Trace {
 };
 
 PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls) {
+  std::vector<gpu::Hit> hits(rays.size());
+  PredictorTraceResult out = trace(rays, cls, hits);
+  out.hits = std::move(hits);
+  return out;
+}
+
+PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, RayClass cls,
+                                               std::span<gpu::Hit> hits) {
   PredictorTraceResult out;
-  out.hits.resize(rays.size());
   Trace t{*this,
           query_kind(cls),
           config_.mode == PredictorMode::kExact,
@@ -157,7 +166,7 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
           t.trace_ray(rays[i], table, clocks_[cls] + static_cast<std::uint32_t>(i));
       ++out.counters.rays;
       if (best.prim >= 0) ++out.counters.hits;
-      out.hits[i] = t.kind == QueryKind::kAny
+      hits[i] = t.kind == QueryKind::kAny
                         ? (best.prim >= 0 ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
                         : best;
     }

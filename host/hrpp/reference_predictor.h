@@ -44,6 +44,13 @@ class ReferencePredictor {
 
   // Traces rays of one class through its table; the table keeps its contents between calls.
   PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c);
+  // The same, the hits written into `hits` (one per ray; PredictorTraceResult::hits left empty).
+  PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, std::span<gpu::Hit> hits);
+
+  // Off: the traversals count no work (PredictorTraceResult::counters keeps rays and hits, the
+  // predictor's counters all but the verification's), and compile without their increments:
+  // the inline predictor's timed path (host/hrpp/inline_predictor.h). On by default.
+  void count_work(bool on) { count_work_ = on; }
 
   // Keys in the class's table and node references stored under them.
   std::uint64_t entries(RayClass c) const;
@@ -64,6 +71,7 @@ class ReferencePredictor {
   std::vector<std::uint32_t> leaf_of_prim_;
   PerClass<Table> tables_;
   PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)
+  bool count_work_ = true;
 };
 
 }  // namespace hrpp

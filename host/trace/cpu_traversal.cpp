@@ -8,9 +8,19 @@
 namespace hrpp {
 namespace {
 
+// The counters of an uncounted trace: every increment compiles to nothing, so a call without
+// counters runs the traversal loop alone (the CPU tracers' timed path).
+struct NoCount {
+  constexpr NoCount& operator++() { return *this; }
+};
+struct NoCounters {
+  NoCount rays, interior_visited, leaves_visited, triangles_tested, hits;
+};
+
 // Tests the leaf's triangles; returns true when `best` improved (any_only: on the first hit).
-bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, gpu::Hit& best,
-               float& tmax, bool any_only, TraversalCounters& c) {
+template <class Counters>
+[[gnu::always_inline]] inline bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, gpu::Hit& best,
+               float& tmax, bool any_only, Counters& c) {
   ++c.leaves_visited;
   bool found = false;
   for (gpu::uint i = leaf.first_triangle; i < leaf.first_triangle + leaf.triangle_count; ++i) {
@@ -28,15 +38,16 @@ bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, g
   return found;
 }
 
-bool contains(std::span<const int> refs, int ref) {
+[[gnu::always_inline]] inline bool contains(std::span<const int> refs, int ref) {
   return std::find(refs.begin(), refs.end(), ref) != refs.end();
 }
 
 // Stack traversal of the subtree under `root` (interior node index or ~leaf) into `best`;
 // tmax starts at `tmax`; children in `skip` are not entered. Returns true when an any-hit query
 // was answered.
+template <class Counters>
 bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, gpu::Hit& best,
-                   bool any_only, TraversalCounters& c, std::span<const int> skip = {}) {
+                   bool any_only, Counters& c, std::span<const int> skip = {}) {
   int stack[HRPP_STACK_SIZE];
   int sp = 0;
   int node = root;
@@ -70,16 +81,27 @@ bool traverse_from(const GpuBvh& bvh, const RaySetup& r, int root, float tmax, g
   }
 }
 
-gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out,
-                  std::span<const int> skip = {}) {
-  TraversalCounters c;
-  c.rays = 1;
+template <class Counters>
+gpu::Hit traverse_counting(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, Counters& c,
+                           std::span<const int> skip) {
+  ++c.rays;
   gpu::Hit best = kMiss;
   const RaySetup r = setup_ray(ray);
   if (r.valid && !bvh.nodes.empty() && !contains(skip, 0))
     traverse_from(bvh, r, 0, ray.tmax, best, any_only, c, skip);
   if (best.prim >= 0) ++c.hits;
-  if (out) *out += c;
+  return best;
+}
+
+gpu::Hit traverse(const GpuBvh& bvh, const gpu::Ray& ray, bool any_only, TraversalCounters* out,
+                  std::span<const int> skip = {}) {
+  if (!out) {
+    NoCounters none;
+    return traverse_counting(bvh, ray, any_only, none, skip);
+  }
+  TraversalCounters c;
+  const gpu::Hit best = traverse_counting(bvh, ray, any_only, c, skip);
+  *out += c;
   return best;
 }
 
@@ -104,11 +126,16 @@ gpu::Hit trace_skipping(const GpuBvh& bvh, const gpu::Ray& ray, QueryKind kind,
 
 bool trace_subtree(const GpuBvh& bvh, const gpu::Ray& ray, int root, QueryKind kind, gpu::Hit& best,
                    TraversalCounters* counters) {
-  TraversalCounters c;
   const RaySetup r = setup_ray(ray);
-  const bool answered =
-      r.valid && traverse_from(bvh, r, root, ray.tmax, best, kind == QueryKind::kAny, c);
-  if (counters) *counters += c;
+  if (!r.valid) return false;
+  const bool any_only = kind == QueryKind::kAny;
+  if (!counters) {
+    NoCounters none;
+    return traverse_from(bvh, r, root, ray.tmax, best, any_only, none);
+  }
+  TraversalCounters c;
+  const bool answered = traverse_from(bvh, r, root, ray.tmax, best, any_only, c);
+  *counters += c;
   return answered;
 }
 

@@ -4,6 +4,7 @@
 //   - conservative slab test (slab_test.h), watertight triangle test (watertight.h);
 //   - a hit needs tmin <= t <= tmax; closest hit: smallest t, equal t → lower triangle id;
 //   - a ray with NaN/Inf origin or direction, or a zero direction, misses everything.
+// Without a counters pointer nothing is counted: the loop compiles without its increments.
 #pragma once
 
 #include <span>

@@ -34,7 +34,8 @@ inline void open_parallel_axis(float inv_dir, float& t_near, float& t_far) {
 }
 
 // True when the ray meets the box lo..hi within [tmin, tmax]; *t_enter = where it enters.
-inline bool slab_test(const RaySetup& r, const glm::vec3& lo, const glm::vec3& hi, float tmax,
+// Always inlined: GCC at -O2 kept it a call, half of a CPU trace's time (perf).
+[[gnu::always_inline]] inline bool slab_test(const RaySetup& r, const glm::vec3& lo, const glm::vec3& hi, float tmax,
                       float* t_enter) {
   const glm::vec3 t0 = (lo - r.origin) * r.inv_dir;
   const glm::vec3 t1 = (hi - r.origin) * r.inv_dir;

@@ -1,0 +1,42 @@
+#include "hrpp/inline_predictor.h"
+
+#include <algorithm>
+
+#include "common/task_pool.h"
+
+namespace hrpp {
+
+InlinePredictor::InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads)
+    : bvh_(&bvh), config_(config), threads_(resolve_threads(threads)) {
+  clear();
+}
+
+void InlinePredictor::clear() {
+  tables_.clear();
+  tables_.reserve(static_cast<std::size_t>(threads_));
+  for (int i = 0; i < threads_; ++i) {
+    tables_.emplace_back(*bvh_, config_);
+    tables_.back().count_work(false);
+  }
+}
+
+PredictorTraceResult InlinePredictor::trace(std::span<const gpu::Ray> rays, RayClass c,
+                                            std::span<gpu::Hit> hits) {
+  std::vector<PredictorTraceResult> parts(tables_.size());
+  TaskPool pool(threads_);
+  pool.parallel_for(chunks(rays.size(), kChunk), [&](std::size_t task, int thread) {
+    const std::size_t begin = task * kChunk, count = std::min(kChunk, rays.size() - begin);
+    const PredictorTraceResult r =
+        tables_[thread].trace(rays.subspan(begin, count), c, hits.subspan(begin, count));
+    parts[thread].counters += r.counters;
+    for (int k = 0; k < HRPP_PC_COUNT; ++k) parts[thread].predictor.c[k] += r.predictor.c[k];
+  });
+  PredictorTraceResult out;
+  for (const PredictorTraceResult& p : parts) {
+    out.counters += p.counters;
+    for (int k = 0; k < HRPP_PC_COUNT; ++k) out.predictor.c[k] += p.predictor.c[k];
+  }
+  return out;
+}
+
+}  // namespace hrpp

@@ -1,0 +1,46 @@
+// HRPP inline in the CPU traversal, the paper's setting: before a ray's traversal, its probe (the
+// hash and one table read), the verification of the predicted nodes and, when they do not hold
+// its hit, the fallback and the insert; no stage, queue or dispatch between them. It runs the
+// CPU reference predictor's code (host/hrpp/reference_predictor.h) with the work counters
+// compiled out, on `threads` threads: chunks of kChunk consecutive rays are handed out as the
+// CPU reference's are (common/task_pool.h), and each thread traces its chunks in order through
+// tables of its own (per-thread tables: no locks, no sharing; which thread's tables see which
+// chunk varies from run to run). With one thread every counter and table entry is the
+// reference's.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "bvh/gpu_layout.h"
+#include "hrpp/predictor_config.h"
+#include "hrpp/ray_class.h"
+#include "hrpp/reference_predictor.h"
+
+namespace hrpp {
+
+class InlinePredictor {
+ public:
+  // threads: 0 = all the hardware's.
+  InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads);
+
+  // Empties every table (the next trace starts cold).
+  void clear();
+
+  // Traces the rays as rays of class `c` through the tables, which keep their contents between
+  // calls, into `hits` (one per ray, as the trace kernels write them: any-hit prim 0 occluded,
+  // -1 free). Counters: rays and hits; the predictor's summed over the threads.
+  PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, std::span<gpu::Hit> hits);
+
+  int threads() const { return threads_; }
+
+  static constexpr std::size_t kChunk = 4096;  // the CPU reference's chunk (trace/ray_batches.h)
+
+ private:
+  const GpuBvh* bvh_;
+  PredictorConfig config_;
+  int threads_;
+  std::vector<ReferencePredictor> tables_;  // one predictor, with its tables, per thread
+};
+
+}  // namespace hrpp
