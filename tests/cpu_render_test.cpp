@@ -266,9 +266,13 @@ TEST(CpuReferenceCli, BackendFlag) {
   EXPECT_EQ(j["backend"], "cpu");
   EXPECT_EQ(j["rays"]["camera"].get<int>(), 16 * 16);
 
-  r = test::run_hrpp("render --backend cpu --hrpp on --size 8x8 --out " + out, dir);
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("--backend cpu"), std::string::npos) << r.err;
+  // HRPP inline in the CPU renderer: the predicting classes' counters in the stats.
+  r = test::run_hrpp("render --backend cpu --hrpp on --size 16x16 --spp 2 --out " + out +
+                         " --stats " + stats, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("hrpp camera probes 512"), std::string::npos) << r.out;
+  const nlohmann::json h = nlohmann::json::parse(test::read_file(stats));
+  EXPECT_EQ(h["classes"]["camera"]["hrpp"]["probes"].get<int>(), 16 * 16 * 2);
   r = test::run_hrpp("render --backend tpu --size 8x8 --out " + out, dir);
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--backend"), std::string::npos) << r.err;

@@ -11,6 +11,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
+#include "cpu_render/cpu_renderer.h"
 #include "hrpp/inline_predictor.h"
 #include "hrpp/reference_predictor.h"
 #include "hrpp_counter_checks.h"
@@ -21,6 +22,7 @@ namespace hrpp {
 namespace {
 
 struct Fixture {
+  Scene scene;
   GpuBvh bvh;
   RayBatches batches;
 };
@@ -30,7 +32,8 @@ struct Fixture {
 const Fixture& bunny() {
   static const Fixture* f = [] {
     auto* x = new Fixture;
-    const Scene scene = test::load_test_scene("bunny.scene.json");
+    x->scene = test::load_test_scene("bunny.scene.json");
+    const Scene& scene = x->scene;
     x->bvh = make_gpu_layout(build_bvh(scene, {}), scene);
     RayBatchConfig c;
     c.width = c.height = 128;
@@ -115,6 +118,31 @@ TEST(InlinePredictor, ExactAndAnyHitAnswersAreHrppOffsOnEveryThreadCount) {
       EXPECT_EQ(differing_hits(again, off), 0) << what << ", after clear()";
     }
   }
+}
+
+// The CPU renderer with HRPP inline (exact mode: hit-all answers bounded by the prediction, and
+// hit-any answers, are HRPP off's) renders HRPP off's image bit for bit, every class probing.
+TEST(InlinePredictor, ExactPredictionInTheCpuRendererKeepsTheImage) {
+  RenderConfig config;
+  config.width = config.height = 48;
+  config.spp = 2;
+  config.seed = 5;
+  const RenderResult off = CpuRenderer(bunny().scene, bunny().bvh, config).render();
+  config.predictor = PredictorConfig{};
+  config.predictor.enabled = true;
+  config.predictor.mode = PredictorMode::kExact;
+  const RenderResult on = CpuRenderer(bunny().scene, bunny().bvh, config).render();
+  ASSERT_EQ(on.rgb.size(), off.rgb.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < on.rgb.size(); ++i) differ += on.rgb[i] != off.rgb[i];
+  EXPECT_EQ(differ, 0u);
+  for (const RayClass c : kRayClasses) {
+    const gpu::PredictorCounters& p = on.stats.classes[c].predictor;
+    EXPECT_EQ(p.c[HRPP_PC_PROBES], on.stats.classes[c].counters.rays) << ray_class_name(c);
+    test::expect_predictor_counters_add_up(p, ray_class_name(c));
+    EXPECT_EQ(off.stats.classes[c].predictor.c[HRPP_PC_PROBES], 0u) << ray_class_name(c);
+  }
+  EXPECT_GT(on.stats.classes[RayClass::kCamera].predictor.c[HRPP_PC_TRUE_POSITIVES], 0u);
 }
 
 }  // namespace

@@ -20,9 +20,15 @@ default measures it on the adaptive predictor's samples.
 
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh); without OpenImageIO it
 reads the uncompressed EXR files of a portable build with numpy alone.
+
+--backend cpu renders with the CPU renderer, HRPP inline in its traversal (one path at a time:
+no kernels, so no time per class). Its times are the frames' wall time, and a class's ratio is
+the frame with only that class predicted (--hrpp-rays CLASS, one more render per class) against
+the frame with HRPP off; the frame's and the image's figures are those of every class
+predicted. No floor (no separate probe).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
-                           [--images DIR]
+                           [--images DIR] [--backend gpu|cpu]
 """
 import argparse
 import json
@@ -71,20 +77,42 @@ def fastest(runs):
     return best
 
 
+def frames_ms(stats):
+    """The CPU renderer's frames' wall time (ms): the render without its setup."""
+    return 1e3 * sum(f["wall_s"] for f in stats["frames"])
+
+
+def fastest_cpu(runs, per_class):
+    """fastest() for --backend cpu: frame wall times; a class's, that of its own runs."""
+    best = {"frame": min(frames_ms(s) for s in runs), "wall": min(s["wall_s"] for s in runs)}
+    for c in CLASSES:
+        best[c] = min(frames_ms(s) for s in per_class[c]) if per_class.get(c) else best["frame"]
+    return best
+
+
 def ratio(a, b):
     return a / b if b > 0 else float("nan")
 
 
 def bench_scene(binary, scene, a, tmp):
-    offs, ons = [], []
+    offs, ons, per_class = [], [], {}
     exr_off = exr_on = None
+    base = ["--backend", a.backend]
+    on_flags = base + ["--hrpp", "on"] + a.flags.split()
     for i in range(a.repeat):
-        s, exr_off = render_pair_side(binary, scene, a, ["--hrpp", "off"], tmp, f"off{i}")
+        s, exr_off = render_pair_side(binary, scene, a, base + ["--hrpp", "off"], tmp, f"off{i}")
         offs.append(s)
-        s, exr_on = render_pair_side(binary, scene, a, ["--hrpp", "on"] + a.flags.split(), tmp,
-                                     f"on{i}")
+        s, exr_on = render_pair_side(binary, scene, a, on_flags, tmp, f"on{i}")
         ons.append(s)
-    off, on = fastest(offs), fastest(ons)
+        if a.backend == "cpu":  # the frame with one class predicted
+            for c in CLASSES:
+                s, _ = render_pair_side(binary, scene, a, on_flags + ["--hrpp-rays", c], tmp,
+                                        f"on_{c}{i}")
+                per_class.setdefault(c, []).append(s)
+    if a.backend == "cpu":
+        off, on = fastest_cpu(offs, {}), fastest_cpu(ons, per_class)
+    else:
+        off, on = fastest(offs), fastest(ons)
     row = {"scene": scene, "off": off, "on": on,
            "ratio": {k: ratio(on[k], off[k]) for k in off}}
     last_on, last_off = ons[-1], offs[-1]
@@ -99,7 +127,10 @@ def bench_scene(binary, scene, a, tmp):
                   "interior_saved": 1 - ratio(visits_on, visits_off) if visits_off else 0.0,
                   "wrong_closest": h.get("wrong_closest", 0),
                   "frames_all": modes.count("all"), "frames_sample": modes.count("sample"),
-                  "frames": len(frames), **floor(ons, offs, c)}
+                  "frames": len(frames),
+                  **(floor(ons, offs, c) if a.backend == "gpu" else
+                     {"predict_ns_per_probe": float("nan"), "trace_ns_per_ray_off": float("nan"),
+                      "floor": float("nan")})}
     _, row["relmse"], row["pixels_differ"] = image_errors(read_exr(exr_on), read_exr(exr_off))
     return row
 
@@ -111,6 +142,8 @@ def print_row(r):
                     for c in CLASSES)
     print(f"{r['scene']:14s} frame {q['frame']:.3f}  wall {q['wall']:.3f}  | {cls}  | "
           f"relMSE {r['relmse']:.2e}, {100 * r['pixels_differ']:.1f}% pixels differ", flush=True)
+    if r[CLASSES[0]]["floor"] != r[CLASSES[0]]["floor"]:  # NaN: --backend cpu has none
+        return
     floors = "  ".join(f"{c} {r[c]['floor']:.2f} ({r[c]['predict_ns_per_probe']:.3g} / "
                        f"{r[c]['trace_ns_per_ray_off']:.3g} ns)" for c in CLASSES)
     print(f"{'':14s} floor (hrpp_predict per probed ray / off trace per ray): {floors}", flush=True)
@@ -128,14 +161,16 @@ def main():
     ap.add_argument("--quick", action="store_true", help="256x256, 2 spp, one pair")
     ap.add_argument("--json", help="write every figure here")
     ap.add_argument("--images", help="keep the renders (SCENE_offN.exr, SCENE_onN.exr, stats) here")
+    ap.add_argument("--backend", choices=["gpu", "cpu"], default="gpu",
+                    help="cpu: the CPU renderer with HRPP inline (frame wall times)")
     a = ap.parse_args()
     if a.quick:
         a.size, a.spp, a.repeat = "256x256", 2, 1
     if not os.access(a.hrpp, os.X_OK):
         sys.exit(f"hrpp_bench: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
-    print(f"hrpp_bench: {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on pairs, "
-          f"on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); load {os.getloadavg()[0]:.2f}",
-          flush=True)
+    print(f"hrpp_bench: {a.backend}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
+          f"pairs, on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); "
+          f"load {os.getloadavg()[0]:.2f}", flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="hrpp_bench_") as tmp:
         out = a.images or tmp
@@ -145,7 +180,8 @@ def main():
             print_row(rows[-1])
     if a.json:
         with open(a.json + ".partial", "w") as f:
-            json.dump({"size": a.size, "spp": a.spp, "seed": a.seed, "flags": a.flags,
+            json.dump({"backend": a.backend, "size": a.size, "spp": a.spp, "seed": a.seed,
+                       "flags": a.flags,
                        "rows": rows}, f, indent=1)
         os.replace(a.json + ".partial", a.json)
 

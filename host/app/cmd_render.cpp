@@ -87,15 +87,17 @@ void check_range(const char* flag, std::uint32_t v, std::uint32_t lo, std::uint3
 
 // The paper's figures per predicting ray class, and for hit-all rays (camera + bounce) and
 // hit-any rays as a whole ("hit_all", "hit_any": the keys the limit study reads).
-void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& stats,
-                         const PredictorConfig& config, std::string& text, nlohmann::json& j) {
+// `occupancy`: a class's table occupancy (the CPU renderer's per-thread tables: none given).
+void add_class_summaries(const std::function<TableOccupancy(RayClass)>& occupancy_of,
+                         const RenderStats& stats, const PredictorConfig& config,
+                         std::string& text, nlohmann::json& j) {
   const bool baseline = config.count_baseline;
   RayClassStats all;
   TableOccupancy all_tables;
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     const RayClassStats& s = stats.classes[c];
-    const TableOccupancy occupancy = renderer.predictor_occupancy(c);
+    const TableOccupancy occupancy = occupancy_of(c);
     const PredictorSummary summary = summarize(s.predictor, s.counters, occupancy, baseline);
     text += format_summary(std::string("hrpp ") + ray_class_name(c), summary, query_kind(c));
     j[ray_class_name(c)] = predictor_summary_json(summary);
@@ -111,11 +113,9 @@ void add_class_summaries(const WavefrontRenderer& renderer, const RenderStats& s
                                                     baseline));
 }
 
-// --backend cpu: the CPU reference renderer, on every hardware thread. HRPP lives in the trace
-// kernels, so it is refused here; the device options do not apply.
+// --backend cpu: the CPU reference renderer, on every hardware thread, with HRPP inline in its
+// traversal when on; the device options do not apply.
 void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bvh) {
-  if (o.render.predictor.enabled)
-    throw Error("--backend cpu: HRPP runs in the device's trace kernels only (use --hrpp off)");
   const CpuRenderer renderer(scene, bvh, o.render);
   const RenderResult result = renderer.render(render_progress(o.render.spp));
   write_image(o.out, result.width, result.height, result.rgb);
@@ -123,14 +123,23 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   cpu.name = "CPU reference renderer";
   cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
   cpu.driver = std::to_string(CpuRenderer::threads()) + " threads";
+  std::string hrpp_text;
+  nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
+  if (o.render.predictor.enabled)
+    add_class_summaries([](RayClass) { return TableOccupancy{}; }, result.stats,
+                        o.render.predictor, hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, cpu, result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kCpu);
+    j["hrpp_predictor"] = hrpp_json;
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
   std::printf("backend     cpu (%s, %s)\n", cpu.name.c_str(), cpu.driver.c_str());
   std::printf("%s", render_stats_text(o.render, result).c_str());
+  std::printf("hrpp        %s\n%s",
+              o.render.predictor.enabled ? describe(o.render.predictor).c_str() : "off",
+              hrpp_text.c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
 }
@@ -175,8 +184,9 @@ void run_render(RenderOptions& o) {
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
-  if (o.render.predictor.enabled) add_class_summaries(renderer, result.stats, o.render.predictor,
-                                                      hrpp_text, hrpp_json);
+  if (o.render.predictor.enabled)
+    add_class_summaries([&](RayClass c) { return renderer.predictor_occupancy(c); }, result.stats,
+                        o.render.predictor, hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kGpu);

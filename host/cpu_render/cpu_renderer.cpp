@@ -7,6 +7,7 @@
 
 #include "common/task_pool.h"
 #include "cpu_render/scene_lookups.h"
+#include "hrpp/reference_predictor.h"
 #include "path_vertex.h"
 #include "render/render_params.h"
 #include "render/render_result.h"
@@ -25,7 +26,19 @@ struct PathTracer {
   const GpuBvh& bvh;
   const RenderScene& rs;
   const gpu::RenderParams& params;
-  PerClass<TraversalCounters>& counters;
+  PerClass<RayClassStats>& stats;
+  ReferencePredictor* hrpp;  // this thread's tables; nullptr: HRPP off
+  const PredictorConfig& predictor;
+
+  // trace_closest / trace_any, or with HRPP on for a predicting class, HRPP inline (the
+  // reference predictor's code: probe, verify, fall back, insert) before the traversal.
+  gpu::Hit trace(const gpu::Ray& ray, RayClass c) {
+    RayClassStats& s = stats[c];
+    if (hrpp && predictor.predicts(c)) return hrpp->trace_one(ray, c, s.counters, s.predictor);
+    return query_kind(c) == QueryKind::kAny
+               ? (trace_any(bvh, ray, &s.counters) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
+               : trace_closest(bvh, ray, &s.counters);
+  }
 
   // render_shade's next-event estimation: the payload render_accumulate adds when trace_any
   // finds the shadow ray unoccluded.
@@ -38,7 +51,7 @@ struct PathTracer {
     const vec3 contribution =
         gpu::light_contribution(path, lobe, s, wo, ls, prob, params.light_strategy);
     if (!gpu::traces_shadow_ray(contribution, ls)) return;
-    if (!trace_any(bvh, ls.shadow, &counters[RayClass::kShadow]))
+    if (trace(ls.shadow, RayClass::kShadow).prim < 0)
       pixel += glm::vec4(contribution, 0.0f);
   }
 
@@ -79,7 +92,7 @@ struct PathTracer {
     gpu::PathState path = gpu::camera_path(pixel_index, sample);
     for (;;) {
       const RayClass cls = path.depth == 0 ? RayClass::kCamera : RayClass::kBounce;
-      const gpu::Hit hit = trace_closest(bvh, ray, &counters[cls]);
+      const gpu::Hit hit = trace(ray, cls);
       if (hit.prim < 0) {
         vec3 radiance(0.0f);
         if (gpu::kEnvironment) radiance += path.throughput * vec3(params.environment);
@@ -108,18 +121,24 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
   std::vector<glm::vec4> sum(pixels, glm::vec4(0.0f));
   TaskPool pool(threads());
   const std::size_t blocks = chunks(pixels, kPixelBlock);
+  // HRPP on: tables per thread, kept from sample to sample (no locks, no sharing).
+  std::vector<ReferencePredictor> tables;
+  if (cfg_.predictor.enabled)
+    for (int t = 0; t < pool.size(); ++t) tables.emplace_back(bvh_, cfg_.predictor);
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
-    std::vector<PerClass<TraversalCounters>> counters(static_cast<std::size_t>(pool.size()));
+    std::vector<PerClass<RayClassStats>> stats(static_cast<std::size_t>(pool.size()));
     pool.parallel_for(blocks, [&](std::size_t block, int thread) {
-      PathTracer tracer{bvh_, rs_, params_, counters[static_cast<std::size_t>(thread)]};
+      const auto t = static_cast<std::size_t>(thread);
+      PathTracer tracer{bvh_, rs_, params_, stats[t], tables.empty() ? nullptr : &tables[t],
+                        cfg_.predictor};
       const auto begin = static_cast<std::uint32_t>(block * kPixelBlock);
       const std::uint32_t end = std::min(pixels, begin + kPixelBlock);
       for (std::uint32_t p = begin; p < end; ++p) tracer.trace_path(p, sample, sum[p]);
     });
     FrameStats frame;
-    for (const auto& c : counters)
-      for (RayClass k : kRayClasses) frame.classes[k].counters += c[k];
+    for (const auto& s : stats)
+      for (RayClass k : kRayClasses) frame.classes[k] += s[k];
     frame.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
     out.stats += frame;

@@ -20,7 +20,10 @@ namespace hrpp {
 class CpuRenderer {
  public:
   // Throws hrpp::Error on a bad configuration, as WavefrontRenderer does. Of the config only
-  // the image, samples, depths, seed and camera apply (no wavefronts, tracer or HRPP).
+  // the image, samples, depths, seed, camera and HRPP apply (no wavefronts or tracer). HRPP on
+  // (config.predictor.enabled): every ray of a predicting class probes before its traversal,
+  // inline, through its thread's tables (host/hrpp/reference_predictor.h, one ray at a time),
+  // kept across samples; no adaptive switch, batches or pilot schedule.
   CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config);
 
   // Renders config.spp samples per pixel on threads() threads (one TaskPool for the whole

@@ -29,7 +29,7 @@ struct ReferencePredictor::Trace {
   const bool skips;                    // --hrpp-fallback skip
   const gpu::PredictorParams& params;  // the class's
   PredictorTraceResult& out;
-  std::vector<Insert> inserts;  // of the current batch, applied after it in ray order
+  std::vector<Insert>& inserts;  // of the current batch, applied after it in ray order
 
   std::uint64_t& counter(int i) { return out.predictor.c[i]; }
 
@@ -156,7 +156,8 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
           config_.fallback == Fallback::kSkip,
           params_[cls],
           out,
-          {}};
+          pending_};
+  pending_.clear();
   Table& table = tables_[cls];
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
   for (std::size_t first = 0; first < rays.size(); first += batch) {
@@ -174,6 +175,15 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
   }
   clocks_[cls] += static_cast<std::uint32_t>(rays.size());
   return out;
+}
+
+gpu::Hit ReferencePredictor::trace_one(const gpu::Ray& ray, RayClass c, TraversalCounters& counters,
+                                       gpu::PredictorCounters& predictor) {
+  gpu::Hit hit;
+  const PredictorTraceResult r = trace(std::span(&ray, 1), c, std::span(&hit, 1));
+  counters += r.counters;
+  for (int k = 0; k < HRPP_PC_COUNT; ++k) predictor.c[k] += r.predictor.c[k];
+  return hit;
 }
 
 std::uint64_t ReferencePredictor::entries(RayClass c) const { return tables_[c].entries(); }

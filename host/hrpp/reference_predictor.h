@@ -47,6 +47,11 @@ class ReferencePredictor {
   // The same, the hits written into `hits` (one per ray; PredictorTraceResult::hits left empty).
   PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, std::span<gpu::Hit> hits);
 
+  // One ray, its inserts applied after it (as batch 0): its work added to `counters`, its
+  // predictor counters to `predictor`. The CPU renderer's per-ray trace (host/cpu_render/).
+  gpu::Hit trace_one(const gpu::Ray& ray, RayClass c, TraversalCounters& counters,
+                     gpu::PredictorCounters& predictor);
+
   // Off: the traversals count no work (PredictorTraceResult::counters keeps rays and hits, the
   // predictor's counters all but the verification's), and compile without their increments:
   // the inline predictor's timed path (host/hrpp/inline_predictor.h). On by default.
@@ -72,6 +77,7 @@ class ReferencePredictor {
   PerClass<Table> tables_;
   PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)
   bool count_work_ = true;
+  std::vector<Insert> pending_;  // the current batch's inserts (kept: no allocation per ray)
 };
 
 }  // namespace hrpp
