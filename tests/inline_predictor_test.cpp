@@ -3,6 +3,7 @@
 // CPU reference traversal, itself checked against Embree in embree_test): on one thread its
 // hits and predictor counters are the reference predictor's; on several, exact and any-hit
 // answers stay HRPP off's whichever thread's tables a chunk meets.
+#include <atomic>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "hrpp/reference_predictor.h"
 #include "hrpp_counter_checks.h"
 #include "test_scenes.h"
+#include "trace/cpu_traversal.h"
 #include "trace/ray_batches.h"
 
 namespace hrpp {
@@ -118,6 +120,25 @@ TEST(InlinePredictor, ExactAndAnyHitAnswersAreHrppOffsOnEveryThreadCount) {
       EXPECT_EQ(differing_hits(again, off), 0) << what << ", after clear()";
     }
   }
+}
+
+// An outside full trace (HRPP in front of Embree in `hrpp bench`; here the CPU traversal behind
+// a counter): any-hit rays a verified prediction answered never call it, the others call it
+// once, and the answers stay HRPP off's.
+TEST(InlinePredictor, AnOutsideTracerIsCalledOnlyForRaysThePredictionDidNotAnswer) {
+  const std::vector<gpu::Ray>& rays = bunny().batches.ao.rays;
+  const std::vector<gpu::Hit> off = trace_batch_cpu(bunny().bvh, rays, QueryKind::kAny, 1);
+  std::atomic<std::uint64_t> calls{0};
+  InlinePredictor p(bunny().bvh, config(PredictorMode::kExact), 2);
+  p.set_full_trace([&](const gpu::Ray& r) {
+    ++calls;
+    return trace_closest(bunny().bvh, r);
+  });
+  std::vector<gpu::Hit> hits(rays.size());
+  const PredictorTraceResult r = p.trace(rays, RayClass::kShadow, hits);
+  EXPECT_EQ(differing_hits(hits, off), 0);
+  EXPECT_GT(r.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u);
+  EXPECT_EQ(calls.load(), rays.size() - r.predictor.c[HRPP_PC_TRUE_POSITIVES]);
 }
 
 // The CPU renderer with HRPP inline (exact mode: hit-all answers bounded by the prediction, and

@@ -279,6 +279,9 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
                 embree_version().c_str(), b.embree->build_ms());
     report["embree"] = {{"version", embree_version()}, {"build_ms", b.embree->build_ms()}};
     b.tracers.push_back(std::make_unique<EmbreeBackend>(*b.embree, threads));
+    if (b.predictor.enabled)
+      b.tracers.push_back(
+          std::make_unique<EmbreeHrppTracer>(bvh, *b.embree, b.predictor, threads));
   }
   if (ctx) {
     b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
@@ -363,7 +366,8 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
   std::vector<TracerResult> results;
   std::vector<gpu::Hit> ref_hits, hits;
   for (const std::unique_ptr<Tracer>& t : b.tracers) {
-    const bool hrpp = t->kind() == TracerKind::kGpuHrpp || t->kind() == TracerKind::kCpuHrpp;
+    const bool hrpp = t->kind() == TracerKind::kGpuHrpp || t->kind() == TracerKind::kCpuHrpp ||
+                      t->kind() == TracerKind::kEmbreeHrpp;
     if (hrpp && !b.predictor.predicts(ray_file_class(kind))) continue;
     const bool reference = t->kind() == TracerKind::kCpuReference;
     TracerResult r = time_tracer(*t, rays, kind, o.repeat, reference ? ref_hits : hits);
@@ -416,21 +420,24 @@ std::size_t print_rows(const char* kname, std::size_t rays, QueryKind kind,
   return mismatches;
 }
 
-// HRPP inline on the CPU against the CPU reference on the same threads and rays.
-void print_cpu_hrpp(const std::vector<TracerResult>& results, nlohmann::json& kj) {
-  const TracerResult* ref = find(results, TracerKind::kCpuReference);
-  const TracerResult* cpu_hrpp = find(results, TracerKind::kCpuHrpp);
-  if (!ref || !cpu_hrpp || !cpu_hrpp->predictor || cpu_hrpp->median_ms <= 0.0) return;
-  const gpu::PredictorCounters& p = *cpu_hrpp->predictor;
+// HRPP inline on the CPU (`on`: cpu-hrpp or emb-hrpp) against the same tracer without it
+// (`off`) on the same threads and rays; `key`: the JSON's.
+void print_cpu_hrpp(const std::vector<TracerResult>& results, TracerKind off_kind,
+                    TracerKind on_kind, const char* key, nlohmann::json& kj) {
+  const TracerResult* off = find(results, off_kind);
+  const TracerResult* on = find(results, on_kind);
+  if (!off || !on || !on->predictor || off->median_ms <= 0.0) return;
+  const gpu::PredictorCounters& p = *on->predictor;
   const double probes = static_cast<double>(std::max<std::uint64_t>(p.c[HRPP_PC_PROBES], 1));
-  const double ratio = cpu_hrpp->median_ms / ref->median_ms;
-  std::printf("  hrpp      cpu-hrpp/cpu-ref %.3f (wall, same run); probes %llu: predictor hits "
+  const double ratio = on->median_ms / off->median_ms;
+  std::printf("  hrpp      %s/%s %.3f (wall, same run); probes %llu: predictor hits "
               "%.1f%%, true positives %.1f%%, inserts %llu\n",
-              ratio, static_cast<unsigned long long>(p.c[HRPP_PC_PROBES]),
+              on->name.c_str(), off->name.c_str(), ratio,
+              static_cast<unsigned long long>(p.c[HRPP_PC_PROBES]),
               100.0 * static_cast<double>(p.c[HRPP_PC_PREDICTOR_HITS]) / probes,
               100.0 * static_cast<double>(p.c[HRPP_PC_TRUE_POSITIVES]) / probes,
               static_cast<unsigned long long>(p.c[HRPP_PC_INSERTS]));
-  kj["cpu_hrpp"] = {{"time_over_cpu_ref", ratio},
+  kj[key] = {{"time_over_off", ratio},
                     {"probes", p.c[HRPP_PC_PROBES]},
                     {"predictor_hits", p.c[HRPP_PC_PREDICTOR_HITS]},
                     {"true_positives", p.c[HRPP_PC_TRUE_POSITIVES]},
@@ -460,7 +467,8 @@ void print_ratios(const std::vector<TracerResult>& results,
       kj["hrpp"]["speedup"] = gpu_hrpp->mrays / gpu->mrays;
     }
   }
-  print_cpu_hrpp(results, kj);
+  print_cpu_hrpp(results, TracerKind::kCpuReference, TracerKind::kCpuHrpp, "cpu_hrpp", kj);
+  print_cpu_hrpp(results, TracerKind::kEmbree, TracerKind::kEmbreeHrpp, "embree_hrpp", kj);
   if (gpu && emb && emb->mrays > 0.0) {
     std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
     kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
@@ -519,7 +527,8 @@ void run_bench(const BenchOptions& o) {
   for (const RayKind kind : kinds) total_mismatches += bench_kind(o, backends, batches, kind, report);
 
   std::printf("\ntiming: median of %d runs after a warm-up; cpu-ref and embree: wall clock on %d "
-              "threads (cpu-hrpp: HRPP inline, per-thread tables, emptied before each run); gpu: device "
+              "threads (cpu-hrpp, emb-hrpp: HRPP inline in front of the CPU traversal, of Embree; "
+              "per-thread tables, emptied before each run); gpu: device "
               "timestamps (kernel time). validation: %s rays per kind vs the "
               "CPU reference (t within 1e-5 relative; same t, other triangle = tie)\n",
               o.repeat, threads, o.validate == 0 ? "all" : std::to_string(o.validate).c_str());

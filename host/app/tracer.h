@@ -21,6 +21,7 @@ namespace hrpp::app {
 enum class TracerKind {
   kCpuReference,  // trace/cpu_traversal.h on all threads: the ground truth
   kCpuHrpp,       // the same with HRPP inline (hrpp/inline_predictor.h); tables emptied per run
+  kEmbreeHrpp,    // HRPP inline in front of Embree: a prediction that does not answer calls it
   kEmbree,        // Embree 3 or 4 (reference/embree_tracer.h)
   kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
   kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
@@ -62,6 +63,23 @@ class CpuHrppTracer final : public Tracer {
       : predictor_(bvh, config, threads) {}
   TracerKind kind() const override { return TracerKind::kCpuHrpp; }
   const char* name() const override { return "cpu-hrpp"; }
+  const char* timing() const override { return "wall"; }
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
+
+ private:
+  InlinePredictor predictor_;
+};
+
+// HRPP in front of Embree on the CPU: probe and verify with the project's BVH and leaf test; a
+// verified hit-any prediction skips Embree, a verified closest hit answers (speculative) or
+// bounds rtcIntersect1's tfar (exact); other rays call rtcIntersect1 (hit-any too: the insert
+// needs the occluder's triangle, which rtcOccluded1 does not report).
+class EmbreeHrppTracer final : public Tracer {
+ public:
+  EmbreeHrppTracer(const GpuBvh& bvh, const EmbreeTracer& embree, const PredictorConfig& config,
+                   int threads);
+  TracerKind kind() const override { return TracerKind::kEmbreeHrpp; }
+  const char* name() const override { return "emb-hrpp"; }
   const char* timing() const override { return "wall"; }
   TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 

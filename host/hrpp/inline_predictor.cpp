@@ -17,7 +17,13 @@ void InlinePredictor::clear() {
   for (int i = 0; i < threads_; ++i) {
     tables_.emplace_back(*bvh_, config_);
     tables_.back().count_work(false);
+    tables_.back().set_full_trace(full_trace_);
   }
+}
+
+void InlinePredictor::set_full_trace(ReferencePredictor::FullTrace f) {
+  full_trace_ = std::move(f);
+  for (ReferencePredictor& t : tables_) t.set_full_trace(full_trace_);
 }
 
 PredictorTraceResult InlinePredictor::trace(std::span<const gpu::Ray> rays, RayClass c,

@@ -27,6 +27,10 @@ class InlinePredictor {
   // Empties every table (the next trace starts cold).
   void clear();
 
+  // Rays their prediction does not answer go to `f` instead of the CPU traversal
+  // (ReferencePredictor::set_full_trace): HRPP in front of Embree. Called from every thread.
+  void set_full_trace(ReferencePredictor::FullTrace f);
+
   // Traces the rays as rays of class `c` through the tables, which keep their contents between
   // calls, into `hits` (one per ray, as the trace kernels write them: any-hit prim 0 occluded,
   // -1 free). Counters: rays and hits; the predictor's summed over the threads.
@@ -41,6 +45,7 @@ class InlinePredictor {
   PredictorConfig config_;
   int threads_;
   std::vector<ReferencePredictor> tables_;  // one predictor, with its tables, per thread
+  ReferencePredictor::FullTrace full_trace_;
 };
 
 }  // namespace hrpp

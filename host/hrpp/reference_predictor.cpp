@@ -37,6 +37,7 @@ struct ReferencePredictor::Trace {
   // `skip`; adds its work to `into`.
   gpu::Hit full_trace(const gpu::Ray& r, TraversalCounters& into,
                       std::span<const int> skip = {}) const {
+    if (p.full_trace_) return p.full_trace_(r);
     if (!p.count_work_) return trace_skipping(*p.bvh_, r, kind, skip);
     TraversalCounters f;
     const gpu::Hit h = trace_skipping(*p.bvh_, r, kind, skip, &f);
@@ -110,7 +111,8 @@ struct ReferencePredictor::Trace {
   }
 
   gpu::Hit trace_ray(const gpu::Ray& ray, Table& table, std::uint32_t clock) {
-    if (!setup_ray(ray).valid) return full_trace(ray, out.counters);  // misses unprobed
+    if (!setup_ray(ray).valid)  // misses unprobed
+      return p.full_trace_ ? kMiss : full_trace(ray, out.counters);
     const std::uint64_t key = hash_ray(ray.origin, ray.dir, ray.tmax, params.hash);
     SkipList tested;
     tested.fill(HRPP_EMPTY_NODE);

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -52,6 +53,14 @@ class ReferencePredictor {
   gpu::Hit trace_one(const gpu::Ray& ray, RayClass c, TraversalCounters& counters,
                      gpu::PredictorCounters& predictor);
 
+  // The traversal of a ray its prediction did not answer, in place of the CPU traversal: an
+  // outside tracer (Embree in `hrpp bench`) giving the closest hit within the ray's [tmin, tmax]
+  // for either query kind (a hit-any insert needs the occluder's triangle). With one, the
+  // fallback is root (an outside tracer cannot skip the verified nodes), its work is not
+  // counted, and an invalid ray misses without a call.
+  using FullTrace = std::function<gpu::Hit(const gpu::Ray&)>;
+  void set_full_trace(FullTrace f) { full_trace_ = std::move(f); }
+
   // Off: the traversals count no work (PredictorTraceResult::counters keeps rays and hits, the
   // predictor's counters all but the verification's), and compile without their increments:
   // the inline predictor's timed path (host/hrpp/inline_predictor.h). On by default.
@@ -77,6 +86,7 @@ class ReferencePredictor {
   PerClass<Table> tables_;
   PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)
   bool count_work_ = true;
+  FullTrace full_trace_;  // empty: the CPU traversal
   std::vector<Insert> pending_;  // the current batch's inserts (kept: no allocation per ray)
 };
 
