@@ -191,5 +191,15 @@ TEST_F(Cli, BenchRunsHrppInlineOnTheCpu) {
   }
 }
 
+// The GPU stage's deterministic order has no meaning for HRPP inline in the CPU renderer.
+TEST_F(Cli, CpuBackendRefusesTheStagesOrders) {
+  for (const char* flag : {"--hrpp-batch 64", "--hrpp-serial"}) {
+    const Result r = run(std::string("render --backend cpu --hrpp on --size 8x8 --out ") +
+                         (dir_ / "x.exr").string() + " " + flag);
+    expect_one_line_error(r, std::string(flag).substr(0, std::string(flag).find(' ')));
+    EXPECT_FALSE(fs::exists(dir_ / "x.exr")) << flag;
+  }
+}
+
 }  // namespace
 }  // namespace hrpp

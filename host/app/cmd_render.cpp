@@ -116,6 +116,10 @@ void add_class_summaries(const std::function<TableOccupancy(RayClass)>& occupanc
 // --backend cpu: the CPU reference renderer, on every hardware thread, with HRPP inline in its
 // traversal when on; the device options do not apply.
 void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bvh) {
+  // The GPU stage's orders do not exist here: each ray probes, then traces, then inserts.
+  if (o.render.predictor.enabled && (o.render.predictor.batch > 0 || o.render.predictor.serial))
+    throw Error(std::string(o.render.predictor.batch > 0 ? "--hrpp-batch" : "--hrpp-serial") +
+                ": the CPU backend predicts inline, one ray at a time, in its own order");
   const CpuRenderer renderer(scene, bvh, o.render);
   const RenderResult result = renderer.render(render_progress(o.render.spp));
   write_image(o.out, result.width, result.height, result.rgb);
