@@ -281,7 +281,7 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.tracers.push_back(std::make_unique<EmbreeBackend>(*b.embree, threads));
     if (b.predictor.enabled)
       b.tracers.push_back(
-          std::make_unique<EmbreeHrppTracer>(bvh, *b.embree, b.predictor, threads));
+          std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads, b.embree.get()));
   }
   if (ctx) {
     b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);

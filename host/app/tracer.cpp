@@ -26,25 +26,14 @@ TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, QueryKind ki
   return r;
 }
 
+CpuHrppTracer::CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads,
+                             const EmbreeTracer* embree)
+    : predictor_(bvh, config, threads), embree_(embree != nullptr) {
+  if (embree) predictor_.set_full_trace([embree](const gpu::Ray& r) { return embree->closest(r); });
+}
+
 // Cold tables per run, as the GPU predictor's; emptying them is outside the clock.
 TracerRun CpuHrppTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
-  predictor_.clear();
-  TracerRun r;
-  r.hits.resize(rays.size());
-  const auto start = Clock::now();
-  const PredictorTraceResult p = predictor_.trace(rays, ray_file_class(kind), r.hits);
-  r.ms = ms_since(start);
-  r.predictor = p.predictor;
-  return r;
-}
-
-EmbreeHrppTracer::EmbreeHrppTracer(const GpuBvh& bvh, const EmbreeTracer& embree,
-                                   const PredictorConfig& config, int threads)
-    : predictor_(bvh, config, threads) {
-  predictor_.set_full_trace([&embree](const gpu::Ray& r) { return embree.closest(r); });
-}
-
-TracerRun EmbreeHrppTracer::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   predictor_.clear();
   TracerRun r;
   r.hits.resize(rays.size());

@@ -56,35 +56,26 @@ class CpuReferenceTracer final : public Tracer {
   int threads_;
 };
 
-// HRPP inline in the CPU traversal, on the same threads as the CPU reference.
+// HRPP inline on the CPU, on the same threads as the CPU reference: in front of the CPU
+// traversal (cpu-hrpp), or with `embree` in front of Embree (emb-hrpp): probe and verify with
+// the project's BVH and leaf test; a verified hit-any prediction skips Embree, a verified
+// closest hit answers (speculative) or bounds rtcIntersect1's tfar (exact); the other rays call
+// rtcIntersect1 (hit-any too: the insert needs the occluder's triangle, which rtcOccluded1 does
+// not report).
 class CpuHrppTracer final : public Tracer {
  public:
-  CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads)
-      : predictor_(bvh, config, threads) {}
-  TracerKind kind() const override { return TracerKind::kCpuHrpp; }
-  const char* name() const override { return "cpu-hrpp"; }
+  CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads,
+                const EmbreeTracer* embree = nullptr);
+  TracerKind kind() const override {
+    return embree_ ? TracerKind::kEmbreeHrpp : TracerKind::kCpuHrpp;
+  }
+  const char* name() const override { return embree_ ? "emb-hrpp" : "cpu-hrpp"; }
   const char* timing() const override { return "wall"; }
   TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
   InlinePredictor predictor_;
-};
-
-// HRPP in front of Embree on the CPU: probe and verify with the project's BVH and leaf test; a
-// verified hit-any prediction skips Embree, a verified closest hit answers (speculative) or
-// bounds rtcIntersect1's tfar (exact); other rays call rtcIntersect1 (hit-any too: the insert
-// needs the occluder's triangle, which rtcOccluded1 does not report).
-class EmbreeHrppTracer final : public Tracer {
- public:
-  EmbreeHrppTracer(const GpuBvh& bvh, const EmbreeTracer& embree, const PredictorConfig& config,
-                   int threads);
-  TracerKind kind() const override { return TracerKind::kEmbreeHrpp; }
-  const char* name() const override { return "emb-hrpp"; }
-  const char* timing() const override { return "wall"; }
-  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
-
- private:
-  InlinePredictor predictor_;
+  bool embree_;
 };
 
 class EmbreeBackend final : public Tracer {
