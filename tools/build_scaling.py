@@ -15,7 +15,7 @@ manifest (seed 1) into --work; then, --repeat rounds interleaving the sizes:
 It prints the median of the rounds per size, ns per triangle, and the exponent b of
 time = a * n^b fitted by least squares over the sizes (n log n over 0.1M..10M is about 1.07).
 Wall times on a loaded machine are noisy: the user CPU time of each child is printed beside
-them, and `uptime`'s load before and after. Not a test (bench/README.md, "Build scaling").
+them, and `uptime`'s load before and after. Not a test (bench/BVH_BUILD.md, "Build scaling").
 """
 import argparse
 import json

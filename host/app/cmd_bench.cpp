@@ -212,7 +212,7 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     const DeviceInfo& d = ctx->info();
     std::printf("vulkan      %s\n", d.summary().c_str());
     // Where the tracers' buffers live (--memory): to look into a GPU's slower later query kinds
-    // (bench/README.md, "On a real GPU").
+    // (bench/GPU.md).
     const MemoryPlacement& placement = ctx->memory().report().placement;
     std::printf("memory      %s; heap %s (%s)\n", placement_text(placement).c_str(),
                 format_bytes(d.heap_bytes).c_str(),
