@@ -16,7 +16,6 @@ renderers. tools/cycles_compare.py runs this for you.
 """
 import argparse
 import json
-import math
 import sys
 
 import bpy

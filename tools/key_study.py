@@ -125,9 +125,9 @@ def study(a):
             for name, flags in (SHADOW if cls == "shadow" else BOUNCE).items():
                 if a.keys is not None and name not in a.keys:
                     continue
-                table = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
+                preset = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
                 j, exr = render(a, scene, f"{cls}-{name}",
-                                on + ["--hrpp-rays", cls] + table + flags)
+                                on + ["--hrpp-rays", cls] + preset + flags)
                 s = j["hrpp_predictor"][cls]
                 if cls == "shadow":
                     occ, answered = shadow_shares(j)
@@ -153,13 +153,13 @@ def study_setup(a):
         off_image = read_exr(off_exr)
         row = [scene]
         shadow, bounce = {}, {}
-        for table, flags in STUDY.items():
-            j, exr = render(a, scene, f"study-{table}", flags, a.study)
+        for preset, flags in STUDY.items():
+            j, exr = render(a, scene, f"study-{preset}", flags, a.study)
             b = j["hrpp_predictor"]["bounce"]
-            shadow[table] = (*shadow_shares(j), j["hrpp_predictor"]["shadow"]["net_savings"])
-            bounce[table] = (f"{pct(b['net_savings'])}, "
-                             f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
-                             f"{image_errors(read_exr(exr), off_image)[1]:.2e}")
+            shadow[preset] = (*shadow_shares(j), j["hrpp_predictor"]["shadow"]["net_savings"])
+            bounce[preset] = (f"{pct(b['net_savings'])}, "
+                              f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, "
+                              f"{image_errors(read_exr(exr), off_image)[1]:.2e}")
         occluded = shadow["tuned"][0]
         row += [pct(occluded), pct(shadow["tuned"][1]), pct(shadow["beam"][1]),
                 pct(shadow["tuned"][2]), pct(shadow["beam"][2]), pct(occluded / 4),
