@@ -461,10 +461,10 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
     std::uint64_t evictions = 0;
     EXPECT_EQ(table.insert(1, 10, 1, evictions), O::kInserted);
     EXPECT_EQ(table.insert(2, 20, 2, evictions), O::kInserted);
-    ASSERT_NE(table.lookup(1, 3), nullptr);
+    ASSERT_FALSE(table.lookup(1, 3).empty());
     EXPECT_EQ(table.insert(3, 30, 4, evictions), e.third) << table_policy_name(e.policy);
     for (std::uint64_t key = 1; key <= 3; ++key)
-      EXPECT_EQ(table.lookup(key, 5) != nullptr, e.holds[key - 1])
+      EXPECT_EQ(!table.lookup(key, 5).empty(), e.holds[key - 1])
           << table_policy_name(e.policy) << " key " << key;
     EXPECT_EQ(evictions, e.evictions) << table_policy_name(e.policy);
   }

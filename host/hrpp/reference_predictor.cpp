@@ -49,7 +49,7 @@ struct ReferencePredictor::Trace {
 
   // The entry's nodes in slot order, up to the first empty slot: the closest hit among them
   // (hit-any: the first). With --hrpp-fallback skip, `tested` gets the first HRPP_SKIP_NODES.
-  gpu::Hit verify(const gpu::Ray& ray, const std::vector<int>& slots, SkipList& tested) {
+  gpu::Hit verify(const gpu::Ray& ray, std::span<const int> slots, SkipList& tested) {
     gpu::Hit predicted = kMiss;
     TraversalCounters v;
     std::size_t tested_count = 0;
@@ -74,13 +74,13 @@ struct ReferencePredictor::Trace {
   gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock,
                    SkipList& tested) {
     ++counter(HRPP_PC_PROBES);
-    const std::vector<int>* slots = table.lookup(key, clock);
-    if (!slots) {
+    const std::span<const int> slots = table.lookup(key, clock);
+    if (slots.empty()) {
       ++counter(HRPP_PC_NEGATIVES);
       return kMiss;
     }
     ++counter(HRPP_PC_PREDICTOR_HITS);
-    return verify(ray, *slots, tested);
+    return verify(ray, slots, tested);
   }
 
   // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,

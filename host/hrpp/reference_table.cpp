@@ -14,68 +14,69 @@ constexpr int kEmptyNode = HRPP_EMPTY_NODE;
 ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
     : params_(params),
       policy_(static_cast<TablePolicy>(params.policy)),
-      ways_(std::size_t{params.sets} * params.ways) {
-  for (Way& w : ways_) w.slots.assign(params.nodes, kEmptyNode);
-}
+      ways_(std::size_t{params.sets} * params.ways),
+      slots_(ways_.size() * params.nodes, kEmptyNode) {}
 
 // The GPU table's set function, shared with it.
 std::size_t ReferenceTable::set_base(std::uint64_t key) const {
   return std::size_t{gpu::hrpp_set_of(key, params_.sets)} * params_.ways;
 }
 
-const std::vector<int>* ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock) {
-  if (ways_.empty()) return nullptr;
+std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock) {
+  if (ways_.empty()) return {};
   const std::size_t base = set_base(key);
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag != key) continue;
     if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
-    return &way.slots;
+    return slots(base + w);
   }
-  return nullptr;
+  return {};
 }
 
 // The way holding `key`, else the first empty way, else (lru, fifo) the way with the oldest
 // stamp, emptied; none: dropped.
-ReferenceTable::Way& ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
-                                               std::uint64_t& evictions) {
+std::size_t ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
+                                      std::uint64_t& evictions) {
   const std::size_t base = set_base(key);
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag == key || way.tag == kEmptyTag) {
       claim = way.tag == key ? Claim::kFound : Claim::kClaimed;
       way.tag = key;
-      return way;
+      return base + w;
     }
   }
-  Way* victim = &ways_[base];
+  std::size_t victim = base;
   for (std::uint32_t w = 1; w < params_.ways; ++w)
-    if (ways_[base + w].stamp < victim->stamp) victim = &ways_[base + w];
+    if (ways_[base + w].stamp < ways_[victim].stamp) victim = base + w;
   switch (policy_) {
     case TablePolicy::kNone:
       claim = Claim::kDropped;
-      return *victim;
+      return victim;
     case TablePolicy::kLru:
     case TablePolicy::kFifo:
       break;
   }
   claim = Claim::kClaimed;
   ++evictions;
-  victim->tag = key;
-  std::fill(victim->slots.begin(), victim->slots.end(), kEmptyNode);
-  return *victim;
+  ways_[victim].tag = key;
+  std::ranges::fill(slots(victim), kEmptyNode);
+  return victim;
 }
 
 ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std::uint32_t clock,
                                                std::uint64_t& evictions) {
   if (ways_.empty()) return Outcome::kDropped;
   Claim claim = Claim::kFound;
-  Way& way = claim_way(key, claim, evictions);
+  const std::size_t w = claim_way(key, claim, evictions);
   if (claim == Claim::kDropped) return Outcome::kDropped;
+  Way& way = ways_[w];
   if (policy_ == TablePolicy::kLru || (policy_ == TablePolicy::kFifo && claim == Claim::kClaimed))
     way.stamp = std::max(way.stamp, clock);
   Outcome outcome = Outcome::kDropped;
-  for (int& slot : way.slots) {
+  const std::span<int> way_slots = slots(w);
+  for (int& slot : way_slots) {
     if (slot == node) {
       outcome = Outcome::kPresent;
       break;
@@ -87,7 +88,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
     }
   }
   if (outcome == Outcome::kDropped && policy_ != TablePolicy::kNone) {
-    way.slots[clock % params_.nodes] = node;
+    way_slots[clock % params_.nodes] = node;
     ++evictions;
     outcome = Outcome::kInserted;
   }
@@ -100,11 +101,8 @@ std::uint64_t ReferenceTable::entries() const {
 }
 
 std::uint64_t ReferenceTable::stored_nodes() const {
-  std::uint64_t n = 0;
-  for (const Way& w : ways_)
-    n += static_cast<std::uint64_t>(std::count_if(w.slots.begin(), w.slots.end(),
-                                                  [](int s) { return s != kEmptyNode; }));
-  return n;
+  return static_cast<std::uint64_t>(
+      std::ranges::count_if(slots_, [](int s) { return s != kEmptyNode; }));
 }
 
 }  // namespace hrpp

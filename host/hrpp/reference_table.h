@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gpu_types.h"
@@ -24,9 +25,9 @@ class ReferenceTable {
   explicit ReferenceTable(const gpu::PredictorParams& params);
 
   // The node slots of `key`'s entry (filled in slot order; HRPP_EMPTY_NODE after the last
-  // node), or nullptr when no way holds the key. A hit renews the entry's stamp with `clock`
-  // (lru only).
-  const std::vector<int>* lookup(std::uint64_t key, std::uint32_t clock);
+  // node), or an empty span when no way holds the key. A hit renews the entry's stamp with
+  // `clock` (lru only).
+  std::span<const int> lookup(std::uint64_t key, std::uint32_t clock);
   // Inserts `node` under `key` at use stamp `clock`; adds the entries and nodes it replaced to
   // `evictions`.
   Outcome insert(std::uint64_t key, int node, std::uint32_t clock, std::uint64_t& evictions);
@@ -38,17 +39,19 @@ class ReferenceTable {
   struct Way {
     std::uint64_t tag = ~std::uint64_t{0};  // empty
     std::uint32_t stamp = 0;
-    std::vector<int> slots;  // HRPP_EMPTY_NODE = empty
   };
   std::size_t set_base(std::uint64_t key) const;
   // What claim_way did: found the key's way, brought the key in (an empty way or a victim), or
   // dropped the insert (none).
   enum class Claim { kFound, kClaimed, kDropped };
-  Way& claim_way(std::uint64_t key, Claim& claim, std::uint64_t& evictions);
+  // Way `w`'s claim; its node slots (HRPP_EMPTY_NODE = empty), one array for every way.
+  std::size_t claim_way(std::uint64_t key, Claim& claim, std::uint64_t& evictions);
+  std::span<int> slots(std::size_t w) { return {slots_.data() + w * params_.nodes, params_.nodes}; }
 
   gpu::PredictorParams params_{};
   TablePolicy policy_;
   std::vector<Way> ways_;
+  std::vector<int> slots_;  // ways × nodes
 };
 
 }  // namespace hrpp
