@@ -77,12 +77,14 @@ int differing_hits(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& 
 }
 
 TEST(InlinePredictor, OneThreadIsTheReferencePredictor) {
+  for (const TableSharing sharing : {TableSharing::kPerThread, TableSharing::kShared})
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const Case& c : cases()) {
-      const std::string what = std::string(c.name) + " " + predictor_mode_name(mode);
+      const std::string what = std::string(c.name) + " " + predictor_mode_name(mode) + " " +
+                               name_in(kTableSharingNames, sharing);
       ReferencePredictor reference(bunny().bvh, config(mode));
       const PredictorTraceResult ref = reference.trace(c.rays, c.cls);
-      InlinePredictor inline_predictor(bunny().bvh, config(mode), 1);
+      InlinePredictor inline_predictor(bunny().bvh, config(mode), 1, sharing);
       std::vector<gpu::Hit> hits(c.rays.size());
       const PredictorTraceResult in = inline_predictor.trace(c.rays, c.cls, hits);
       EXPECT_EQ(differing_hits(hits, ref.hits), 0) << what;
@@ -99,19 +101,21 @@ TEST(InlinePredictor, OneThreadIsTheReferencePredictor) {
 }
 
 TEST(InlinePredictor, ExactAndAnyHitAnswersAreHrppOffsOnEveryThreadCount) {
+  for (const TableSharing sharing : {TableSharing::kPerThread, TableSharing::kShared})
   for (const Case& c : cases()) {
     const QueryKind kind = query_kind(c.cls);
     const std::vector<gpu::Hit> off = trace_batch_cpu(bunny().bvh, c.rays, kind, 1);
     for (const int threads : {2, 3}) {
-      const std::string what = std::string(c.name) + ", " + std::to_string(threads) + " threads";
-      InlinePredictor p(bunny().bvh, config(PredictorMode::kExact), threads);
+      const std::string what = std::string(c.name) + ", " + std::to_string(threads) +
+                               " threads, " + name_in(kTableSharingNames, sharing);
+      InlinePredictor p(bunny().bvh, config(PredictorMode::kExact), threads, sharing);
       std::vector<gpu::Hit> hits(c.rays.size());
       const PredictorTraceResult r = p.trace(c.rays, c.cls, hits);
       EXPECT_EQ(differing_hits(hits, off), 0) << what;
       EXPECT_EQ(r.predictor.c[HRPP_PC_PROBES], c.rays.size()) << what;
       test::expect_predictor_counters_add_up(r.predictor, what);
       EXPECT_GT(r.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
-      std::printf("%-22s probes %llu, true positives %llu\n", what.c_str(),
+      std::printf("%-34s probes %llu, true positives %llu\n", what.c_str(),
                   static_cast<unsigned long long>(r.predictor.c[HRPP_PC_PROBES]),
                   static_cast<unsigned long long>(r.predictor.c[HRPP_PC_TRUE_POSITIVES]));
       p.clear();

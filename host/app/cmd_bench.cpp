@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli_names.h"
 #include "app/commands.h"
 #include "app/output_path.h"
 #include "app/hrpp_options.h"
@@ -58,6 +59,7 @@ struct BenchOptions {
   bool no_gpu = false;
   bool strict = false;
   HrppOptions hrpp;
+  TableSharing cpu_tables = TableSharing::kPerThread;  // cpu-hrpp, emb-hrpp
 };
 
 using Clock = std::chrono::steady_clock;
@@ -268,7 +270,7 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
   b.tracers.push_back(std::make_unique<CpuReferenceTracer>(bvh, threads));
   b.predictor = o.hrpp.config();
   if (b.predictor.enabled)
-    b.tracers.push_back(std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads));
+    b.tracers.push_back(std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads, o.cpu_tables));
   if (o.no_embree) {
     std::printf("embree      off (--no-embree)\n");
   } else if (!embree_available()) {
@@ -281,7 +283,8 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.tracers.push_back(std::make_unique<EmbreeBackend>(*b.embree, threads));
     if (b.predictor.enabled)
       b.tracers.push_back(
-          std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads, b.embree.get()));
+          std::make_unique<CpuHrppTracer>(bvh, b.predictor, threads, o.cpu_tables,
+                                          b.embree.get()));
   }
   if (ctx) {
     b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
@@ -580,6 +583,11 @@ void add_bench_command(CLI::App& app) {
   cmd->add_flag("--no-embree", o->no_embree, "Skip Embree");
   cmd->add_flag("--no-gpu", o->no_gpu, "Skip the Vulkan device");
   cmd->add_flag("--strict", o->strict, "Exit with status 1 when any tracer mismatches");
+  cmd->add_option("--cpu-tables", o->cpu_tables,
+                  "HRPP on the CPU (cpu-hrpp, emb-hrpp): per-thread tables, or one table per ray "
+                  "class shared by the threads (striped locks)")
+      ->transform(one_of(kTableSharingNames))
+      ->default_str(name_in(kTableSharingNames, o->cpu_tables));
   add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   add_hrpp_options(cmd, o->hrpp);
   cmd->callback([o] { run_bench(*o); });

@@ -27,8 +27,8 @@ TracerRun CpuReferenceTracer::trace(std::span<const gpu::Ray> rays, QueryKind ki
 }
 
 CpuHrppTracer::CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads,
-                             const EmbreeTracer* embree)
-    : predictor_(bvh, config, threads), embree_(embree != nullptr) {
+                             TableSharing sharing, const EmbreeTracer* embree)
+    : predictor_(bvh, config, threads, sharing), embree_(embree != nullptr) {
   if (embree) predictor_.set_full_trace([embree](const gpu::Ray& r) { return embree->closest(r); });
 }
 

@@ -65,7 +65,7 @@ class CpuReferenceTracer final : public Tracer {
 class CpuHrppTracer final : public Tracer {
  public:
   CpuHrppTracer(const GpuBvh& bvh, const PredictorConfig& config, int threads,
-                const EmbreeTracer* embree = nullptr);
+                TableSharing sharing, const EmbreeTracer* embree = nullptr);
   TracerKind kind() const override {
     return embree_ ? TracerKind::kEmbreeHrpp : TracerKind::kCpuHrpp;
   }

@@ -6,18 +6,26 @@
 
 namespace hrpp {
 
-InlinePredictor::InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads)
-    : bvh_(&bvh), config_(config), threads_(resolve_threads(threads)) {
+InlinePredictor::InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads,
+                                 TableSharing sharing)
+    : bvh_(&bvh), config_(config), threads_(resolve_threads(threads)), sharing_(sharing) {
   clear();
 }
 
 void InlinePredictor::clear() {
+  PerClass<SharedTable*> shared{};
+  if (sharing_ == TableSharing::kShared)
+    for (RayClass c : kRayClasses) {
+      shared_[c] = std::make_unique<SharedTable>(make_predictor_params(config_, c, bvh_->bounds));
+      shared[c] = shared_[c].get();
+    }
   tables_.clear();
   tables_.reserve(static_cast<std::size_t>(threads_));
   for (int i = 0; i < threads_; ++i) {
     tables_.emplace_back(*bvh_, config_);
     tables_.back().count_work(false);
     tables_.back().set_full_trace(full_trace_);
+    tables_.back().share_tables(shared);
   }
 }
 

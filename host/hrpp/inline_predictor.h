@@ -4,25 +4,35 @@
 // CPU reference predictor's code (host/hrpp/reference_predictor.h) with the work counters
 // compiled out, on `threads` threads: chunks of kChunk consecutive rays are handed out as the
 // CPU reference's are (common/task_pool.h), and each thread traces its chunks in order through
-// tables of its own (per-thread tables: no locks, no sharing; which thread's tables see which
-// chunk varies from run to run). With one thread every counter and table entry is the
-// reference's.
+// tables of its own (TableSharing::kPerThread, the default: no locks; which thread's tables
+// see which chunk varies from run to run) or through one table per class that every thread
+// probes and fills (kShared: host/hrpp/shared_table.h, striped locks). With one thread every
+// counter and table entry is the reference's.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "bvh/gpu_layout.h"
+#include "common/name_table.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/ray_class.h"
 #include "hrpp/reference_predictor.h"
+#include "hrpp/shared_table.h"
 
 namespace hrpp {
+
+enum class TableSharing : std::uint8_t { kPerThread, kShared };
+inline constexpr NameTable<TableSharing, 2> kTableSharingNames = {
+    {{TableSharing::kPerThread, "per-thread"}, {TableSharing::kShared, "shared"}}};
 
 class InlinePredictor {
  public:
   // threads: 0 = all the hardware's.
-  InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads);
+  InlinePredictor(const GpuBvh& bvh, const PredictorConfig& config, int threads,
+                  TableSharing sharing = TableSharing::kPerThread);
 
   // Empties every table (the next trace starts cold).
   void clear();
@@ -44,7 +54,9 @@ class InlinePredictor {
   const GpuBvh* bvh_;
   PredictorConfig config_;
   int threads_;
+  TableSharing sharing_;
   std::vector<ReferencePredictor> tables_;  // one predictor, with its tables, per thread
+  PerClass<std::unique_ptr<SharedTable>> shared_;  // kShared: the threads' tables
   ReferencePredictor::FullTrace full_trace_;
 };
 

@@ -4,6 +4,7 @@
 #include <array>
 
 #include "hrpp/prediction_node.h"
+#include "hrpp/shared_table.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_setup.h"
 #include "trace_interface.h"
@@ -30,6 +31,7 @@ struct ReferencePredictor::Trace {
   const gpu::PredictorParams& params;  // the class's
   PredictorTraceResult& out;
   std::vector<Insert>& inserts;  // of the current batch, applied after it in ray order
+  SharedTable* shared;           // the threads' table (share_tables), else nullptr
 
   std::uint64_t& counter(int i) { return out.predictor.c[i]; }
 
@@ -74,7 +76,10 @@ struct ReferencePredictor::Trace {
   gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock,
                    SkipList& tested) {
     ++counter(HRPP_PC_PROBES);
-    const std::span<const int> slots = table.lookup(key, clock);
+    SharedTable::Nodes copy;
+    const std::span<const int> slots =
+        shared ? std::span<const int>(copy.data(), shared->lookup(key, clock, copy))
+               : table.lookup(key, clock);
     if (slots.empty()) {
       ++counter(HRPP_PC_NEGATIVES);
       return kMiss;
@@ -132,7 +137,9 @@ struct ReferencePredictor::Trace {
   // hrpp_insert: the batch's inserts in ray order.
   void apply_inserts(Table& table) {
     for (const Insert& in : inserts) {
-      switch (table.insert(in.key, in.node, in.clock, counter(HRPP_PC_EVICTIONS))) {
+      std::uint64_t& evictions = counter(HRPP_PC_EVICTIONS);
+      switch (shared ? shared->insert(in.key, in.node, in.clock, evictions)
+                     : table.insert(in.key, in.node, in.clock, evictions)) {
         case ReferenceTable::Outcome::kInserted: ++counter(HRPP_PC_INSERTS); break;
         case ReferenceTable::Outcome::kPresent: ++counter(HRPP_PC_INSERT_PRESENT); break;
         case ReferenceTable::Outcome::kDropped: ++counter(HRPP_PC_INSERT_DROPS); break;
@@ -158,15 +165,19 @@ PredictorTraceResult ReferencePredictor::trace(std::span<const gpu::Ray> rays, R
           config_.fallback == Fallback::kSkip,
           params_[cls],
           out,
-          pending_};
+          pending_,
+          shared_[cls]};
   pending_.clear();
   Table& table = tables_[cls];
+  const std::uint32_t clock = t.shared ? t.shared->draw_clock(static_cast<std::uint32_t>(
+                                             rays.size()))
+                                       : clocks_[cls];
   const std::size_t batch = std::max<std::size_t>(config_.batch, 1);
   for (std::size_t first = 0; first < rays.size(); first += batch) {
     const std::size_t end = std::min(rays.size(), first + batch);
     for (std::size_t i = first; i < end; ++i) {
       const gpu::Hit best =
-          t.trace_ray(rays[i], table, clocks_[cls] + static_cast<std::uint32_t>(i));
+          t.trace_ray(rays[i], table, clock + static_cast<std::uint32_t>(i));
       ++out.counters.rays;
       if (best.prim >= 0) ++out.counters.hits;
       hits[i] = t.kind == QueryKind::kAny

@@ -33,6 +33,8 @@
 
 namespace hrpp {
 
+class SharedTable;
+
 struct PredictorTraceResult {
   std::vector<gpu::Hit> hits;          // as the trace kernels write them (any-hit: 0 / -1)
   TraversalCounters counters;          // all work, verification included
@@ -61,6 +63,10 @@ class ReferencePredictor {
   using FullTrace = std::function<gpu::Hit(const gpu::Ray&)>;
   void set_full_trace(FullTrace f) { full_trace_ = std::move(f); }
 
+  // Probe and insert into these tables (one per class; nullptr: the predictor's own) instead:
+  // tables that several predictors, one per thread, share (host/hrpp/shared_table.h).
+  void share_tables(const PerClass<SharedTable*>& tables) { shared_ = tables; }
+
   // Off: the traversals count no work (PredictorTraceResult::counters keeps rays and hits, the
   // predictor's counters all but the verification's), and compile without their increments:
   // the inline predictor's timed path (host/hrpp/inline_predictor.h). On by default.
@@ -87,6 +93,7 @@ class ReferencePredictor {
   PerClass<std::uint32_t> clocks_{};  // rays of the class traced so far (the GPU's clock)
   bool count_work_ = true;
   FullTrace full_trace_;  // empty: the CPU traversal
+  PerClass<SharedTable*> shared_{};
   std::vector<Insert> pending_;  // the current batch's inserts (kept: no allocation per ray)
 };
 

@@ -32,6 +32,9 @@ class ReferenceTable {
   // `evictions`.
   Outcome insert(std::uint64_t key, int node, std::uint32_t clock, std::uint64_t& evictions);
 
+  // The set `key` maps to (the GPU table's set function).
+  std::size_t set_of(std::uint64_t key) const { return set_base(key) / params_.ways; }
+
   std::uint64_t entries() const;       // ways holding a key
   std::uint64_t stored_nodes() const;  // occupied slots
 
