@@ -19,8 +19,9 @@ struct NoCounters {
 
 // Tests the leaf's triangles; returns true when `best` improved (any_only: on the first hit).
 template <class Counters>
-[[gnu::always_inline]] inline bool test_leaf(const GpuBvh& bvh, const RaySetup& r, const gpu::BvhLeaf& leaf, gpu::Hit& best,
-               float& tmax, bool any_only, Counters& c) {
+[[gnu::always_inline]] inline bool test_leaf(const GpuBvh& bvh, const RaySetup& r,
+                                             const gpu::BvhLeaf& leaf, gpu::Hit& best,
+                                             float& tmax, bool any_only, Counters& c) {
   ++c.leaves_visited;
   bool found = false;
   for (gpu::uint i = leaf.first_triangle; i < leaf.first_triangle + leaf.triangle_count; ++i) {
