@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/task_pool.h"
+#include "trace/ray_batches.h"
 
 namespace hrpp {
 
@@ -38,17 +39,17 @@ PredictorTraceResult InlinePredictor::trace(std::span<const gpu::Ray> rays, RayC
                                             std::span<gpu::Hit> hits) {
   std::vector<PredictorTraceResult> parts(tables_.size());
   TaskPool pool(threads_);
-  pool.parallel_for(chunks(rays.size(), kChunk), [&](std::size_t task, int thread) {
-    const std::size_t begin = task * kChunk, count = std::min(kChunk, rays.size() - begin);
+  pool.parallel_for(chunks(rays.size(), kRayChunk), [&](std::size_t task, int thread) {
+    const std::size_t begin = task * kRayChunk, count = std::min(kRayChunk, rays.size() - begin);
     const PredictorTraceResult r =
         tables_[thread].trace(rays.subspan(begin, count), c, hits.subspan(begin, count));
     parts[thread].counters += r.counters;
-    for (int k = 0; k < HRPP_PC_COUNT; ++k) parts[thread].predictor.c[k] += r.predictor.c[k];
+    parts[thread].predictor += r.predictor;
   });
   PredictorTraceResult out;
   for (const PredictorTraceResult& p : parts) {
     out.counters += p.counters;
-    for (int k = 0; k < HRPP_PC_COUNT; ++k) out.predictor.c[k] += p.predictor.c[k];
+    out.predictor += p.predictor;
   }
   return out;
 }

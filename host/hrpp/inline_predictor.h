@@ -2,8 +2,8 @@
 // hash and one table read), the verification of the predicted nodes and, when they do not hold
 // its hit, the fallback and the insert; no stage, queue or dispatch between them. It runs the
 // CPU reference predictor's code (host/hrpp/reference_predictor.h) with the work counters
-// compiled out, on `threads` threads: chunks of kChunk consecutive rays are handed out as the
-// CPU reference's are (common/task_pool.h), and each thread traces its chunks in order through
+// compiled out, on `threads` threads: chunks of kRayChunk consecutive rays are handed out as
+// the CPU reference's are (trace/ray_batches.h), and each thread traces its chunks in order through
 // tables of its own (TableSharing::kPerThread, the default: no locks; which thread's tables
 // see which chunk varies from run to run) or through one table per class that every thread
 // probes and fills (kShared: host/hrpp/shared_table.h, striped locks). With one thread every
@@ -45,10 +45,6 @@ class InlinePredictor {
   // calls, into `hits` (one per ray, as the trace kernels write them: any-hit prim 0 occluded,
   // -1 free). Counters: rays and hits; the predictor's summed over the threads.
   PredictorTraceResult trace(std::span<const gpu::Ray> rays, RayClass c, std::span<gpu::Hit> hits);
-
-  int threads() const { return threads_; }
-
-  static constexpr std::size_t kChunk = 4096;  // the CPU reference's chunk (trace/ray_batches.h)
 
  private:
   const GpuBvh* bvh_;

@@ -1,5 +1,6 @@
 #include "hrpp/predictor_config.h"
 
+#include <string>
 #include <bit>
 
 #include "common/error.h"
@@ -37,7 +38,8 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
   if (t.sets == 0 || !std::has_single_bit(t.sets))
     throw Error("--table-sets: " + std::to_string(t.sets) + " is not a power of two");
   if (t.ways == 0 || t.ways > 64) throw Error("--table-ways: must be 1..64");
-  if (t.nodes == 0 || t.nodes > 64) throw Error("--table-nodes: must be 1..64");
+  if (t.nodes == 0 || t.nodes > kMaxTableNodes)
+    throw Error("--table-nodes: must be 1.." + std::to_string(kMaxTableNodes));
   if (config.go_up[c] > 64) throw Error("--go-up: must be 0..64");
   if (!(config.go_up_size[c] >= 0.0f && config.go_up_size[c] <= 1.0f))
     throw Error("--go-up-size: must be 0..1");

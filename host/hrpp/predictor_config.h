@@ -49,6 +49,9 @@ inline constexpr NameTable<Fallback, 2> kFallbackNames = {
     {{Fallback::kRoot, "root"}, {Fallback::kSkip, "skip"}}};
 constexpr const char* fallback_name(Fallback f) { return name_in(kFallbackNames, f); }
 
+// Most node slots per entry (--table-nodes).
+inline constexpr std::uint32_t kMaxTableNodes = 64;
+
 // Capacity = sets × ways entries of `nodes` node slots each.
 struct TableConfig {
   std::uint32_t sets = 1u << 12;

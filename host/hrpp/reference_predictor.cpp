@@ -195,7 +195,7 @@ gpu::Hit ReferencePredictor::trace_one(const gpu::Ray& ray, RayClass c, Traversa
   gpu::Hit hit;
   const PredictorTraceResult r = trace(std::span(&ray, 1), c, std::span(&hit, 1));
   counters += r.counters;
-  for (int k = 0; k < HRPP_PC_COUNT; ++k) predictor.c[k] += r.predictor.c[k];
+  predictor += r.predictor;
   return hit;
 }
 

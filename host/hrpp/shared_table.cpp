@@ -12,7 +12,6 @@ SharedTable::SharedTable(const gpu::PredictorParams& params)
     : table_(params), stripes_(std::min<std::size_t>(kStripes, std::max(params.sets, 1u))) {}
 
 std::size_t SharedTable::lookup(std::uint64_t key, std::uint32_t clock, Nodes& out) {
-  if (stripes_.empty()) return 0;
   const std::lock_guard lock(stripe(key));
   const std::span<const int> slots = table_.lookup(key, clock);
   std::copy(slots.begin(), slots.end(), out.begin());
@@ -21,7 +20,6 @@ std::size_t SharedTable::lookup(std::uint64_t key, std::uint32_t clock, Nodes& o
 
 ReferenceTable::Outcome SharedTable::insert(std::uint64_t key, int node, std::uint32_t clock,
                                             std::uint64_t& evictions) {
-  if (stripes_.empty()) return ReferenceTable::Outcome::kDropped;
   const std::lock_guard lock(stripe(key));
   return table_.insert(key, node, clock, evictions);
 }

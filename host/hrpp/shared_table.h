@@ -12,16 +12,15 @@
 #include <span>
 #include <vector>
 
+#include "hrpp/predictor_config.h"
 #include "hrpp/reference_table.h"
 
 namespace hrpp {
 
 class SharedTable {
  public:
-  static constexpr std::size_t kMaxNodes = 64;  // --table-nodes' limit
-  using Nodes = std::array<int, kMaxNodes>;
+  using Nodes = std::array<int, kMaxTableNodes>;
 
-  SharedTable() = default;
   explicit SharedTable(const gpu::PredictorParams& params);
 
   // The entry's node slots copied into `out`: their count, 0 when no way holds the key.
@@ -30,9 +29,6 @@ class SharedTable {
                                  std::uint64_t& evictions);
   // Stamps for `rays` more rays: the first of them (the threads' rays share one clock).
   std::uint32_t draw_clock(std::uint32_t rays) { return clock_.fetch_add(rays); }
-
-  std::uint64_t entries() const { return table_.entries(); }
-  std::uint64_t stored_nodes() const { return table_.stored_nodes(); }
 
  private:
   std::mutex& stripe(std::uint64_t key) { return stripes_[table_.set_of(key) % stripes_.size()]; }

@@ -83,11 +83,14 @@ RayBatches make_ray_batches(const Scene& scene, const GpuBvh& bvh, const RayBatc
 // The batch of `kind` in `batches`: its primary, AO or diffuse rays.
 std::span<const gpu::Ray> rays_of_kind(const RayBatches& batches, RayKind kind);
 
+// Rays per task of the CPU tracers' parallel work (parallel_ranges, hrpp/inline_predictor.h).
+inline constexpr std::size_t kRayChunk = 4096;
+
 // Runs body(begin, end) over [0, n) in chunks on a TaskPool of resolve_threads(threads) threads
 // (common/task_pool.h), chunks handed out dynamically; rethrows the first exception of a worker.
 void parallel_ranges(std::size_t n, int threads,
                      const std::function<void(std::size_t, std::size_t)>& body,
-                     std::size_t chunk = 4096);
+                     std::size_t chunk = kRayChunk);
 
 // The CPU reference (trace/cpu_traversal.h) over a batch on `threads` threads. Any-hit results
 // use the hits format: prim 0 occluded, -1 free, t = u = v = 0.
