@@ -1,7 +1,7 @@
 #include "hrpp/predictor_config.h"
 
-#include <string>
 #include <bit>
+#include <string>
 
 #include "common/error.h"
 
