@@ -1,11 +1,11 @@
 // What the wavefront renderer (host/render/) asks of a tracer on the device: closest-hit and
 // any-hit traces over device-resident ray arrays, recorded into the renderer's command buffers,
 // with their work counters and kernel times. GpuTracer (the BVH kernels, host/gpu/gpu_tracer.h)
-// is the one implementation; docs/HRPP.md ("Adding a ...": a device tracer) says what
-// another one, such as hardware ray queries, takes.
+// and RayQueryTracer (the driver's traversal, host/gpu/ray_query_tracer.h) implement it.
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -35,6 +35,11 @@ struct GpuTraceResult {
   gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
   std::uint64_t sampled = 0;           // HRPP sample (Probe::kSample): rays that ran the stage
 };
+
+// The records a hit-any trace leaves in a ray file (hrpp trace): prim 0 occluded, -1 free.
+inline void to_occlusion_records(std::span<gpu::Hit> hits) {
+  for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
+}
 
 class DeviceTracer {
  public:

@@ -42,11 +42,6 @@ namespace {
 
 constexpr std::uint32_t kCanaryIterations = 2;
 
-// The record a hit-any query's answer leaves in a ray file: prim 0 occluded, -1 free.
-void to_occlusion_records(std::span<gpu::Hit> hits) {
-  for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
-}
-
 // HRPP_SPEC_NODE_FORMAT's value for `f`.
 std::uint32_t spec_value(NodeFormat f) {
   switch (f) {
@@ -193,25 +188,10 @@ struct GpuTracer::State {
     return pc;
   }
 
-  // Before a plain recorded trace: zeroes the kind's counters and sets their ray count, on the
-  // host's word (`count`) or copied from `queue` at `count_offset` (transfers to disjoint
-  // bytes, then one barrier).
+  // Before a plain recorded trace: the kind's counters zeroed, with their ray count.
   void prepare_trace(VkCommandBuffer cmd, RayClass c, const std::uint32_t* count,
                      const StorageBuffer* queue, VkDeviceSize count_offset) {
-    const StorageBuffer& counters = query(c).counters;
-    gpu::TraceCounters start{};
-    if (count) {
-      start.ray_count = *count;
-      vkCmdUpdateBuffer(cmd, counters.handle(), 0, sizeof start, &start);
-    } else {
-      constexpr VkDeviceSize at = offsetof(gpu::TraceCounters, ray_count);
-      constexpr VkDeviceSize word = sizeof(std::uint32_t);
-      vkCmdUpdateBuffer(cmd, counters.handle(), 0, at, &start);
-      vkCmdUpdateBuffer(cmd, counters.handle(), at + word, sizeof start - at - word,
-                        reinterpret_cast<const char*>(&start) + at + word);
-      record_copy(cmd, *queue, count_offset, counters, at, word);
-    }
-    transfer_compute_barrier(cmd);
+    record_counters_start(cmd, query(c).counters, count, queue, count_offset);
   }
 
   static TimerLabel label(const ComputePipeline& p, RayClass c) {

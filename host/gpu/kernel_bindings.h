@@ -35,6 +35,13 @@ inline constexpr auto kTraceBindingTypes = [] {
   t[HRPP_TRACE_BINDING_HITS] = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
   return t;
 }();
+// The ray-query kernels: the top-level acceleration structure, then as the trace kernels' rays,
+// hits and counters.
+inline constexpr std::array<VkDescriptorType, HRPP_RAY_QUERY_BINDING_COUNT> kRayQueryBindingTypes =
+    {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+     VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+static_assert(HRPP_RAY_QUERY_BINDING_SCENE == 0 && HRPP_RAY_QUERY_BINDING_RAYS == 1 &&
+              HRPP_RAY_QUERY_BINDING_HITS == 2 && HRPP_RAY_QUERY_BINDING_COUNTERS == 3);
 // The indexed and the skipping trace kernels: the trace kernels' bindings and one list read per
 // position (the ray index list or the skip lists), a texel view.
 inline constexpr auto kTraceListBindingTypes = [] {
@@ -64,6 +71,9 @@ static_assert(HRPP_STAGE_BINDING_HITS == HRPP_TRACE_BINDING_HITS);
 // indexed variant (trace_*_indexed.comp) and its skipping one (trace_*_skipping.comp).
 constexpr Kernel trace_kernel(QueryKind k) {
   return k == QueryKind::kAny ? Kernel::trace_any : Kernel::trace_closest;
+}
+constexpr Kernel ray_query_kernel(QueryKind k) {
+  return k == QueryKind::kAny ? Kernel::trace_rayquery_any : Kernel::trace_rayquery_closest;
 }
 constexpr Kernel trace_indexed_kernel(QueryKind k) {
   return k == QueryKind::kAny ? Kernel::trace_any_indexed : Kernel::trace_closest_indexed;

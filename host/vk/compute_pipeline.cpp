@@ -163,9 +163,10 @@ ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;
 ComputePipeline& ComputePipeline::operator=(ComputePipeline&&) noexcept = default;
 
 void ComputePipeline::bind(std::uint32_t binding, const StorageBuffer& buffer) {
-  if (buffer.binding() == BufferBinding::kTexelOnly)
+  if (buffer.binding() != BufferBinding::kStorage)
     throw Error(s_->name + ": " + buffer.name() +
-                " is read through texel views only and cannot be bound as a storage buffer");
+                " is read through texel views or its address only and cannot be bound as a "
+                "storage buffer");
   VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
   VkWriteDescriptorSet w{};
   w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -186,6 +187,21 @@ void ComputePipeline::bind(std::uint32_t binding, const TexelView& view) {
   w.descriptorCount = 1;
   w.descriptorType = s_->types.at(binding);  // uniform or storage texel buffer
   w.pTexelBufferView = &handle;
+  vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
+}
+
+void ComputePipeline::bind(std::uint32_t binding, VkAccelerationStructureKHR structure) {
+  VkWriteDescriptorSetAccelerationStructureKHR as{};
+  as.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR;
+  as.accelerationStructureCount = 1;
+  as.pAccelerationStructures = &structure;
+  VkWriteDescriptorSet w{};
+  w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+  w.pNext = &as;
+  w.dstSet = s_->set;
+  w.dstBinding = binding;
+  w.descriptorCount = 1;
+  w.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
   vkUpdateDescriptorSets(s_->device, 1, &w, 0, nullptr);
 }
 

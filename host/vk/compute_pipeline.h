@@ -36,7 +36,8 @@ class ComputePipeline {
                   std::span<const SpecializationConstant> specialization = {});
   // Binding i of set 0 has descriptor type binding_types[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
   // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER or VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER (a
-  // kernel's vec4 stores: one per lane instead of one per 32-bit word on lavapipe).
+  // kernel's vec4 stores: one per lane instead of one per 32-bit word on lavapipe), or
+  // VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR (ray queries).
   ComputePipeline(VulkanContext& ctx, Kernel kernel, std::span<const std::uint32_t> spirv,
                   std::span<const VkDescriptorType> binding_types,
                   std::uint32_t push_constant_bytes,
@@ -51,6 +52,8 @@ class ComputePipeline {
   void bind(std::uint32_t binding, const StorageBuffer& buffer);
   // Same for a uniform or storage texel buffer binding.
   void bind(std::uint32_t binding, const TexelView& view);
+  // Same for an acceleration structure binding (VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR).
+  void bind(std::uint32_t binding, VkAccelerationStructureKHR structure);
 
   Kernel kernel() const;
   const char* name() const { return kernel_name(kernel()); }

@@ -30,11 +30,12 @@ std::uint64_t max_buffer_bytes(BufferBinding binding, const MemoryLimits& limits
     std::uint64_t bytes;
     const char* name;
   };
-  const Limit view = binding == BufferBinding::kStorage
-                         ? Limit{limits.storage_range, "maxStorageBufferRange"}
-                         : Limit{limits.texel_elements * TexelView::kTexelBytes,
-                                 "maxTexelBufferElements (16-byte texels)"};
-  Limit least = view;
+  Limit least = {~std::uint64_t{0}, "none"};
+  if (binding == BufferBinding::kStorage)
+    least = {limits.storage_range, "maxStorageBufferRange"};
+  else if (binding == BufferBinding::kTexelOnly)
+    least = {limits.texel_elements * TexelView::kTexelBytes,
+             "maxTexelBufferElements (16-byte texels)"};
   for (const Limit& l : {Limit{limits.allocation, "maxMemoryAllocationSize"},
                          Limit{limits.buffer, "maxBufferSize"}})
     if (l.bytes < least.bytes) least = l;

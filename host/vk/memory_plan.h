@@ -15,6 +15,8 @@ struct DeviceInfo;
 enum class BufferBinding {
   kStorage,    // bound as a storage buffer (and maybe as texel views too): maxStorageBufferRange
   kTexelOnly,  // read only through TexelViews (16-byte texels): maxTexelBufferElements
+  kAddressOnly,  // reached only by its device address (an acceleration structure, its inputs
+                 // and scratch): maxMemoryAllocationSize and maxBufferSize alone
 };
 
 struct BufferNeed {

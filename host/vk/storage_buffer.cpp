@@ -33,6 +33,10 @@ StorageBuffer::StorageBuffer(VulkanContext& ctx, std::size_t bytes, std::string 
               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  if (ctx.ray_queries())  // an acceleration structure's input, storage or scratch
+    bci.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
+                 VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                 VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check_vk(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer (" + name_ + ")");
   try {
@@ -56,12 +60,20 @@ void StorageBuffer::allocate(VulkanContext& ctx, MemoryRole role) {
   ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   ai.allocationSize = req.size;
   ai.memoryTypeIndex = type.type;
+  VkMemoryAllocateFlagsInfo flags{};
+  flags.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO;
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  if (ctx.ray_queries()) ai.pNext = &flags;
   check_vk(vkAllocateMemory(device_, &ai, nullptr, &memory_),
            "vkAllocateMemory (" + name_ + ", " + format_bytes(req.size) + ")");
   ledger_ = &ctx.memory();
   allocated_ = req.size;
   ledger_->add(name_, allocated_);
   check_vk(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory (" + name_ + ")");
+  if (ctx.ray_queries()) {
+    VkBufferDeviceAddressInfo bai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO, nullptr, buffer_};
+    address_ = vkGetBufferDeviceAddress(device_, &bai);
+  }
   if (!type.mapped) {
     staging_ = ctx.staging();
     return;
@@ -83,7 +95,8 @@ StorageBuffer::StorageBuffer(StorageBuffer&& o) noexcept
       name_(std::move(o.name_)),
       binding_(o.binding_),
       ledger_(std::exchange(o.ledger_, nullptr)),
-      allocated_(std::exchange(o.allocated_, 0)) {}
+      allocated_(std::exchange(o.allocated_, 0)),
+      address_(std::exchange(o.address_, 0)) {}
 
 StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
   if (this != &o) {
@@ -99,6 +112,7 @@ StorageBuffer& StorageBuffer::operator=(StorageBuffer&& o) noexcept {
     binding_ = o.binding_;
     ledger_ = std::exchange(o.ledger_, nullptr);
     allocated_ = std::exchange(o.allocated_, 0);
+    address_ = std::exchange(o.address_, 0);
   }
   return *this;
 }
@@ -110,6 +124,7 @@ void StorageBuffer::release() noexcept {
   if (ledger_) ledger_->remove(name_, allocated_);
   ledger_ = nullptr;
   allocated_ = 0;
+  address_ = 0;
   mapped_ = nullptr;
   staging_ = nullptr;
   buffer_ = VK_NULL_HANDLE;

@@ -59,6 +59,9 @@ class StorageBuffer {
   }
 
   VkBuffer handle() const { return buffer_; }
+  // The buffer's device address (0 unless the context has ray queries on: VulkanContext::
+  // ray_queries(), where every buffer may feed or hold an acceleration structure).
+  VkDeviceAddress device_address() const { return address_; }
   std::size_t size() const { return bytes_; }
   const std::string& name() const { return name_; }
   BufferBinding binding() const { return binding_; }
@@ -81,6 +84,7 @@ class StorageBuffer {
   BufferBinding binding_ = BufferBinding::kStorage;
   MemoryLedger* ledger_ = nullptr;  // the context's, while memory is allocated
   std::uint64_t allocated_ = 0;     // bytes of memory_, as the ledger has them
+  VkDeviceAddress address_ = 0;
 };
 
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 
 #include <unistd.h>
 
@@ -94,6 +95,7 @@ struct VulkanContext::State {
   MemoryLedger ledger;
   std::unique_ptr<StagedTransfer> staging;  // staged mode
   bool recording = false;                   // inside submit_and_wait's `record`
+  bool ray_queries = false;                 // VulkanOptions::ray_query
 
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
 
@@ -271,6 +273,28 @@ void apply_heap_cap(DeviceInfo* info) {
   info->heap_capped = true;
 }
 
+// The extensions VulkanOptions::ray_query enables.
+constexpr const char* kRayQueryExtensions[] = {VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                                               VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                               VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+
+// The device has the ray-query extensions, rayQuery, accelerationStructure and
+// bufferDeviceAddress.
+bool offers_ray_query(VkPhysicalDevice pd, const VkPhysicalDeviceVulkan12Features& f12) {
+  for (const char* e : kRayQueryExtensions)
+    if (!has_device_extension(pd, e)) return false;
+  VkPhysicalDeviceRayQueryFeaturesKHR rq{};
+  rq.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{};
+  as.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+  as.pNext = &rq;
+  VkPhysicalDeviceFeatures2 f2{};
+  f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+  f2.pNext = &as;
+  vkGetPhysicalDeviceFeatures2(pd, &f2);
+  return rq.rayQuery && as.accelerationStructure && f12.bufferDeviceAddress;
+}
+
 DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index, MemoryMode memory) {
   VkPhysicalDeviceSubgroupProperties sub{};
   sub.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
@@ -307,6 +331,7 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index, MemoryMode memory)
   info.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   info.max_workgroup_count_x = p.limits.maxComputeWorkGroupCount[0];
   info.timestamp_period_ns = p.limits.timestampPeriod;
+  info.ray_query = offers_ray_query(pd, f12);
   describe_memory(pd, memory, &info);
   return info;
 }
@@ -452,11 +477,21 @@ std::uint32_t choose_device(const std::vector<VkPhysicalDevice>& physical,
 }
 
 // The logical device with float64 (watertight fallback), int64 and int64 atomics when offered,
-// and its one compute queue.
-void create_device(Handles& h, const DeviceInfo& info) {
+// ray queries when `ray_query` (the caller has checked info.ray_query), and its one compute
+// queue.
+void create_device(Handles& h, const DeviceInfo& info, bool ray_query) {
+  VkPhysicalDeviceRayQueryFeaturesKHR rq{};
+  rq.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
+  rq.rayQuery = VK_TRUE;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{};
+  as.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+  as.pNext = &rq;
+  as.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceVulkan12Features f12{};
   f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+  f12.pNext = ray_query ? &as : nullptr;
   f12.shaderBufferInt64Atomics = info.int64_atomics;
+  f12.bufferDeviceAddress = ray_query;
   VkPhysicalDeviceFeatures2 f2{};
   f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
   f2.pNext = &f12;
@@ -473,6 +508,10 @@ void create_device(Handles& h, const DeviceInfo& info) {
   dci.pNext = &f2;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
+  if (ray_query) {
+    dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayQueryExtensions));
+    dci.ppEnabledExtensionNames = kRayQueryExtensions;
+  }
   check_vk(vkCreateDevice(h.physical, &dci, nullptr, &h.device), "vkCreateDevice");
   vkGetDeviceQueue(h.device, h.family, 0, &h.queue);
 }
@@ -513,7 +552,12 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   s.info.timestamps = timestamp_bits(s.h.physical, s.h.family) > 0;
   apply_heap_cap(&s.info);
   s.ledger.set_heap(s.info.heap_bytes);
-  create_device(s.h, s.info);
+  if (options.ray_query && !s.info.ray_query)
+    throw Error("--tracer rayquery: the Vulkan device '" + s.info.name + "' (" + s.info.driver +
+                ") has no VK_KHR_ray_query with VK_KHR_acceleration_structure (lavapipe has "
+                "them from Mesa 24.1; GPUs with ray tracing do)");
+  s.ray_queries = options.ray_query;
+  create_device(s.h, s.info, options.ray_query);
   create_command_objects(s.h);
   s.ledger.set_placement(placement_report(s.info));
   if (s.info.memory_mode == MemoryMode::kStaged)
@@ -533,6 +577,7 @@ std::uint64_t VulkanContext::validation_messages() const { return s_->messages.l
 MemoryLedger& VulkanContext::memory() { return s_->ledger; }
 const MemoryLedger& VulkanContext::memory() const { return s_->ledger; }
 StagedTransfer* VulkanContext::staging() { return s_->staging.get(); }
+bool VulkanContext::ray_queries() const { return s_->ray_queries; }
 VkDevice VulkanContext::device() const { return s_->h.device; }
 VkPhysicalDevice VulkanContext::physical_device() const { return s_->h.physical; }
 std::uint32_t VulkanContext::queue_family() const { return s_->h.family; }

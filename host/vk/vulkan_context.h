@@ -26,6 +26,10 @@ struct VulkanOptions {
   bool validate = false;
   // --memory: where buffers live (vk/memory_placement.h); kAuto is resolved by the device's type.
   MemoryMode memory = MemoryMode::kAuto;
+  // --tracer rayquery: enable the driver's ray tracing (VK_KHR_ray_query with
+  // VK_KHR_acceleration_structure, and buffer device addresses); the context refuses a device
+  // without it (DeviceInfo::ray_query).
+  bool ray_query = false;
 };
 
 class StagedTransfer;
@@ -65,6 +69,9 @@ struct DeviceInfo {
   std::uint32_t max_workgroup_count_x = 0;
   double timestamp_period_ns = 0.0;  // ns per timestamp tick
   bool timestamps = false;           // the compute queue writes timestamps
+  // The device offers VK_KHR_ray_query and VK_KHR_acceleration_structure (with
+  // VK_KHR_deferred_host_operations) and their features: the driver's own BVH traversal.
+  bool ray_query = false;
 
   const char* type_name() const;
   // What the device promises about float subnormals.
@@ -76,8 +83,8 @@ struct DeviceInfo {
 class VulkanContext {
  public:
   // Throws hrpp::Error with one line when there is no Vulkan driver, no device with compute
-  // (Vulkan 1.2, shaderFloat64, subgroup vote/ballot/arithmetic), or no device matching
-  // options.device.
+  // (Vulkan 1.2, shaderFloat64, subgroup vote/ballot/arithmetic), no device matching
+  // options.device, or (options.ray_query) a chosen device without ray queries.
   explicit VulkanContext(const VulkanOptions& options = {});
   ~VulkanContext();
   VulkanContext(VulkanContext&&) noexcept;
@@ -101,6 +108,9 @@ class VulkanContext {
   const MemoryLedger& memory() const;
   // The staging copies of kDevice buffers in staged mode; nullptr in mapped mode.
   StagedTransfer* staging();
+  // Ray queries are enabled (VulkanOptions::ray_query): every StorageBuffer then has a device
+  // address and may hold or feed an acceleration structure.
+  bool ray_queries() const;
 
   VkDevice device() const;
   VkPhysicalDevice physical_device() const;

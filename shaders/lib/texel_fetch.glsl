@@ -16,7 +16,6 @@ layout(set = 0, binding = HRPP_TRACE_BINDING_LEAVES) uniform utextureBuffer leaf
 layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES) uniform utextureBuffer triangle_plane0;
 layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 1) uniform utextureBuffer triangle_plane1;
 layout(set = 0, binding = HRPP_TRACE_BINDING_TRIANGLES + 2) uniform utextureBuffer triangle_plane2;
-layout(set = 0, binding = HRPP_TRACE_BINDING_RAYS) uniform utextureBuffer ray_texels;
 
 BvhNode load_node(int index) {
   const int t = 4 * index;
@@ -69,12 +68,7 @@ TriangleRecord load_triangle(uint index) {
                         uintBitsToFloat(c.xyz), c.w);
 }
 
-Ray load_ray(uint index) {
-  const int t = 2 * int(index);
-  const uvec4 a = texelFetch(ray_texels, t);
-  const uvec4 b = texelFetch(ray_texels, t + 1);
-  return Ray(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz),
-             uintBitsToFloat(b.w));
-}
+#define HRPP_RAYS_BINDING HRPP_TRACE_BINDING_RAYS
+#include "ray_fetch.glsl"
 
 #endif  // HRPP_TEXEL_FETCH_GLSL

@@ -34,9 +34,8 @@ layout(local_size_x = HRPP_TRACE_WORKGROUP_SIZE, local_size_y = 1, local_size_z 
 // storage-buffer store costs one per 32-bit word on lavapipe.
 layout(set = 0, binding = HRPP_TRACE_BINDING_HITS, rgba32ui) uniform writeonly restrict
     uimageBuffer hit_texels;
-layout(std430, set = 0, binding = HRPP_TRACE_BINDING_COUNTERS) restrict buffer CounterBuffer {
-  TraceCounters counters;
-};
+#define HRPP_COUNTERS_BINDING HRPP_TRACE_BINDING_COUNTERS
+#include "trace_counters.glsl"
 layout(push_constant) uniform PushConstants { TracePushConstants pc; };
 
 #include "traversal.glsl"
@@ -59,12 +58,6 @@ int start_node(uint slot) {
 #else
 int start_node(uint slot) { return 0; }
 #endif
-
-void add_wide(uint counter, uint value) {
-  if (value == 0u) return;
-  const uint old = atomicAdd(counters.wide[2u * counter], value);
-  if (old + value < old) atomicAdd(counters.wide[2u * counter + 1u], 1u);  // carry
-}
 
 void main() {
   if (pc.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup

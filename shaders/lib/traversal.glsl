@@ -19,6 +19,7 @@
 #include "slab_test.glsl"
 #include "watertight.glsl"
 #include "texel_fetch.glsl"
+#include "loop_limiter.glsl"
 
 // Stack bottom / end of traversal. Child references: >= 0 interior node, < 0 leaf (~leaf index).
 const int kSentinel = 0x7fffffff;
@@ -162,12 +163,5 @@ bool traverse_from(RaySetup r, int start, inout Hit best) {
   return node == kSentinel;
 }
 
-// True while the loop limiter has budget left: a loop of pc.canary_iterations (2) iterations
-// runs in full. Once a limiter has fired, loops run once, so this reads false from then on.
-bool loop_budget_left() {
-  uint n = 0u;
-  for (uint i = 0u; i < pc.canary_iterations; ++i) ++n;
-  return n == pc.canary_iterations;
-}
 
 #endif  // HRPP_TRAVERSAL_GLSL

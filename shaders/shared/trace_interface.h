@@ -49,6 +49,16 @@ namespace hrpp::gpu {
 #define HRPP_TRACE_SKIPPING_BINDING_COUNT 9
 #define HRPP_SKIP_NODES 4
 
+// The ray-query kernels (trace_rayquery_closest, trace_rayquery_any: the driver's traversal,
+// host/gpu/ray_query_tracer.h) bind the top-level acceleration structure, the rays (a uniform
+// texel buffer, as above), the hits (a storage texel buffer) and the TraceCounters, and take
+// TracePushConstants; one ray per invocation.
+#define HRPP_RAY_QUERY_BINDING_SCENE 0
+#define HRPP_RAY_QUERY_BINDING_RAYS 1
+#define HRPP_RAY_QUERY_BINDING_HITS 2
+#define HRPP_RAY_QUERY_BINDING_COUNTERS 3
+#define HRPP_RAY_QUERY_BINDING_COUNT 4
+
 // Float bits of the slab test's far-distance scale 1 + 2γ(3) (host/trace/slab_test.h); GLSL has
 // no hex floats, the host static_asserts that the bits match kSlabFarScale.
 #define HRPP_SLAB_FAR_SCALE_BITS 0x3F800003u
