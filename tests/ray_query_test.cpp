@@ -3,7 +3,8 @@
 // every batch kind of the stand-ins: the same triangle, or another at the same t (a tie: the
 // driver's triangle test rounds its own way), every miss a miss, under 0.1% of the rays
 // otherwise. On the extreme cases secondary rays never hit the surface they leave and NaN/Inf/
-// zero rays miss (the driver's leaks at shared edges are printed); negative tmin is refused. A device
+// zero rays miss (the driver's leaks at shared edges are printed); negative tmin is refused.
+// Renders of the Cornell boxes and the stand-ins agree with the compute tracer's. A device
 // without the extension is refused with one line (where a second driver without it is
 // installed), and a context without ray queries cannot build. Skipped where the device lacks
 // ray queries. The validation layer reports nothing.
@@ -27,6 +28,7 @@
 #include "gpu/ray_query_tracer.h"
 #include "gpu_test_context.h"
 #include "reference/embree_tracer.h"
+#include "render/wavefront_renderer.h"
 #include "test_scenes.h"
 #include "trace/cpu_traversal.h"
 #include "vk/vulkan_context.h"
@@ -174,6 +176,46 @@ TEST_P(RayQueryExtremes, KeepTheTracersOwnRules) {
 
 INSTANTIATE_TEST_SUITE_P(Frames, RayQueryExtremes, testing::ValuesIn(test::extreme_frames()),
                          test::frame_param_name<testing::TestParamInfo<test::Frame>>);
+
+// RMS of the per-value difference of two images.
+double rms_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (double{a[i]} - b[i]) * (double{a[i]} - b[i]);
+  return std::sqrt(s / static_cast<double>(a.size()));
+}
+
+class RayQueryRenders : public testing::TestWithParam<std::string> {};
+
+// The same seed's image with each tracer differs by less than a tenth of the noise floor: the
+// difference between two seeds' images with the compute tracer. Nearly every path takes the same
+// triangles; the driver's t and barycentrics round differently.
+TEST_P(RayQueryRenders, AgreeWithTheComputeTracersWithinTheNoiseFloor) {
+  REQUIRE_RAY_QUERIES();
+  const Scene scene = test::load_test_scene(GetParam());
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+  RenderConfig config;
+  config.width = config.height = 48;
+  config.spp = 2;
+  const auto render = [&](DeviceTracerKind tracer, std::uint32_t seed) {
+    RenderConfig c = config;
+    c.device_tracer = tracer;
+    c.seed = seed;
+    WavefrontRenderer r(*ray_query_context(), scene, bvh, c);
+    return r.render().rgb;
+  };
+  const std::vector<float> compute = render(DeviceTracerKind::kCompute, 1);
+  const std::vector<float> driver = render(DeviceTracerKind::kRayQuery, 1);
+  const double floor = rms_difference(compute, render(DeviceTracerKind::kCompute, 2));
+  const double diff = rms_difference(compute, driver);
+  std::printf("%s: rms difference %.3g, noise floor (two seeds) %.3g\n", GetParam().c_str(), diff,
+              floor);
+  EXPECT_GT(floor, 0.0);
+  EXPECT_LT(diff, 0.1 * floor);
+  EXPECT_EQ(ray_query_context()->validation_messages(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, RayQueryRenders, testing::ValuesIn(test::reference_scene_names()),
+                         test::scene_param_name);
 
 TEST(RayQuery, RefusesNegativeTminByName) {
   REQUIRE_RAY_QUERIES();

@@ -163,7 +163,11 @@ void run_render(RenderOptions& o) {
   if (o.backend == RenderBackend::kCpu && o.shared.nodes != NodeFormat::kBinary)
     throw Error(std::string("--bvh-nodes ") + node_format_name(o.shared.nodes) +
                 ": the CPU backend (--backend cpu) traverses binary nodes");
+  if (o.backend == RenderBackend::kCpu && o.shared.device_tracer != DeviceTracerKind::kCompute)
+    throw Error("--tracer: the CPU backend (--backend cpu) traces its own BVH");
+  check_compute_only(o.shared, {});
   o.render.tracer = o.shared.tracer;
+  o.render.device_tracer = o.shared.device_tracer;
   o.render.predictor = o.hrpp.config();
   Scene scene = load_scene(o.shared.scene);
   if (o.backend == RenderBackend::kCpu)

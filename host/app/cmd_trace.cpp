@@ -19,8 +19,10 @@
 #include "app/tracer.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
+#include "common/bytes.h"
 #include "common/error.h"
 #include "gpu/gpu_tracer.h"
+#include "gpu/ray_query_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "vk/vulkan_context.h"
 #include "render/render_stats.h"
@@ -79,26 +81,44 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
               o.query == QueryKind::kAny ? "any-hit" : "closest-hit",
               static_cast<unsigned long long>(c.hits),
               o.query == QueryKind::kAny ? " (occluded)" : "");
+  const bool driver = o.shared.device_tracer == DeviceTracerKind::kRayQuery;
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0,
-              static_cast<int>(o.shared.tracer.resolved_for(ctx.info()).rays_per_invocation));
+              driver ? 1
+                     : static_cast<int>(
+                           o.shared.tracer.resolved_for(ctx.info()).rays_per_invocation));
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorted ? " (the sort's device time is in the kernel time)" : "");
-  std::printf("bvh nodes   %s\n", node_format_name(o.shared.nodes));
+  std::printf("tracer      %s\n", name_in(kDeviceTracerNames, o.shared.device_tracer));
+  if (!driver) std::printf("bvh nodes   %s\n", node_format_name(o.shared.nodes));
   std::printf("memory      %s\n", placement_text(ctx.memory().report().placement).c_str());
-  std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
-              per_ray(c.interior_visited), per_ray(c.leaves_visited), per_ray(c.triangles_tested));
+  if (driver)
+    std::printf("per ray     not visible (the driver's traversal)\n");
+  else
+    std::printf("per ray     %.2f interior nodes, %.2f leaves, %.2f triangles\n",
+                per_ray(c.interior_visited), per_ray(c.leaves_visited),
+                per_ray(c.triangles_tested));
   if (o.shared.tracer.count_steps)
     std::printf("lane use    %.1f%% of the interior-node loop's lane slots (%llu steps)\n",
                 100.0 * lane_use(c, ctx.info().subgroup_size),
                 static_cast<unsigned long long>(c.interior_steps));
 }
 
+// The driver's acceleration structure (--tracer rayquery).
+void print_structure(const AccelerationStructureStats& s) {
+  std::printf("structure   the driver's: %s (%s before compaction), built in %.1f ms\n",
+              format_bytes(s.bytes).c_str(), format_bytes(s.uncompacted_bytes).c_str(), s.build_ms);
+}
+
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
   const PredictorConfig predictor = o.hrpp.config();
+  check_compute_only(o.shared, {{"--hrpp", predictor.enabled},
+                                {"--reorder", o.reorder != RayOrder::kOff},
+                                {"--count-steps", o.shared.tracer.count_steps},
+                                {"--bvh-layout", o.bvh_layout != NodeLayout::kDfs}});
   if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.query)))
     throw Error("--reorder: HRPP's predicted trace takes the rays in file order; use "
                 "--reorder off with HRPP on");
@@ -107,30 +127,42 @@ void run_trace(const TraceOptions& o) {
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout,
                                      o.shared.nodes);
   VulkanContext ctx(o.shared.vulkan);
-  GpuTracer tracer(ctx, bvh, o.shared.tracer, predictor);
-  const std::unique_ptr<RaySorter> sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
-  if (o.repeat > 1) {
-    tracer.warm_up();
-    if (sorter)
-      tracer.trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)), o.query,
-                   sorter.get());  // the sort's and indexed kernels' JIT
+  std::unique_ptr<GpuTracer> tracer;
+  std::unique_ptr<RayQueryTracer> ray_query;
+  std::unique_ptr<RaySorter> sorter;
+  std::unique_ptr<Tracer> backend;
+  if (o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
+    ray_query = std::make_unique<RayQueryTracer>(ctx, bvh);
+    if (o.repeat > 1) ray_query->warm_up();
+    backend = std::make_unique<RayQueryBackend>(*ray_query);
+  } else {
+    tracer = std::make_unique<GpuTracer>(ctx, bvh, o.shared.tracer, predictor);
+    sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
+    if (o.repeat > 1) {
+      tracer->warm_up();
+      if (sorter)
+        tracer->trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)), o.query,
+                      sorter.get());  // the sort's and indexed kernels' JIT
+    }
+    // HRPP on: every run starts from an empty table (GpuBackend clears it).
+    backend = std::make_unique<GpuBackend>(*tracer, sorter.get());
   }
 
-  // HRPP on: every run starts from an empty table (GpuBackend clears it); HRPP's figures come
-  // from one more run that also counts what full traversals would visit (outside the timings).
-  GpuBackend backend(tracer, sorter.get());
   TracerRun result;
   std::vector<double> ms;
   for (int i = 0; i < o.repeat; ++i) {
-    result = backend.trace(rays, o.query);
+    result = backend->trace(rays, o.query);
     ms.push_back(result.ms);
   }
+  // HRPP's figures come from one more run that also counts what full traversals would visit
+  // (outside the timings).
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (const auto s = count_savings(tracer, predictor, rays, o.query)) {
-    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
-    hrpp_json["summary"] = predictor_summary_json(*s);
-  }
+  if (tracer)
+    if (const auto s = count_savings(*tracer, predictor, rays, o.query)) {
+      hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
+      hrpp_json["summary"] = predictor_summary_json(*s);
+    }
   check_validation_messages(ctx);
   write_file_atomically(o.hits,
                         std::string_view(reinterpret_cast<const char*>(result.hits.data()),
@@ -141,6 +173,7 @@ void run_trace(const TraceOptions& o) {
   const double median = ms[ms.size() / 2];
   const TraversalCounters& c = *result.counters;
   print_figures(o, ctx, rays.size(), median, c, sorter != nullptr);
+  if (ray_query) print_structure(ray_query->structure());
   std::printf("hrpp        %s", hrpp_text.c_str());
   if (!predictor.predicts(ray_file_class(o.query))) std::printf("\n");
   if (!o.stats.empty()) {

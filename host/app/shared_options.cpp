@@ -25,6 +25,16 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
       ->transform(one_of(kBvhSplitsNames))
       ->default_str(name_in(kBvhSplitsNames, o.bvh.splits));
   if (group == SharedGroup::kScene) return;
+  cmd->add_option_function<DeviceTracerKind>(
+         "--tracer",
+         [&o](const DeviceTracerKind& k) {
+           o.device_tracer = k;
+           o.vulkan.ray_query = k == DeviceTracerKind::kRayQuery;
+         },
+         "compute: the project's BVH kernels; rayquery: the driver's own traversal "
+         "(VK_KHR_ray_query; lavapipe from Mesa 24.1, GPUs with ray tracing)")
+      ->transform(one_of(kDeviceTracerNames))
+      ->default_str(name_in(kDeviceTracerNames, o.device_tracer));
   cmd->add_option("--bvh-nodes", o.nodes,
                   "binary: Aila-Laine 64-byte nodes (the reference; HRPP needs them); wide4: "
                   "4-wide 64-byte nodes, child boxes quantised to 8 bits; wide4-float: 4-wide "
@@ -45,6 +55,19 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
                   "Most rays one trace kernel invocation traces (default: 16 on a CPU device, "
                   "where lavapipe's loop limiter needs a bound; 1 on a GPU)")
       ->check(CLI::Range(1u, 1u << 24));
+}
+
+void check_compute_only(const SharedOptions& o,
+                        std::initializer_list<std::pair<const char*, bool>> flags) {
+  if (o.device_tracer != DeviceTracerKind::kRayQuery) return;
+  const auto refuse = [](const char* flag) {
+    throw Error(std::string(flag) +
+                ": an option of the BVH kernels; --tracer rayquery traces the driver's own "
+                "acceleration structure (use --tracer compute)");
+  };
+  if (o.nodes != NodeFormat::kBinary) refuse("--bvh-nodes");
+  for (const auto& [flag, given] : flags)
+    if (given) refuse(flag);
 }
 
 void check_validation_messages(const VulkanContext& ctx) {

@@ -64,6 +64,11 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
 }
 
+TracerRun RayQueryBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
+  GpuTraceResult g = tracer_.trace(rays, kind);
+  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
+}
+
 std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
                                               std::span<const gpu::Ray> rays, QueryKind kind) {
   const RayClass c = ray_file_class(kind);

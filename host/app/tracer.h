@@ -9,6 +9,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/gpu_tracer.h"
+#include "gpu/ray_query_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "gpu_types.h"
 #include "hrpp/inline_predictor.h"
@@ -25,6 +26,7 @@ enum class TracerKind {
   kEmbree,        // Embree 3 or 4 (reference/embree_tracer.h)
   kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
   kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
+  kRayQuery,      // the driver's traversal (gpu/ray_query_tracer.h)
 };
 
 struct TracerRun {
@@ -38,7 +40,7 @@ class Tracer {
  public:
   virtual ~Tracer() = default;
   virtual TracerKind kind() const = 0;
-  virtual const char* name() const = 0;    // "cpu-ref", "embree", "gpu", "gpu-hrpp"
+  virtual const char* name() const = 0;    // "cpu-ref", "embree", "gpu", "gpu-hrpp", ...
   virtual const char* timing() const = 0;  // what TracerRun::ms measures
   virtual TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) = 0;
 };
@@ -111,6 +113,18 @@ class GpuBackend final : public Tracer {
   bool hrpp_;
   bool batched_;  // HRPP batches: not timed
   RaySorter* sorter_;
+};
+
+class RayQueryBackend final : public Tracer {
+ public:
+  explicit RayQueryBackend(RayQueryTracer& tracer) : tracer_(tracer) {}
+  TracerKind kind() const override { return TracerKind::kRayQuery; }
+  const char* name() const override { return "rayquery"; }
+  const char* timing() const override { return "device timestamps around the trace dispatch"; }
+  TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
+
+ private:
+  RayQueryTracer& tracer_;
 };
 
 // HRPP: one more run from empty tables that also counts what full traversals would visit

@@ -10,6 +10,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/device_tracer_kind.h"
 #include "gpu_types.h"
 #include "hrpp_types.h"
 #include "hrpp/ray_class.h"

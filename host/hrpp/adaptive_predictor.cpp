@@ -11,7 +11,8 @@ namespace {
 bool is_trace_kernel(Kernel k) {
   return k == Kernel::trace_closest || k == Kernel::trace_any ||
          k == Kernel::trace_closest_indexed || k == Kernel::trace_any_indexed ||
-         k == Kernel::trace_closest_skipping || k == Kernel::trace_any_skipping;
+         k == Kernel::trace_closest_skipping || k == Kernel::trace_any_skipping ||
+         k == Kernel::trace_rayquery_closest || k == Kernel::trace_rayquery_any;
 }
 
 }  // namespace

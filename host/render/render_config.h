@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/name_table.h"
+#include "gpu/device_tracer_kind.h"
 #include "gpu/gpu_tracer_config.h"
 #include "gpu_types.h"
 #include "hrpp/adaptive_predictor.h"
@@ -92,6 +93,9 @@ struct RenderConfig {
   LightSampling light_sampling = LightSampling::kMis;
   Sampler sampler = Sampler::kSobol;
   GpuTracerConfig tracer;
+  // Which device tracer traces the wavefronts (--tracer): the BVH kernels, or the driver's ray
+  // queries (HRPP off and rays in their order there; the context must have ray queries on).
+  DeviceTracerKind device_tracer = DeviceTracerKind::kCompute;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
 };
 

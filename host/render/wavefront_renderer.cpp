@@ -16,6 +16,7 @@
 #include "gpu/device_tracer.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
+#include "gpu/ray_query_tracer.h"
 #include "vk/embedded_shaders.h"
 #include "gpu/ray_sorter.h"
 #include "vk/memory_plan.h"
@@ -109,7 +110,9 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
   return static_cast<std::uint32_t>(std::min<std::size_t>(
       {config.wavefront_paths, std::size_t{config.width} * config.height,
        std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
-       GpuTracer::max_dispatch_rays(c.info(), config.tracer)}));
+       config.device_tracer == DeviceTracerKind::kRayQuery
+           ? RayQueryTracer::max_dispatch_rays(c.info())
+           : GpuTracer::max_dispatch_rays(c.info(), config.tracer)}));
 }
 
 // Before anything is allocated: every buffer of the render against the device's limits and
@@ -117,7 +120,9 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
 const RenderBufferNeeds& check_render_fits(const VulkanContext& c, const Scene& scene,
                                            const GpuBvh& bvh, const RenderConfig& config,
                                            std::uint32_t wave, const RenderBufferNeeds& needs) {
-  std::vector<BufferNeed> all = GpuTracer::buffer_needs(bvh, config.predictor, wave);
+  std::vector<BufferNeed> all = config.device_tracer == DeviceTracerKind::kRayQuery
+                                    ? RayQueryTracer::buffer_needs(bvh, wave)
+                                    : GpuTracer::buffer_needs(bvh, config.predictor, wave);
   for (BufferNeed& n : needs.all()) all.push_back(std::move(n));
   check_fits("scene '" + scene.name + "' (" + std::to_string(scene.triangles.size()) +
                  " triangles)",
@@ -145,6 +150,13 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
 // BVH's arrays once uploaded.
 std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
                                           const RenderConfig& config, HostCopies host) {
+  if (config.device_tracer == DeviceTracerKind::kRayQuery) {
+    if (host.scene) {
+      free_array(host.scene->triangles);
+      free_array(host.scene->shading);
+    }
+    return std::make_unique<RayQueryTracer>(c, bvh);
+  }
   if (!host.bvh) return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
   free_array(host.scene->triangles);
   free_array(host.scene->shading);
@@ -431,8 +443,11 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     FrameStats frame;
-    for (Kernel k : {Kernel::render_generate, Kernel::trace_closest, Kernel::render_shade,
-                     Kernel::trace_any, Kernel::render_accumulate})
+    const bool driver = s_->cfg.device_tracer == DeviceTracerKind::kRayQuery;
+    for (Kernel k : {Kernel::render_generate,
+                     driver ? Kernel::trace_rayquery_closest : Kernel::trace_closest,
+                     Kernel::render_shade, driver ? Kernel::trace_rayquery_any : Kernel::trace_any,
+                     Kernel::render_accumulate})
       frame.kernels_ms[TimerLabel{k}] = 0.0;
     if (s_->hrpp)
       for (RayClass c : kRayClasses)
