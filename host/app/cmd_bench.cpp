@@ -1,7 +1,8 @@
 // hrpp bench SCENE [--rays N] [--kinds primary,ao,diffuse] [--json FILE]: ray-tracing speed in
 // the style of Aila and Laine (HPG 2009) and tinybvh's speed test. Fixed batches of one view
 // (trace/ray_batches.h), each traced by the CPU reference (all threads), Embree (all threads,
-// when the build has it) and the Vulkan device (GpuTracer). Every tracer is warmed up, then timed
+// when the build has it) and the Vulkan device (GpuTracer; with --tracer rayquery also the
+// driver's ray queries, RayQueryTracer). Every tracer is warmed up, then timed
 // `--repeat` times over the whole batch (median reported), and its hits are checked against the
 // CPU reference on a subset; mismatches are printed loudly and recorded in the JSON.
 #include <algorithm>
@@ -206,6 +207,8 @@ nlohmann::json probe_machine(int threads) {
 // The Vulkan device, or none (--no-gpu, or no device: the GPU tracers are skipped).
 std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json& machine) {
   if (o.no_gpu) {
+    if (o.shared.vulkan.ray_query) throw Error("--tracer rayquery: the device's ray queries, not "
+                                               "with --no-gpu");
     std::printf("vulkan      off (--no-gpu)\n");
     return nullptr;
   }
@@ -231,6 +234,7 @@ std::unique_ptr<VulkanContext> open_device(const BenchOptions& o, nlohmann::json
     machine["vulkan_device_type"] = d.type_name();
     return ctx;
   } catch (const Error& e) {
+    if (o.shared.vulkan.ray_query) throw;  // --tracer rayquery asked for the device's own
     std::printf("vulkan      not available: %s (GPU skipped)\n", e.what());
     machine["vulkan_device"] = nullptr;
     return nullptr;
@@ -260,6 +264,7 @@ struct Backends {
   std::unique_ptr<EmbreeTracer> embree;
   std::unique_ptr<GpuTracer> gpu;
   std::unique_ptr<GpuTracer> hrpp;  // HRPP on: a second GPU tracer that probes the predictor
+  std::unique_ptr<RayQueryTracer> ray_query;  // --tracer rayquery: the driver's traversal too
   PredictorConfig predictor;
   std::vector<std::unique_ptr<Tracer>> tracers;
 };
@@ -290,6 +295,21 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
     b.gpu = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer);
     b.gpu->warm_up();
     b.tracers.push_back(std::make_unique<GpuBackend>(*b.gpu));
+  }
+  if (ctx && o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
+    b.ray_query = std::make_unique<RayQueryTracer>(*ctx, bvh);
+    b.ray_query->warm_up();
+    const AccelerationStructureStats& s = b.ray_query->structure();
+    std::printf("rayquery    the driver's structure %s (%s before compaction), built in %.1f ms; "
+                "the project's BVH %s\n",
+                format_bytes(s.bytes).c_str(), format_bytes(s.uncompacted_bytes).c_str(),
+                s.build_ms, format_bytes(bvh.bytes()).c_str());
+    report["rayquery"] = {{"structure_bytes", s.bytes},
+                          {"uncompacted_bytes", s.uncompacted_bytes},
+                          {"scratch_bytes", s.scratch_bytes},
+                          {"build_ms", s.build_ms},
+                          {"bvh_bytes", bvh.bytes()}};
+    b.tracers.push_back(std::make_unique<RayQueryBackend>(*b.ray_query));
   }
   if (ctx && b.predictor.enabled) {
     b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
@@ -475,6 +495,12 @@ void print_ratios(const std::vector<TracerResult>& results,
   if (gpu && emb && emb->mrays > 0.0) {
     std::printf("%-8s %9s %-7s gpu/embree %.3f\n", "", "", "", gpu->mrays / emb->mrays);
     kj["gpu_over_embree"] = gpu->mrays / emb->mrays;
+  }
+  const TracerResult* driver = find(results, TracerKind::kRayQuery);
+  if (gpu && driver && driver->mrays > 0.0) {
+    std::printf("%-8s %9s %-7s gpu/rayquery %.3f (kernel time, same run)\n", "", "", "",
+                gpu->mrays / driver->mrays);
+    kj["gpu_over_rayquery"] = gpu->mrays / driver->mrays;
   }
 }
 
