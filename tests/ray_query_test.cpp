@@ -4,7 +4,8 @@
 // driver's triangle test rounds its own way), every miss a miss, under 0.1% of the rays
 // otherwise. On the extreme cases secondary rays never hit the surface they leave and NaN/Inf/
 // zero rays miss (the driver's leaks at shared edges are printed); negative tmin is refused.
-// Renders of the Cornell boxes and the stand-ins agree with the compute tracer's. A device
+// Renders of the Cornell boxes and the stand-ins agree with the compute tracer's. With the HRPP
+// stage in front (exact mode) the answers are HRPP off's and shadow rays skip the query. A device
 // without the extension is refused with one line (where a second driver without it is
 // installed), and a context without ray queries cannot build. Skipped where the device lacks
 // ray queries. The validation layer reports nothing.
@@ -25,6 +26,7 @@
 #include "cli_runner.h"
 #include "common/error.h"
 #include "extreme_cases.h"
+#include "gpu/gpu_predictor.h"
 #include "gpu/ray_query_tracer.h"
 #include "gpu_test_context.h"
 #include "reference/embree_tracer.h"
@@ -216,6 +218,45 @@ TEST_P(RayQueryRenders, AgreeWithTheComputeTracersWithinTheNoiseFloor) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, RayQueryRenders, testing::ValuesIn(test::reference_scene_names()),
                          test::scene_param_name);
+
+// HRPP in front of the driver's traversal, exact mode: the answers are HRPP off's (a verified
+// closest hit comes from the project's triangle test, so the same triangle or a tie within the
+// tolerance above; occlusion exactly), and prediction does answer rays: shadow rays without a
+// query, camera rays with a shortened tmax (the second trace of a batch, its table warm).
+TEST(RayQueryHrpp, ExactModeKeepsTheAnswersAndAnswersRaysWithoutAQuery) {
+  REQUIRE_RAY_QUERIES();
+  const Scene scene = test::load_test_scene("meshes/mcguire_bunny.glb");
+  const GpuBvh bvh = make_gpu_layout(build_bvh(scene), scene);
+  const RayBatches b = test::small_ray_batches(scene, bvh, 64, 4096);
+  PredictorConfig predictor;
+  predictor.enabled = true;
+  predictor.mode = PredictorMode::kExact;
+  predictor.fallback = Fallback::kRoot;
+  RayQueryTracer off(*ray_query_context(), bvh);
+  RayQueryTracer on(*ray_query_context(), bvh, {}, predictor);
+  ASSERT_NE(on.predictor(), nullptr);
+  for (const auto& [rays, kind] : {std::pair{std::span<const gpu::Ray>(b.primary), QueryKind::kClosest},
+                                   std::pair{std::span<const gpu::Ray>(b.ao.rays), QueryKind::kAny}}) {
+    const std::string what = std::string("bunny ") + query_kind_name(kind) + " with HRPP";
+    on.trace(rays, kind);  // fills the table
+    const GpuTraceResult predicted = on.trace(rays, kind);
+    const GpuTraceResult plain = off.trace(rays, kind);
+    ASSERT_TRUE(predicted.predicted) << what;
+    const Tally t = compare(rays, predicted.hits, plain.hits, kind, what, b.scene_diagonal);
+    EXPECT_EQ(t.disagreements, 0u) << what;
+    const std::uint64_t probes = predicted.predictor.c[HRPP_PC_PROBES];
+    const std::uint64_t true_positives = predicted.predictor.c[HRPP_PC_TRUE_POSITIVES];
+    EXPECT_EQ(probes, rays.size()) << what;
+    EXPECT_GT(true_positives, rays.size() / 50) << what;
+    const std::uint64_t without_query = predicted.counters.rays - predicted.traced;
+    std::printf("%s: %llu true positives of %zu rays, %llu answered without a query\n",
+                what.c_str(), static_cast<unsigned long long>(true_positives), rays.size(),
+                static_cast<unsigned long long>(without_query));
+    // Exact hit-all: every true positive still queries, its tmax shortened; hit-any: none does.
+    EXPECT_EQ(without_query, kind == QueryKind::kAny ? true_positives : 0u) << what;
+  }
+  EXPECT_EQ(ray_query_context()->validation_messages(), 0u);
+}
 
 TEST(RayQuery, RefusesNegativeTminByName) {
   REQUIRE_RAY_QUERIES();

@@ -168,7 +168,7 @@ void run_render(RenderOptions& o) {
   check_compute_only(o.shared, {});
   o.render.tracer = o.shared.tracer;
   o.render.device_tracer = o.shared.device_tracer;
-  o.render.predictor = o.hrpp.config();
+  o.render.predictor = o.hrpp.config(o.shared.device_tracer);
   Scene scene = load_scene(o.shared.scene);
   if (o.backend == RenderBackend::kCpu)
     return run_cpu_render(

@@ -85,9 +85,7 @@ void print_figures(const TraceOptions& o, const VulkanContext& ctx, std::size_t 
   std::printf("kernel      %.3f ms%s, %.2f Mrays/s (%d rays per invocation)\n", median,
               o.repeat > 1 ? " median after warm-up" : " (first dispatch: includes JIT)",
               median > 0.0 ? n / (median * 1e3) : 0.0,
-              driver ? 1
-                     : static_cast<int>(
-                           o.shared.tracer.resolved_for(ctx.info()).rays_per_invocation));
+              static_cast<int>(o.shared.tracer.resolved_for(ctx.info()).rays_per_invocation));
   std::printf("reorder     %s%s\n", ray_order_name(o.reorder),
               sorted ? " (the sort's device time is in the kernel time)" : "");
   std::printf("tracer      %s\n", name_in(kDeviceTracerNames, o.shared.device_tracer));
@@ -114,9 +112,8 @@ void print_structure(const AccelerationStructureStats& s) {
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
-  const PredictorConfig predictor = o.hrpp.config();
-  check_compute_only(o.shared, {{"--hrpp", predictor.enabled},
-                                {"--reorder", o.reorder != RayOrder::kOff},
+  const PredictorConfig predictor = o.hrpp.config(o.shared.device_tracer);
+  check_compute_only(o.shared, {{"--reorder", o.reorder != RayOrder::kOff},
                                 {"--count-steps", o.shared.tracer.count_steps},
                                 {"--bvh-layout", o.bvh_layout != NodeLayout::kDfs}});
   if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.query)))
@@ -132,7 +129,7 @@ void run_trace(const TraceOptions& o) {
   std::unique_ptr<RaySorter> sorter;
   std::unique_ptr<Tracer> backend;
   if (o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
-    ray_query = std::make_unique<RayQueryTracer>(ctx, bvh);
+    ray_query = std::make_unique<RayQueryTracer>(ctx, bvh, o.shared.tracer, predictor);
     if (o.repeat > 1) ray_query->warm_up();
     backend = std::make_unique<RayQueryBackend>(*ray_query);
   } else {
@@ -158,8 +155,9 @@ void run_trace(const TraceOptions& o) {
   // (outside the timings).
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  if (tracer)
-    if (const auto s = count_savings(*tracer, predictor, rays, o.query)) {
+  const auto savings = tracer ? count_savings(*tracer, predictor, rays, o.query)
+                              : count_savings(*ray_query, predictor, rays, o.query);
+  if (const auto& s = savings) {
       hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
       hrpp_json["summary"] = predictor_summary_json(*s);
     }

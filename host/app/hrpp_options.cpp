@@ -85,11 +85,12 @@ std::string ray_class_list(const PerClass<bool>& classes) {
   return s;
 }
 
-PredictorConfig HrppOptions::config() const {
+PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
   PredictorConfig c;
   c.enabled = enabled;
   c.mode = mode;
-  c.fallback = fallback;
+  c.fallback = fallback.value_or(tracer == DeviceTracerKind::kRayQuery ? Fallback::kRoot
+                                                                        : Fallback::kSkip);
   for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k]};
   c.go_up = go_up;
   c.go_up_size = go_up_size;
@@ -244,12 +245,13 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->transform(one_of(kPredictorModeNames))
       ->default_str(predictor_mode_name(o.mode))
       ->group(g);
-  cmd->add_option("--hrpp-fallback", o.fallback,
-                  "What a ray its prediction did not answer traces: root (a full traversal, as "
-                  "the paper) or skip (from the root, not entering the nodes its prediction "
-                  "tested: the same answer, the verification not paid twice)")
+  cmd->add_option_function<Fallback>(
+         "--hrpp-fallback", [&o](const Fallback& f) { o.fallback = f; },
+         "What a ray its prediction did not answer traces: root (a full traversal, as "
+         "the paper) or skip (from the root, not entering the nodes its prediction "
+         "tested: the same answer, the verification not paid twice; the BVH kernels only)")
       ->transform(one_of(kFallbackNames))
-      ->default_str(fallback_name(o.fallback))
+      ->default_str("skip; root with --tracer rayquery")
       ->group(g);
   add_key_options(cmd, o, g);
   add_table_options(cmd, o, g);

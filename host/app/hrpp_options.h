@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "gpu/device_tracer_kind.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/predictor_stats.h"
 
@@ -23,7 +24,9 @@ struct HrppOptions {
   PerClass<bool> classes{{true, true, true}};  // --hrpp-rays: the classes that predict
   bool adaptive = true;             // --hrpp-adaptive on | off
   PredictorMode mode = PredictorMode::kSpeculative;
-  Fallback fallback = Fallback::kSkip;  // --hrpp-fallback
+  // --hrpp-fallback; unset: skip in front of the BVH kernels, root in front of the driver's ray
+  // queries (skip lists are the BVH kernels').
+  std::optional<Fallback> fallback;
   // Per ray class (--hash, --hash-bits, --go-up, --go-up-size take "V" for every class, or a
   // list of V and class=V): the --hrpp on default per class, measured in RESULTS.md ("Keys per
   // ray class"): camera rays the paper's key; bounce rays grid-spherical at N = 6 (the finest
@@ -43,8 +46,9 @@ struct HrppOptions {
   bool serial = false;
   bool count_baseline = false;
 
-  // The predictor configuration (enabled = --hrpp on). Throws hrpp::Error naming the flag.
-  PredictorConfig config() const;
+  // The predictor configuration (enabled = --hrpp on) in front of `tracer`. Throws hrpp::Error
+  // naming the flag.
+  PredictorConfig config(DeviceTracerKind tracer = DeviceTracerKind::kCompute) const;
 };
 
 // --hrpp-rays: a comma-separated subset of camera, bounce, shadow; the older names all (camera,

@@ -65,20 +65,9 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
 }
 
 TracerRun RayQueryBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
+  if (hrpp_) tracer_.predictor()->clear();
   GpuTraceResult g = tracer_.trace(rays, kind);
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
-}
-
-std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
-                                              std::span<const gpu::Ray> rays, QueryKind kind) {
-  const RayClass c = ray_file_class(kind);
-  GpuPredictor* hrpp = tracer.predictor();
-  if (!hrpp || !predictor.predicts(c)) return std::nullopt;
-  hrpp->clear();
-  hrpp->set_count_baseline(true);
-  const GpuTraceResult counted = tracer.trace(rays, kind);
-  hrpp->set_count_baseline(false);
-  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), true);
 }
 
 }  // namespace hrpp::app

@@ -27,6 +27,7 @@ enum class TracerKind {
   kGpu,           // the Vulkan trace kernels (gpu/gpu_tracer.h)
   kGpuHrpp,       // the same with the HRPP predictor; tables cleared before every run
   kRayQuery,      // the driver's traversal (gpu/ray_query_tracer.h)
+  kRayQueryHrpp,  // the same with the HRPP stage in front; tables cleared before every run
 };
 
 struct TracerRun {
@@ -115,21 +116,38 @@ class GpuBackend final : public Tracer {
   RaySorter* sorter_;
 };
 
+// kRayQuery, or kRayQueryHrpp when the RayQueryTracer has a predictor.
 class RayQueryBackend final : public Tracer {
  public:
-  explicit RayQueryBackend(RayQueryTracer& tracer) : tracer_(tracer) {}
-  TracerKind kind() const override { return TracerKind::kRayQuery; }
-  const char* name() const override { return "rayquery"; }
-  const char* timing() const override { return "device timestamps around the trace dispatch"; }
+  explicit RayQueryBackend(RayQueryTracer& tracer)
+      : tracer_(tracer), hrpp_(tracer.predictor() != nullptr) {}
+  TracerKind kind() const override {
+    return hrpp_ ? TracerKind::kRayQueryHrpp : TracerKind::kRayQuery;
+  }
+  const char* name() const override { return hrpp_ ? "rq-hrpp" : "rayquery"; }
+  const char* timing() const override { return "device timestamps around the trace dispatches"; }
   TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
   RayQueryTracer& tracer_;
+  bool hrpp_;
 };
 
-// HRPP: one more run from empty tables that also counts what full traversals would visit
-// (outside the timings); nothing when `predictor` does not predict the query's ray class.
-std::optional<PredictorSummary> count_savings(GpuTracer& tracer, const PredictorConfig& predictor,
-                                              std::span<const gpu::Ray> rays, QueryKind kind);
+// HRPP: one more run from empty tables that also counts what full traversals of the project's
+// BVH would visit (outside the timings); nothing when `predictor` does not predict the query's
+// ray class. `tracer`: a GpuTracer or a RayQueryTracer.
+template <class DeviceTracerT>
+std::optional<PredictorSummary> count_savings(DeviceTracerT& tracer,
+                                              const PredictorConfig& predictor,
+                                              std::span<const gpu::Ray> rays, QueryKind kind) {
+  const RayClass c = ray_file_class(kind);
+  GpuPredictor* hrpp = tracer.predictor();
+  if (!hrpp || !predictor.predicts(c)) return std::nullopt;
+  hrpp->clear();
+  hrpp->set_count_baseline(true);
+  const GpuTraceResult counted = tracer.trace(rays, kind);
+  hrpp->set_count_baseline(false);
+  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), true);
+}
 
 }  // namespace hrpp::app

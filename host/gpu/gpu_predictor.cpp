@@ -147,8 +147,19 @@ struct Table {
   }
 };
 
-// The queue's trace kernel: the plain one (--hrpp-fallback root) or the skipping one.
-ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fallback) {
+// The queue's trace kernel: the plain one (--hrpp-fallback root), the skipping one, or with
+// `scene` the driver's ray queries over that acceleration structure.
+ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fallback,
+                                 VkAccelerationStructureKHR scene) {
+  if (scene) {
+    if (fallback != Fallback::kRoot)
+      throw Error("--hrpp-fallback skip: skip lists are the BVH kernels'; in front of the "
+                  "driver's ray queries use --hrpp-fallback root");
+    ComputePipeline p(ctx, ray_query_kernel(kind), embedded_spirv(ray_query_kernel(kind)),
+                      kRayQueryBindingTypes, sizeof(gpu::TracePushConstants));
+    p.bind(HRPP_RAY_QUERY_BINDING_SCENE, scene);
+    return p;
+  }
   if (fallback == Fallback::kRoot)
     return ComputePipeline(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)),
                            kTraceBindingTypes, sizeof(gpu::TracePushConstants));
@@ -156,6 +167,16 @@ ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fa
                          embedded_spirv(trace_skipping_kernel(kind)), kTraceListBindingTypes,
                          sizeof(gpu::TracePushConstants));
 }
+
+// Where the queue's trace kernel takes its rays, hits and counters.
+struct QueueTraceBindings {
+  std::uint32_t rays, hits, counters;
+};
+constexpr QueueTraceBindings kBvhQueueTrace{HRPP_TRACE_BINDING_RAYS, HRPP_TRACE_BINDING_HITS,
+                                            HRPP_TRACE_BINDING_COUNTERS};
+constexpr QueueTraceBindings kRayQueryQueueTrace{HRPP_RAY_QUERY_BINDING_RAYS,
+                                                 HRPP_RAY_QUERY_BINDING_HITS,
+                                                 HRPP_RAY_QUERY_BINDING_COUNTERS};
 
 // The queue of one query kind (hit-all: camera and bounce rays; hit-any: shadow rays) and the
 // trace kernel bound to it.
@@ -165,18 +186,20 @@ struct Queue {
   StorageBuffer rays, entries, hits, skips;  // skips: the skip lists (--hrpp-fallback skip)
   TexelView ray_view, entry_view, hit_view, skip_view;
   ComputePipeline trace;
+  QueueTraceBindings bindings;
   ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
   std::size_t capacity = 0;
 
-  Queue(VulkanContext& ctx, QueryKind kind, Fallback fallback)
+  Queue(VulkanContext& ctx, QueryKind kind, Fallback fallback, VkAccelerationStructureKHR scene)
       : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue", BufferBinding::kStorage,
               MemoryRole::kHostShared),
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters",
                        BufferBinding::kStorage, MemoryRole::kHostShared),
-        trace(make_queue_trace(ctx, kind, fallback)),
+        trace(make_queue_trace(ctx, kind, fallback, scene)),
+        bindings(scene ? kRayQueryQueueTrace : kBvhQueueTrace),
         pass_args(ctx, Kernel::hrpp_pass_args, embedded_spirv(Kernel::hrpp_pass_args), 1,
                   sizeof(gpu::StagePushConstants)) {
-    trace.bind(HRPP_TRACE_BINDING_COUNTERS, trace_counters);
+    trace.bind(bindings.counters, trace_counters);
     pass_args.bind(0, state);
   }
 };
@@ -370,7 +393,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
 }
 
 GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-                           const DeviceBvh& device_bvh)
+                           const DeviceBvh& device_bvh, VkAccelerationStructureKHR scene)
     : s_(std::make_unique<State>()) {
   if (!ctx.info().int64 || !ctx.info().int64_atomics)
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
@@ -395,8 +418,8 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     s_->node_of_prim.push_back({level, std::move(b), std::move(view)});
   }
   for (QueryKind kind : kQueryKinds) {
-    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind, config.fallback);
-    device_bvh.bind(s_->queue(kind).trace);
+    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind, config.fallback, scene);
+    if (!scene) device_bvh.bind(s_->queue(kind).trace);
   }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
@@ -440,8 +463,8 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
     q.hit_view = TexelView(*s_->ctx, q.hits);
     q.skip_view = TexelView(*s_->ctx, q.skips);
     q.capacity = capacity;
-    q.trace.bind(HRPP_TRACE_BINDING_RAYS, q.ray_view);
-    q.trace.bind(HRPP_TRACE_BINDING_HITS, q.hit_view);
+    q.trace.bind(q.bindings.rays, q.ray_view);
+    q.trace.bind(q.bindings.hits, q.hit_view);
     if (s_->config.fallback == Fallback::kSkip)
       q.trace.bind(HRPP_TRACE_BINDING_SKIP_NODES, q.skip_view);
   }
@@ -636,6 +659,40 @@ void GpuPredictor::clear() {
     if (s_->tables[c]) s_->table(c).clear();
     s_->clock[c] = 0;
   }
+}
+
+GpuTraceResult finish_trace(GpuPredictor* predictor, RayClass c,
+                            const std::function<GpuTraceResult()>& plain) {
+  const Probe ran = predictor ? predictor->recorded(c) : Probe::kOff;
+  GpuTraceResult out;
+  if (ran == Probe::kAll) {
+    const PredictedTrace p = predictor->finish(c);
+    out.counters = p.counters;
+    out.predictor = p.predictor;
+    out.traced = p.queued;
+    out.predicted = true;
+  } else {
+    out = plain();
+  }
+  if (ran == Probe::kSample) {
+    const PredictedTrace p = predictor->finish(c);
+    out.predictor = p.predictor;
+    out.sampled = p.counters.rays;
+  }
+  if (predictor) predictor->advance_clock(c, out.counters.rays);
+  return out;
+}
+
+void warm_up_stage(GpuPredictor* predictor, const std::function<void(RayClass)>& trace) {
+  for (RayClass c : kRayClasses) {
+    trace(c);
+    if (!predictor || predictor->probing(c) != Probe::kAll) continue;
+    for (Probe p : {Probe::kOff, Probe::kSample, Probe::kAll}) {
+      predictor->set_probing(c, p);
+      if (p != Probe::kAll) trace(c);
+    }
+  }
+  if (predictor) predictor->clear();  // the warm-up rays leave nothing behind
 }
 
 }  // namespace hrpp

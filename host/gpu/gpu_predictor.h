@@ -2,8 +2,8 @@
 // in one command buffer:
 //   hrpp_predict   hash, probe the class's table, verify the predicted nodes; a true positive
 //                  writes its answer, every other ray is appended to a compacted queue
-//   trace kernel   the very kernel HRPP off runs (trace_closest / trace_any), over the queue,
-//                  dispatched indirectly from the queue's size
+//   trace kernel   the very kernel HRPP off runs (trace_closest / trace_any, or the driver's
+//                  trace_rayquery_*), over the queue, dispatched indirectly from the queue's size
 //   hrpp_resolve   the queued rays' answers into the class's hit array; inserts for those
 //                  that hit (or, in the deterministic batches, requests that hrpp_insert
 //                  applies in ray order)
@@ -12,12 +12,14 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
+#include "gpu/device_tracer.h"
 #include "vk/memory_plan.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
@@ -67,9 +69,12 @@ class GpuPredictor {
                                               std::size_t capacity);
 
   // Throws hrpp::Error when the device lacks 64-bit integer atomics or the table exceeds a
-  // storage buffer (naming the table and the limit), or the configuration is invalid.
+  // storage buffer (naming the table and the limit), or the configuration is invalid. The
+  // prediction is verified on `device_bvh`; the queue is traced by the BVH kernels on it, or
+  // with `scene` by the driver's ray queries on that acceleration structure (RayQueryTracer:
+  // HRPP in front of the driver's traversal).
   GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-               const DeviceBvh& device_bvh);
+               const DeviceBvh& device_bvh, VkAccelerationStructureKHR scene = VK_NULL_HANDLE);
   ~GpuPredictor();
   GpuPredictor(GpuPredictor&&) noexcept;
   GpuPredictor& operator=(GpuPredictor&&) noexcept;
@@ -135,5 +140,15 @@ class GpuPredictor {
   struct State;
   std::unique_ptr<State> s_;
 };
+
+// A device tracer's finish (gpu/device_tracer.h) with `predictor` in front (nullptr: HRPP off):
+// the stage's result when it traced class `c` (Probe::kAll), else plain()'s, the tracer's own
+// trace, with a sample's predictor counters beside it; then the class's clock advances.
+GpuTraceResult finish_trace(GpuPredictor* predictor, RayClass c,
+                            const std::function<GpuTraceResult()>& plain);
+
+// A device tracer's warm-up: trace(c) for every class and, for a class that probes, with every
+// way the adaptive switch may run it (its first dispatches JIT-compile); then empties the tables.
+void warm_up_stage(GpuPredictor* predictor, const std::function<void(RayClass)>& trace);
 
 }  // namespace hrpp

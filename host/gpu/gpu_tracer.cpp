@@ -256,27 +256,8 @@ struct GpuTracer::State {
     return out;
   }
 
-  // After the submit: the plain trace's counters, or the HRPP stage's as it ran (kAll: the whole
-  // trace; kSample: the sample's predictor counters beside the plain trace's).
   GpuTraceResult finish(RayClass c) {
-    const Probe ran = predictor ? predictor->recorded(c) : Probe::kOff;
-    GpuTraceResult out;
-    if (ran == Probe::kAll) {
-      const PredictedTrace p = predictor->finish(c);
-      out.counters = p.counters;
-      out.predictor = p.predictor;
-      out.traced = p.queued;
-      out.predicted = true;
-    } else {
-      out = finish_plain(c);
-    }
-    if (ran == Probe::kSample) {
-      const PredictedTrace p = predictor->finish(c);
-      out.predictor = p.predictor;
-      out.sampled = p.counters.rays;
-    }
-    if (predictor) predictor->advance_clock(c, out.counters.rays);
-    return out;
+    return finish_trace(predictor.get(), c, [&] { return finish_plain(c); });
   }
 };
 
@@ -386,17 +367,7 @@ GpuTraceResult GpuTracer::trace_resident(std::size_t count, RayClass c, RaySorte
 
 void GpuTracer::warm_up() {
   const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
-  GpuPredictor* hrpp = s_->predictor.get();
-  for (RayClass c : kRayClasses) {
-    trace(rays, c);
-    if (s_->probing(c) != Probe::kAll) continue;
-    // The plain kernel and a sample too: the adaptive switch may turn to them.
-    for (Probe p : {Probe::kOff, Probe::kSample, Probe::kAll}) {
-      hrpp->set_probing(c, p);
-      if (p != Probe::kAll) trace(rays, c);
-    }
-  }
-  if (hrpp) hrpp->clear();  // the warm-up rays leave nothing behind
+  warm_up_stage(s_->predictor.get(), [&](RayClass c) { trace(rays, c); });
 }
 
 }  // namespace hrpp

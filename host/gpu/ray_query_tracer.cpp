@@ -6,6 +6,9 @@
 #include <string>
 
 #include "common/error.h"
+#include "gpu/device_bvh.h"
+#include "gpu/gpu_predictor.h"
+#include "gpu/gpu_tracer.h"
 #include "gpu/kernel_bindings.h"
 #include "gpu/trace_counters.h"
 #include "vk/compute_pipeline.h"
@@ -56,15 +59,30 @@ struct RayQueryArrays {
 
 struct RayQueryTracer::State {
   VulkanContext* ctx;
+  GpuTracerConfig config;
   AccelerationStructure structure;
   std::unique_ptr<RayQueryArrays> queries[2];  // [index_of(QueryKind)]
+  DeviceBvh device_bvh;                        // HRPP on: what the stage verifies on
+  std::unique_ptr<GpuPredictor> predictor;     // HRPP on: in front of the ray queries
   KernelTimer timer;
   gpu::Ray probe{};  // warm-up ray: through the scene's centre
 
-  State(VulkanContext& c, const GpuBvh& bvh)
-      : ctx(&c), structure(c, triangle_vertices(bvh)), timer(c, 4) {
+  State(VulkanContext& c, const GpuBvh& bvh, const GpuTracerConfig& cfg,
+        const PredictorConfig& predictor_config)
+      : ctx(&c),
+        config(cfg.resolved_for(c.info())),
+        structure(c, triangle_vertices(bvh)),
+        timer(c, 16) {  // HRPP's pilot schedule: two rounds of 3 dispatches
     for (QueryKind kind : kQueryKinds)
       queries[index_of(kind)] = std::make_unique<RayQueryArrays>(c, kind, structure.top());
+    if (predictor_config.enabled) {
+      if (bvh.format() != NodeFormat::kBinary)
+        throw Error("HRPP's predictor tests binary nodes (--bvh-nodes binary)");
+      device_bvh = DeviceBvh(c, bvh);
+      predictor = std::make_unique<GpuPredictor>(c, bvh, predictor_config, device_bvh,
+                                                 structure.top());
+      device_bvh.upload(bvh);
+    }
     const glm::vec3 centre = 0.5f * (bvh.bounds.lo + bvh.bounds.hi);
     probe.origin = centre - glm::vec3(bvh.bounds.hi.x - bvh.bounds.lo.x + 1.0f, 0.0f, 0.0f);
     probe.dir = {1.0f, 0.0f, 0.0f};
@@ -87,13 +105,19 @@ struct RayQueryTracer::State {
     a.hit_view = TexelView(*ctx, a.hits);
     a.kernel.bind(HRPP_RAY_QUERY_BINDING_RAYS, a.ray_view);
     a.kernel.bind(HRPP_RAY_QUERY_BINDING_HITS, a.hit_view);
+    if (predictor) predictor->bind_rays(query_kind(c), a.ray_view, a.hit_view, n);
   }
 
-  static gpu::TracePushConstants push_constants() {
+  gpu::TracePushConstants push_constants() const {
     gpu::TracePushConstants pc{};
-    pc.rays_per_invocation = 1;
+    pc.rays_per_invocation = config.rays_per_invocation;
     pc.canary_iterations = kCanaryIterations;
     return pc;
+  }
+
+  std::uint32_t rays_per_workgroup() const {
+    if (predictor) return predictor->rays_per_workgroup(config.rays_per_invocation);
+    return HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
   }
 
   static TimerLabel label(const ComputePipeline& p, RayClass c) {
@@ -101,6 +125,10 @@ struct RayQueryTracer::State {
   }
 
   GpuTraceResult finish(RayClass c) {
+    return finish_trace(predictor.get(), c, [&] { return finish_plain(c); });
+  }
+
+  GpuTraceResult finish_plain(RayClass c) {
     RayQueryArrays& a = query(c);
     gpu::TraceCounters k{};
     a.counters.download(&k, sizeof k);
@@ -111,12 +139,13 @@ struct RayQueryTracer::State {
                   " of " + std::to_string(k.ray_count) + " rays finished (" +
                   std::to_string(k.aborted) +
                   " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
-                  "subgroup) ended the kernel's loops");
+                  "subgroup) ended the kernel's loops; lower rays_per_invocation");
     out.traced = out.counters.rays;
     return out;
   }
 
   GpuTraceResult trace_resident(std::uint32_t n, RayClass c) {
+    if (predictor) predictor->begin(c);
     ctx->submit_and_wait(
         [&](VkCommandBuffer cmd) {
           timer.reset(cmd);
@@ -131,23 +160,44 @@ struct RayQueryTracer::State {
   void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* t) {
     RayQueryArrays& a = query(c);
     if (count * sizeof(gpu::Ray) > a.rays.size() ||
-        count > RayQueryTracer::max_dispatch_rays(ctx->info()))
+        count > RayQueryTracer::max_dispatch_rays(ctx->info(), config))
       throw Error("trace: " + std::to_string(count) +
                   " rays exceed the device-resident ray array or one dispatch");
-    record_counters_start(cmd, a.counters, &count, nullptr, 0);
     const gpu::TracePushConstants pc = push_constants();
-    record_dispatch(cmd, a.kernel, &pc, (count + HRPP_TRACE_WORKGROUP_SIZE - 1) /
-                                            HRPP_TRACE_WORKGROUP_SIZE,
-                    t, label(a.kernel, c));
+    if (predictor && predictor->record_trace(cmd, c, RayCountSource{&count}, pc, t)) return;
+    record_counters_start(cmd, a.counters, &count, nullptr, 0);
+    const std::uint32_t per_group = rays_per_workgroup();
+    record_dispatch(cmd, a.kernel, &pc, (count + per_group - 1) / per_group, t,
+                    label(a.kernel, c));
+  }
+
+  void record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
+                       VkDeviceSize count_offset, VkDeviceSize args_offset, KernelTimer* t) {
+    RayQueryArrays& a = query(c);
+    if (a.rays.size() == 0)
+      throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
+    if (predictor && !predictor->records_indirect(c))
+      throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
+    const gpu::TracePushConstants pc = push_constants();
+    const RayCountSource source{nullptr, &queue, count_offset, args_offset};
+    if (predictor && predictor->record_trace(cmd, c, source, pc, t)) return;
+    record_counters_start(cmd, a.counters, nullptr, &queue, count_offset);
+    record_dispatch_indirect(cmd, a.kernel, &pc, queue, args_offset, t, label(a.kernel, c));
   }
 };
 
 std::vector<BufferNeed> RayQueryTracer::buffer_needs(const GpuBvh& bvh,
+                                                     const PredictorConfig& predictor,
                                                      std::size_t resident_rays) {
   std::uint64_t ids = 0;
   for (const gpu::TriangleRecord& t : bvh.triangles) ids = std::max<std::uint64_t>(ids, t.prim + 1);
   std::vector<BufferNeed> needs = {{"acceleration structure vertices", ids * 3 * sizeof(glm::vec3),
                                     BufferBinding::kAddressOnly}};
+  if (predictor.enabled) {
+    for (BufferNeed& n : DeviceBvh::buffer_needs(bvh)) needs.push_back(std::move(n));
+    for (BufferNeed& n : GpuPredictor::buffer_needs(bvh, predictor, resident_rays))
+      needs.push_back(std::move(n));
+  }
   for (QueryKind kind : kQueryKinds) {
     const std::string label = query_kind_label(kind);
     needs.push_back({label + " ray array", resident_rays * sizeof(gpu::Ray)});
@@ -156,8 +206,9 @@ std::vector<BufferNeed> RayQueryTracer::buffer_needs(const GpuBvh& bvh,
   return needs;
 }
 
-RayQueryTracer::RayQueryTracer(VulkanContext& ctx, const GpuBvh& bvh)
-    : s_(std::make_unique<State>(ctx, bvh)) {}
+RayQueryTracer::RayQueryTracer(VulkanContext& ctx, const GpuBvh& bvh,
+                               const GpuTracerConfig& config, const PredictorConfig& predictor)
+    : s_(std::make_unique<State>(ctx, bvh, config, predictor)) {}
 RayQueryTracer::~RayQueryTracer() = default;
 RayQueryTracer::RayQueryTracer(RayQueryTracer&&) noexcept = default;
 RayQueryTracer& RayQueryTracer::operator=(RayQueryTracer&&) noexcept = default;
@@ -166,15 +217,12 @@ const AccelerationStructureStats& RayQueryTracer::structure() const {
   return s_->structure.stats();
 }
 
-std::size_t RayQueryTracer::max_dispatch_rays(const DeviceInfo& d) {
-  const std::uint64_t by_range =
-      std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
-                              std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
-                                  sizeof(gpu::Ray));
-  const std::uint64_t by_groups =
-      static_cast<std::uint64_t>(d.max_workgroup_count_x) * HRPP_TRACE_WORKGROUP_SIZE;
-  return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));
+std::size_t RayQueryTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerConfig& config) {
+  return GpuTracer::max_dispatch_rays(d, config);  // the same arrays and workgroups
 }
+
+GpuPredictor* RayQueryTracer::predictor() { return s_->predictor.get(); }
+const GpuPredictor* RayQueryTracer::predictor() const { return s_->predictor.get(); }
 
 GpuTraceResult RayQueryTracer::trace(std::span<const gpu::Ray> rays, RayClass c) {
   for (std::size_t i = 0; i < rays.size(); ++i)
@@ -184,7 +232,7 @@ GpuTraceResult RayQueryTracer::trace(std::span<const gpu::Ray> rays, RayClass c)
                   " < 0; Vulkan's ray queries start at tmin >= 0 (--tracer compute takes it)");
   GpuTraceResult out;
   out.hits.resize(rays.size());
-  const std::size_t chunk = max_dispatch_rays(s_->ctx->info());
+  const std::size_t chunk = max_dispatch_rays(s_->ctx->info(), s_->config);
   for (std::size_t first = 0; first < rays.size(); first += chunk) {
     const std::size_t n = std::min(chunk, rays.size() - first);
     s_->ensure_capacity(c, n);
@@ -195,6 +243,9 @@ GpuTraceResult RayQueryTracer::trace(std::span<const gpu::Ray> rays, RayClass c)
     out.counters += r.counters;
     out.kernel_ms += r.kernel_ms;
     out.traced += r.traced;
+    out.predicted = r.predicted;
+    out.sampled += r.sampled;
+    out.predictor += r.predictor;
   }
   if (query_kind(c) == QueryKind::kAny) to_occlusion_records(out.hits);
   return out;
@@ -207,7 +258,9 @@ StorageBuffer& RayQueryTracer::ray_buffer(RayClass c, std::size_t rays) {
 
 StorageBuffer& RayQueryTracer::hit_buffer(RayClass c) { return s_->query(c).hits; }
 
-void RayQueryTracer::begin(RayClass) {}
+void RayQueryTracer::begin(RayClass c) {
+  if (s_->predictor) s_->predictor->begin(c);
+}
 
 void RayQueryTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
                             KernelTimer* timer, const TexelView* ray_indices) {
@@ -220,22 +273,20 @@ void RayQueryTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count
 void RayQueryTracer::record_indirect(VkCommandBuffer cmd, RayClass c, const StorageBuffer& queue,
                                      VkDeviceSize count_offset, VkDeviceSize args_offset,
                                      KernelTimer* timer) {
-  RayQueryArrays& a = s_->query(c);
-  if (a.rays.size() == 0)
-    throw Error("trace: record_indirect before ray_buffer() sized the resident arrays");
-  record_counters_start(cmd, a.counters, nullptr, &queue, count_offset);
-  const gpu::TracePushConstants pc = State::push_constants();
-  record_dispatch_indirect(cmd, a.kernel, &pc, queue, args_offset, timer,
-                           State::label(a.kernel, c));
+  s_->record_indirect(cmd, c, queue, count_offset, args_offset, timer);
 }
 
 GpuTraceResult RayQueryTracer::finish(RayClass c) { return s_->finish(c); }
 
-std::uint32_t RayQueryTracer::rays_per_workgroup() const { return HRPP_TRACE_WORKGROUP_SIZE; }
+bool RayQueryTracer::records_indirect(RayClass c) const {
+  return !s_->predictor || s_->predictor->records_indirect(c);
+}
+
+std::uint32_t RayQueryTracer::rays_per_workgroup() const { return s_->rays_per_workgroup(); }
 
 void RayQueryTracer::warm_up() {
   const std::vector<gpu::Ray> rays(HRPP_TRACE_WORKGROUP_SIZE, s_->probe);
-  for (QueryKind kind : kQueryKinds) trace(rays, kind);
+  warm_up_stage(s_->predictor.get(), [&](RayClass c) { trace(rays, c); });
 }
 
 }  // namespace hrpp

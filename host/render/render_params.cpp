@@ -19,8 +19,6 @@ void check_render_config(const RenderConfig& c, const Scene& scene) {
   if (c.max_depth == 0 || c.max_depth > RenderConfig::kMaxDepth)
     throw Error("max depth (--max-depth) must be 1.." + std::to_string(RenderConfig::kMaxDepth));
   if (c.wavefront_paths == 0) throw Error("wavefront paths (--wavefront) must be at least 1");
-  if (c.device_tracer == DeviceTracerKind::kRayQuery && c.predictor.enabled)
-    throw Error("--hrpp: HRPP predicts in front of the BVH kernels only (--tracer compute)");
   if (c.device_tracer == DeviceTracerKind::kRayQuery && c.reorder != RayOrder::kOff)
     throw Error("--reorder: the ray-query tracer (--tracer rayquery) traces rays in their order");
   if (c.camera >= scene.cameras.size())

@@ -111,7 +111,7 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
       {config.wavefront_paths, std::size_t{config.width} * config.height,
        std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
        config.device_tracer == DeviceTracerKind::kRayQuery
-           ? RayQueryTracer::max_dispatch_rays(c.info())
+           ? RayQueryTracer::max_dispatch_rays(c.info(), config.tracer)
            : GpuTracer::max_dispatch_rays(c.info(), config.tracer)}));
 }
 
@@ -121,7 +121,7 @@ const RenderBufferNeeds& check_render_fits(const VulkanContext& c, const Scene& 
                                            const GpuBvh& bvh, const RenderConfig& config,
                                            std::uint32_t wave, const RenderBufferNeeds& needs) {
   std::vector<BufferNeed> all = config.device_tracer == DeviceTracerKind::kRayQuery
-                                    ? RayQueryTracer::buffer_needs(bvh, wave)
+                                    ? RayQueryTracer::buffer_needs(bvh, config.predictor, wave)
                                     : GpuTracer::buffer_needs(bvh, config.predictor, wave);
   for (BufferNeed& n : needs.all()) all.push_back(std::move(n));
   check_fits("scene '" + scene.name + "' (" + std::to_string(scene.triangles.size()) +
@@ -155,7 +155,7 @@ std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
       free_array(host.scene->triangles);
       free_array(host.scene->shading);
     }
-    return std::make_unique<RayQueryTracer>(c, bvh);
+    return std::make_unique<RayQueryTracer>(c, bvh, config.tracer, config.predictor);
   }
   if (!host.bvh) return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
   free_array(host.scene->triangles);

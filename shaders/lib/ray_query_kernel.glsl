@@ -1,7 +1,7 @@
 // Body of the ray-query kernels: trace_rayquery_closest.comp (HRPP_ANY_HIT 0) and
 // trace_rayquery_any.comp (HRPP_ANY_HIT 1). The driver's traversal (GL_EXT_ray_query) over its
 // acceleration structure (host/vk/acceleration_structure.h) answers each ray, one per
-// invocation, with the BVH kernels' rules (host/trace/cpu_traversal.h): a hit needs
+// invocation at a time, with the BVH kernels' rules (host/trace/cpu_traversal.h): a hit needs
 // tmin <= t <= tmax, both faces count, and a ray with a NaN or infinite origin or direction, a
 // zero direction, a NaN tmin or tmax, or tmin > tmax misses without a query. Closest hits break
 // ties as the driver does (the BVH kernels: to the lower id). Vulkan requires 0 <= tmin: the
@@ -52,20 +52,28 @@ Hit query(Ray r) {
   return h;
 }
 
+// Persistent invocations as in trace_kernel.glsl: one lane per subgroup takes the next rays with
+// atomicAdd on the counters' cursor, at most pc.rays_per_invocation per invocation (lavapipe's
+// loop limiter counts the driver's traversal loops too).
 void main() {
-  const uint index = gl_GlobalInvocationID.x;
-  const bool mine = index < counters.ray_count;
   uint done = 0u, hit_count = 0u, aborted = 0u;
-  if (mine) {
+  for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
+    const uvec4 lanes = subgroupBallot(true);
+    uint base = 0u;
+    if (subgroupElect()) base = atomicAdd(counters.next_ray, subgroupBallotBitCount(lanes));
+    base = subgroupBroadcastFirst(base);
+    if (base >= counters.ray_count) break;  // uniform across the subgroup
+    const uint index = base + subgroupBallotExclusiveBitCount(lanes);
+    if (index >= counters.ray_count) continue;
     const Hit h = query(load_ray(index));
     if (loop_budget_left()) {
       imageStore(hit_texels, int(index),
                  uvec4(uint(h.prim), floatBitsToUint(h.t), floatBitsToUint(h.u),
                        floatBitsToUint(h.v)));
-      done = 1u;
-      hit_count = h.prim >= 0 ? 1u : 0u;
+      ++done;
+      if (h.prim >= 0) ++hit_count;
     } else {
-      aborted = 1u;
+      ++aborted;
     }
   }
   const uint done_sum = subgroupAdd(done), hit_sum = subgroupAdd(hit_count);

@@ -52,7 +52,8 @@ namespace hrpp::gpu {
 // The ray-query kernels (trace_rayquery_closest, trace_rayquery_any: the driver's traversal,
 // host/gpu/ray_query_tracer.h) bind the top-level acceleration structure, the rays (a uniform
 // texel buffer, as above), the hits (a storage texel buffer) and the TraceCounters, and take
-// TracePushConstants; one ray per invocation.
+// TracePushConstants (rays_per_invocation and canary_iterations), persistent invocations as the
+// trace kernels'.
 #define HRPP_RAY_QUERY_BINDING_SCENE 0
 #define HRPP_RAY_QUERY_BINDING_RAYS 1
 #define HRPP_RAY_QUERY_BINDING_HITS 2
