@@ -26,9 +26,13 @@ no kernels, so no time per class). Its times are the frames' wall time, and a cl
 the frame with only that class predicted (--hrpp-rays CLASS, one more render per class) against
 the frame with HRPP off; the frame's and the image's figures are those of every class
 predicted. No floor (no separate probe).
+
+--tracer rayquery renders with the driver's ray queries (VK_KHR_ray_query) with HRPP in front of
+them: on/off ratios per ray class for that tracer (no interior-node counts: the driver's work is
+invisible).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
-                           [--images DIR] [--backend gpu|cpu]
+                           [--images DIR] [--backend gpu|cpu] [--tracer compute|rayquery]
 """
 import argparse
 import json
@@ -97,7 +101,7 @@ def ratio(a, b):
 def bench_scene(binary, scene, a, tmp):
     offs, ons, per_class = [], [], {}
     exr_off = exr_on = None
-    base = ["--backend", a.backend]
+    base = ["--backend", a.backend] + (["--tracer", a.tracer] if a.backend == "gpu" else [])
     on_flags = base + ["--hrpp", "on"] + a.flags.split()
     for i in range(a.repeat):
         s, exr_off = render_pair_side(binary, scene, a, base + ["--hrpp", "off"], tmp, f"off{i}")
@@ -163,12 +167,16 @@ def main():
     ap.add_argument("--images", help="keep the renders (SCENE_offN.exr, SCENE_onN.exr, stats) here")
     ap.add_argument("--backend", choices=["gpu", "cpu"], default="gpu",
                     help="cpu: the CPU renderer with HRPP inline (frame wall times)")
+    ap.add_argument("--tracer", choices=["compute", "rayquery"], default="compute",
+                    help="--backend gpu: the device tracer HRPP runs in front of")
     a = ap.parse_args()
+    if a.backend == "cpu" and a.tracer != "compute":
+        ap.error("--tracer: the CPU backend traces its own BVH")
     if a.quick:
         a.size, a.spp, a.repeat = "256x256", 2, 1
     if not os.access(a.hrpp, os.X_OK):
         sys.exit(f"hrpp_bench: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
-    print(f"hrpp_bench: {a.backend}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
+    print(f"hrpp_bench: {a.backend}{' ' + a.tracer if a.backend == 'gpu' else ''}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
           f"pairs, on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); "
           f"load {os.getloadavg()[0]:.2f}", flush=True)
     rows = []
@@ -180,7 +188,7 @@ def main():
             print_row(rows[-1])
     if a.json:
         with open(a.json + ".partial", "w") as f:
-            json.dump({"backend": a.backend, "size": a.size, "spp": a.spp, "seed": a.seed,
+            json.dump({"backend": a.backend, "tracer": a.tracer, "size": a.size, "spp": a.spp, "seed": a.seed,
                        "flags": a.flags,
                        "rows": rows}, f, indent=1)
         os.replace(a.json + ".partial", a.json)

@@ -265,6 +265,7 @@ struct Backends {
   std::unique_ptr<GpuTracer> gpu;
   std::unique_ptr<GpuTracer> hrpp;  // HRPP on: a second GPU tracer that probes the predictor
   std::unique_ptr<RayQueryTracer> ray_query;  // --tracer rayquery: the driver's traversal too
+  std::unique_ptr<RayQueryTracer> ray_query_hrpp;  // and with HRPP on, the stage in front of it
   PredictorConfig predictor;
   std::vector<std::unique_ptr<Tracer>> tracers;
 };
@@ -310,6 +311,12 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
                           {"build_ms", s.build_ms},
                           {"bvh_bytes", bvh.bytes()}};
     b.tracers.push_back(std::make_unique<RayQueryBackend>(*b.ray_query));
+    if (b.predictor.enabled) {
+      b.ray_query_hrpp = std::make_unique<RayQueryTracer>(
+          *ctx, bvh, o.shared.tracer, o.hrpp.config(DeviceTracerKind::kRayQuery));
+      b.ray_query_hrpp->warm_up();
+      b.tracers.push_back(std::make_unique<RayQueryBackend>(*b.ray_query_hrpp));
+    }
   }
   if (ctx && b.predictor.enabled) {
     b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
@@ -390,6 +397,7 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
   std::vector<gpu::Hit> ref_hits, hits;
   for (const std::unique_ptr<Tracer>& t : b.tracers) {
     const bool hrpp = t->kind() == TracerKind::kGpuHrpp || t->kind() == TracerKind::kCpuHrpp ||
+                      t->kind() == TracerKind::kRayQueryHrpp ||
                       t->kind() == TracerKind::kEmbreeHrpp;
     if (hrpp && !b.predictor.predicts(ray_file_class(kind))) continue;
     const bool reference = t->kind() == TracerKind::kCpuReference;
@@ -501,6 +509,12 @@ void print_ratios(const std::vector<TracerResult>& results,
     std::printf("%-8s %9s %-7s gpu/rayquery %.3f (kernel time, same run)\n", "", "", "",
                 gpu->mrays / driver->mrays);
     kj["gpu_over_rayquery"] = gpu->mrays / driver->mrays;
+  }
+  const TracerResult* driver_hrpp = find(results, TracerKind::kRayQueryHrpp);
+  if (driver && driver_hrpp && driver->mrays > 0.0) {
+    std::printf("%-8s %9s %-7s rq-hrpp/rayquery %.3f (kernel time, same run)\n", "", "", "",
+                driver_hrpp->mrays / driver->mrays);
+    kj["rayquery_hrpp_speedup"] = driver_hrpp->mrays / driver->mrays;
   }
 }
 

@@ -109,6 +109,36 @@ void print_structure(const AccelerationStructureStats& s) {
               format_bytes(s.bytes).c_str(), format_bytes(s.uncompacted_bytes).c_str(), s.build_ms);
 }
 
+// The device tracer --tracer names (--repeat > 1: warmed up), and what it needs kept alive.
+struct TraceBackend {
+  std::unique_ptr<GpuTracer> tracer;
+  std::unique_ptr<RayQueryTracer> ray_query;
+  std::unique_ptr<RaySorter> sorter;
+  std::unique_ptr<Tracer> backend;
+};
+
+TraceBackend make_backend(const TraceOptions& o, VulkanContext& ctx, const GpuBvh& bvh,
+                          const PredictorConfig& predictor, std::span<const gpu::Ray> rays) {
+  TraceBackend b;
+  if (o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
+    b.ray_query = std::make_unique<RayQueryTracer>(ctx, bvh, o.shared.tracer, predictor);
+    if (o.repeat > 1) b.ray_query->warm_up();
+    b.backend = std::make_unique<RayQueryBackend>(*b.ray_query);
+    return b;
+  }
+  b.tracer = std::make_unique<GpuTracer>(ctx, bvh, o.shared.tracer, predictor);
+  b.sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
+  if (o.repeat > 1) {
+    b.tracer->warm_up();
+    if (b.sorter)
+      b.tracer->trace(rays.first(std::min<std::size_t>(rays.size(), 64)), o.query,
+                      b.sorter.get());  // the sort's and indexed kernels' JIT
+  }
+  // HRPP on: every run starts from an empty table (GpuBackend clears it).
+  b.backend = std::make_unique<GpuBackend>(*b.tracer, b.sorter.get());
+  return b;
+}
+
 void run_trace(const TraceOptions& o) {
   check_output_path(o.hits, "--hits");
   check_output_path(o.stats, "--stats");
@@ -124,26 +154,10 @@ void run_trace(const TraceOptions& o) {
   const GpuBvh bvh = make_gpu_layout(build_bvh(scene, o.shared.bvh), scene, o.bvh_layout,
                                      o.shared.nodes);
   VulkanContext ctx(o.shared.vulkan);
-  std::unique_ptr<GpuTracer> tracer;
-  std::unique_ptr<RayQueryTracer> ray_query;
-  std::unique_ptr<RaySorter> sorter;
-  std::unique_ptr<Tracer> backend;
-  if (o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
-    ray_query = std::make_unique<RayQueryTracer>(ctx, bvh, o.shared.tracer, predictor);
-    if (o.repeat > 1) ray_query->warm_up();
-    backend = std::make_unique<RayQueryBackend>(*ray_query);
-  } else {
-    tracer = std::make_unique<GpuTracer>(ctx, bvh, o.shared.tracer, predictor);
-    sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
-    if (o.repeat > 1) {
-      tracer->warm_up();
-      if (sorter)
-        tracer->trace(std::span(rays).first(std::min<std::size_t>(rays.size(), 64)), o.query,
-                      sorter.get());  // the sort's and indexed kernels' JIT
-    }
-    // HRPP on: every run starts from an empty table (GpuBackend clears it).
-    backend = std::make_unique<GpuBackend>(*tracer, sorter.get());
-  }
+  const TraceBackend b = make_backend(o, ctx, bvh, predictor, rays);
+  const std::unique_ptr<Tracer>& backend = b.backend;
+  const std::unique_ptr<RaySorter>& sorter = b.sorter;
+  const std::unique_ptr<RayQueryTracer>& ray_query = b.ray_query;
 
   TracerRun result;
   std::vector<double> ms;
@@ -155,8 +169,8 @@ void run_trace(const TraceOptions& o) {
   // (outside the timings).
   std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  const auto savings = tracer ? count_savings(*tracer, predictor, rays, o.query)
-                              : count_savings(*ray_query, predictor, rays, o.query);
+  const auto savings = b.tracer ? count_savings(*b.tracer, predictor, rays, o.query)
+                                : count_savings(*ray_query, predictor, rays, o.query);
   if (const auto& s = savings) {
       hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
       hrpp_json["summary"] = predictor_summary_json(*s);

@@ -165,8 +165,10 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&&) noexcept = defaul
 void ComputePipeline::bind(std::uint32_t binding, const StorageBuffer& buffer) {
   if (buffer.binding() != BufferBinding::kStorage)
     throw Error(s_->name + ": " + buffer.name() +
-                " is read through texel views or its address only and cannot be bound as a "
-                "storage buffer");
+                (buffer.binding() == BufferBinding::kTexelOnly
+                     ? " is read through texel views only"
+                     : " is reached by its device address only") +
+                " and cannot be bound as a storage buffer");
   VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
   VkWriteDescriptorSet w{};
   w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
