@@ -17,13 +17,12 @@ import argparse
 import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import DEFAULT_BIN, REPO, run, scene_arg  # noqa: E402
+from hrpp_common import DEFAULT_BIN, REPO, cpu_model, run, scene_arg  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = "cornell,teapot,bunny,lamborghini,dragon"
@@ -46,17 +45,6 @@ def bench(a, scene, bits, out):
         wrong = hrpp["mismatches"] / max(hrpp["checked"], 1) if k["query"] == "closest" else None
         figures[k["kind"]] = (h["time_over_off"], wrong, h["true_positives"] / max(h["probes"], 1))
     return figures
-
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "?"
 
 
 def rows_of(results, a):

@@ -4,6 +4,7 @@ that every script computes them the same way. The commands import it (sys.path h
 """
 import json
 import os
+import platform
 import subprocess
 import sys
 
@@ -15,6 +16,18 @@ STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "drag
 # The estimator scripts' scenes: the Cornell boxes, two stand-ins, two lights near surfaces.
 ESTIMATOR_SCENES = "builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel"
 EPS = 1e-2  # relMSE's guard: (x - ref)^2 / (ref^2 + EPS)
+
+
+def cpu_model():
+    """The CPU's model name (/proc/cpuinfo), for the headers of generated blocks."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "?"
 
 
 def scene_arg(name):

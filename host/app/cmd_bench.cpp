@@ -140,7 +140,7 @@ struct TracerResult {
   std::size_t hits = 0;
   Validation validation;
   std::optional<TraversalCounters> counters;          // GPU: work per batch
-  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp: the last run's HRPP_PC_*
+  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp, rq-hrpp: the last run's HRPP_PC_*
   std::string timing;                                 // what the ms measure
   bool speculative = false;  // HRPP speculative hit-all: mismatches are wrong predictions
 };
@@ -191,6 +191,10 @@ nlohmann::json tracer_json(const TracerResult& t) {
                      {"leaves_visited", t.counters->leaves_visited},
                      {"triangles_tested", t.counters->triangles_tested},
                      {"hits", t.counters->hits}};
+  if (t.predictor)
+    j["predictor"] = {{"probes", t.predictor->c[HRPP_PC_PROBES]},
+                      {"predictor_hits", t.predictor->c[HRPP_PC_PREDICTOR_HITS]},
+                      {"true_positives", t.predictor->c[HRPP_PC_TRUE_POSITIVES]}};
   return j;
 }
 

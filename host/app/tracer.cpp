@@ -67,7 +67,9 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
 TracerRun RayQueryBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   if (hrpp_) tracer_.predictor()->clear();
   GpuTraceResult g = tracer_.trace(rays, kind);
-  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
+  std::optional<gpu::PredictorCounters> predictor;
+  if (g.predicted) predictor = g.predictor;
+  return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, predictor};
 }
 
 }  // namespace hrpp::app

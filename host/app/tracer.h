@@ -34,7 +34,7 @@ struct TracerRun {
   std::vector<gpu::Hit> hits;
   double ms = 0.0;
   std::optional<TraversalCounters> counters;          // the GPU's work
-  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp: HRPP_PC_*
+  std::optional<gpu::PredictorCounters> predictor;  // cpu-hrpp, rq-hrpp: HRPP_PC_*
 };
 
 class Tracer {
