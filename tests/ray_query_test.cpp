@@ -302,5 +302,32 @@ TEST_F(RayQueryCli, ADeviceWithoutTheExtensionIsRefusedWithOneLine) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "hits.bin"));
 }
 
+// Flags the ray-query tracer cannot honour end the command with one line naming the flag, before
+// any device work.
+TEST_F(RayQueryCli, BadCombinationsAreRefusedWithOneLine) {
+  const std::filesystem::path rays = dir_ / "rays.bin";
+  const gpu::Ray ray{{0, 0, -5}, 0.0f, {0, 0, 1}, 1e30f};
+  std::ofstream(rays, std::ios::binary).write(reinterpret_cast<const char*>(&ray), sizeof ray);
+  const std::string trace = "trace builtin:cornell --rays " + rays.string() + " --hits " +
+                            (dir_ / "hits.bin").string() + " --tracer ";
+  const std::pair<std::string, std::string> cases[] = {
+      {trace + "bogus", "--tracer"},
+      {trace + "rayquery --reorder morton", "--reorder"},
+      {trace + "rayquery --bvh-nodes wide4", "--bvh-nodes"},
+      {trace + "rayquery --count-steps", "--count-steps"},
+      {trace + "rayquery --hrpp on --hrpp-fallback skip", "--hrpp-fallback skip"},
+      {"render --backend cpu --tracer rayquery --out " + (dir_ / "x.exr").string(), "--tracer"},
+      {"render --tracer rayquery --reorder morton --out " + (dir_ / "x.exr").string(),
+       "--reorder"}};
+  for (const auto& [args, flag] : cases) {
+    const test::CliResult r = run(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "hits.bin")) << args;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "x.exr")) << args;
+  }
+}
+
 }  // namespace
 }  // namespace hrpp

@@ -20,7 +20,11 @@
 #   8. tools/hrpp_model.py: this device's cost per operation fitted, its held-out error and where
 #      prediction would pay here (docs/EXPERIMENTS.md, "The cost model");
 #   9. step 7 again with the paper's fallback (--hrpp-fallback root): what the skip fallback
-#      (step 7, the default) saves in time on this device.
+#      (step 7, the default) saves in time on this device;
+#  10. where the device has VK_KHR_ray_query (step 1 says), the driver's ray queries beside the
+#      BVH kernels and Embree, with HRPP in front of them (hrpp bench --tracer rayquery --hrpp on
+#      on bunny, lamborghini and dragon, and tools/hrpp_bench.py --tracer rayquery); elsewhere
+#      one line saying that the device has none.
 # Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
 # On the GPU machine (no network, a fresh checkout), from the repository's root:
@@ -48,7 +52,7 @@
 #   --repeat N    hrpp bench's timed runs per tracer and batch (default 5)
 #   --deadline S  start no step after S seconds, and cut a running one there (default 480)
 #   --steps LIST  only these steps, comma-separated (default all; the machine's is always run):
-#                 bench order trace render hrpp_bench tests every_ray model root (order and trace
+#                 bench order trace render hrpp_bench tests every_ray model root rayquery (order and trace
 #                 use the rays of bench's bunny run, which they run when bench is not named)
 #   --quick       small sizes and one scene: a run of the whole script on lavapipe in about a
 #                 minute (the test suite's gpu_figures_quick)
@@ -66,7 +70,7 @@ out=build/gpu_figures
 repeat=5
 deadline=480
 quick=0
-all_steps="bench order trace render hrpp_bench tests every_ray model root"
+all_steps="bench order trace render hrpp_bench tests every_ray model root rayquery"
 steps=",${all_steps// /,},"
 pack=0
 build=build/portable
@@ -384,6 +388,21 @@ if want root; then
   limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
     "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off --hrpp-fallback root" \
     --json "$out/hrpp_bench_every_ray_root.json"
+fi
+
+if want rayquery; then
+  step "the driver's ray queries (--tracer rayquery), with HRPP in front"
+  if grep -q VK_KHR_ray_query "$out/ray_tracing.txt" 2>/dev/null; then
+    for scene in "${scenes[@]}"; do
+      limit 90 "rayquery bench $scene" "$hrpp" bench "$scene" --tracer rayquery --hrpp on \
+        "${bench_args[@]}" --json "$out/rayquery_$scene.json"
+    done
+    limit 90 "hrpp_bench rayquery" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+      "${hb_args[@]}" --repeat 1 --tracer rayquery --json "$out/hrpp_bench_rayquery.json"
+  else
+    echo "no VK_KHR_ray_query on this device ($(cat "$out/ray_tracing.txt" 2>/dev/null)):" \
+      "the ray-query tracer cannot run here"
+  fi
 fi
 
 step "done"
