@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""tools/cost_model.py, the fit of tools/hrpp_model.py, on synthetic renders whose costs are
+"""tools/model_common.py, the fit of tools/hrpp_model.py, on synthetic renders whose costs are
 known: stats JSON files built from random operation counts and chosen costs per operation, with
 1% multiplicative noise on every kernel time. The fit must recover every cost that carries
 weight within 10% (the subgroup steps with a predictor hit of both predict kernels among them), predict held-out runs' class times within 5%, and the break-even answers
@@ -10,8 +10,6 @@ on tiny renders is the model grid of tests/sweep_test.sh (tools/sweep.sh --test)
 Usage: hrpp_model_test.py"""
 import copy
 import os
-import re
-import subprocess
 import sys
 
 import numpy as np
@@ -19,7 +17,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOOLS = os.path.join(HERE, "..", "tools")
 sys.path.insert(0, TOOLS)
-import cost_model as cm  # noqa: E402
+import model_common as cm  # noqa: E402
 import hrpp_model as hm  # noqa: E402
 
 NS = 1e-6  # ms per ns

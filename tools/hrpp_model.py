@@ -4,7 +4,7 @@
 Renders each stand-in with HRPP off and with every ray predicted under a few predictor settings
 (`--hrpp on`'s keys and tables per class; hash precision 4; go-up 2; exact mode), --repeat
 times each (each frame and class timed by the render in which it took the least time), then
-fits the cost of each operation of the trace and HRPP kernels (tools/cost_model.py: dispatch, ray,
+fits the cost of each operation of the trace and HRPP kernels (tools/model_common.py: dispatch, ray,
 interior node, leaf, triangle test, probe, verification, queue entry, insert) from the kernels'
 timestamps and counters. It checks the model on renders it was not fitted on (each run predicted
 by a fit on the other settings' runs, and by one on the other settings of the other scenes), then
@@ -35,7 +35,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import cost_model as cm  # noqa: E402
+import model_common as cm  # noqa: E402
 import hrpp_common  # noqa: E402
 from hrpp_common import HERE, REPO, STAND_INS  # noqa: E402
 from sweep_common import rewrite_block  # noqa: E402
@@ -91,7 +91,7 @@ def collect(a):
 
 
 def least_disturbed(repeats, run):
-    """One observation per frame and class (tools/cost_model.py) of a run rendered several
+    """One observation per frame and class (tools/model_common.py) of a run rendered several
     times: of the repeats, the one whose class took the least time in that frame, with its own
     counts. Another process on the machine adds time to the frames it overlaps, not to a whole
     render, so the least time of each frame is its least disturbed measurement."""

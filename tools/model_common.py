@@ -1,5 +1,6 @@
-"""HRPP's cost model: a device's cost per operation, fitted from the kernels' timestamps and
-counters of `hrpp render --stats` files, and what it says about where prediction pays.
+"""The cost model, the library of tools/hrpp_model.py (not a command): a device's cost per
+operation, fitted from the kernels' timestamps and counters of `hrpp render --stats` files, and
+what it says about where prediction pays.
 
 Every kernel of a ray class is modelled as a sum of operations times their costs (ms each):
 
