@@ -172,9 +172,21 @@ void run_trace(const TraceOptions& o) {
   const auto savings = b.tracer ? count_savings(*b.tracer, predictor, rays, o.query)
                                 : count_savings(*ray_query, predictor, rays, o.query);
   if (const auto& s = savings) {
-      hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
-      hrpp_json["summary"] = predictor_summary_json(*s);
-    }
+    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
+    hrpp_json["summary"] = predictor_summary_json(*s);
+    // A true positive answers its ray (hit-any, speculative), or bounds its trace's tmax
+    // (exact hit-all): in front of the driver, a query skipped or shortened.
+    const std::uint64_t tp = s->counters.c[HRPP_PC_TRUE_POSITIVES];
+    const bool bounds = o.query == QueryKind::kClosest && predictor.mode == PredictorMode::kExact;
+    hrpp_json["answered_without_trace"] = bounds ? 0 : tp;
+    hrpp_json["traced_with_shorter_tmax"] = bounds ? tp : 0;
+    char line[160];
+    std::snprintf(line, sizeof line, "            %llu rays answered without a %s, %llu %s with "
+                  "tmax shortened\n", static_cast<unsigned long long>(bounds ? 0 : tp),
+                  ray_query ? "query" : "traversal", static_cast<unsigned long long>(bounds ? tp : 0),
+                  ray_query ? "queries" : "traversals");
+    hrpp_text += line;
+  }
   check_validation_messages(ctx);
   write_file_atomically(o.hits,
                         std::string_view(reinterpret_cast<const char*>(result.hits.data()),

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <type_traits>
 #include <span>
 #include <vector>
 
@@ -135,19 +136,21 @@ class RayQueryBackend final : public Tracer {
 
 // HRPP: one more run from empty tables that also counts what full traversals of the project's
 // BVH would visit (outside the timings); nothing when `predictor` does not predict the query's
-// ray class. `tracer`: a GpuTracer or a RayQueryTracer.
+// ray class. `tracer`: a GpuTracer, or a RayQueryTracer, whose driver hides its node visits:
+// there the run counts no baseline and the summary has no savings.
 template <class DeviceTracerT>
 std::optional<PredictorSummary> count_savings(DeviceTracerT& tracer,
                                               const PredictorConfig& predictor,
                                               std::span<const gpu::Ray> rays, QueryKind kind) {
+  constexpr bool visible = !std::is_same_v<DeviceTracerT, RayQueryTracer>;
   const RayClass c = ray_file_class(kind);
   GpuPredictor* hrpp = tracer.predictor();
   if (!hrpp || !predictor.predicts(c)) return std::nullopt;
   hrpp->clear();
-  hrpp->set_count_baseline(true);
+  hrpp->set_count_baseline(visible);
   const GpuTraceResult counted = tracer.trace(rays, kind);
   hrpp->set_count_baseline(false);
-  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), true);
+  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), visible);
 }
 
 }  // namespace hrpp::app
