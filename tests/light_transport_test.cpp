@@ -327,7 +327,7 @@ struct DeltaLightCase {
 };
 
 // Intensity I (point, spot) at height d over a diffuse floor of albedo ρ: radiance ρ I / (π d²)
-// under it; directional irradiance E: ρ E cos θ / π (docs/ARCHITECTURE.md, "Path tracer").
+// under it; directional irradiance E: ρ E cos θ / π (docs/RENDERER.md).
 std::vector<DeltaLightCase> delta_light_cases(float d) {
   Light point;
   point.type = LightType::kPoint;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Keys per ray class: the HRPP study of keys for each ray class (RESULTS.md, "Keys per ray class").
+"""Keys per ray class: the HRPP study of keys for each ray class (results/KEYS.md).
 
 Renders each stand-in once with HRPP off and once per key, predicting one class at a time
 (--hrpp-adaptive off --hrpp-count, same seed), then at the study's setup (larger, both classes

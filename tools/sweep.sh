@@ -2,10 +2,10 @@
 # The limit study in one command: writes the job list (tools/sweep_jobs.py), runs it with GNU
 # parallel (locally, one render at a time by default; across machines with --sshloginfile),
 # collects every --stats JSON and the image errors into one CSV (tools/sweep_collect.py), draws
-# the figures (tools/plot_*.py) and rewrites the generated tables in RESULTS.md
+# the figures (tools/plot_*.py) and rewrites the generated tables (results/, RESULTS.md)
 # (tools/sweep_report.py); its two other grids run their own tools, which render and rewrite
 # their own blocks: keys (tools/key_study.py) and model (tools/hrpp_model.py). One command thus
-# rewrites every generated block of a mode. See RESULTS.md.
+# rewrites every generated block of a mode. See results/LIMIT_STUDY.md.
 set -euo pipefail
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,7 +28,8 @@ usage() {
 Usage: tools/sweep.sh [--quick | --full | --test] [options]
 
 Runs hrpp render over the limit study's grids, collects one CSV, draws the figures and updates
-the generated tables in RESULTS.md: every generated block of the mode.
+every generated block of the mode: --full's limit study in results/LIMIT_STUDY.md, its keys in
+results/KEYS.md and its cost model in RESULTS.md; --quick's three in results/QUICK.md.
 
   --quick            small images and spp: minutes on 2 cores (default)
   --full             the paper's 1024x1024 8 spp for Table 1, paperscale and the dragon grids,
@@ -52,9 +53,9 @@ the generated tables in RESULTS.md: every generated block of the mode.
   --csv FILE         the CSV (default: tools/results/MODE.csv)
   --figures DIR      figure directory (default: tools/figures for --full, tools/figures/MODE
                      otherwise)
-  --results FILE     the Markdown file whose generated blocks are rewritten (default:
-                     RESULTS.md; --test: none)
-  --no-report        do not touch RESULTS.md
+  --results FILE     one Markdown file for every generated block of the run (default: the
+                     files above; --test: OUT/RESULTS.md)
+  --no-report        do not touch the results' Markdown files
   --jobs N           renders at once per machine (GNU parallel -j; default 1: the renderer
                      already uses every core)
   --sshloginfile F   run the CSV grids' jobs on the machines listed in F (GNU parallel
@@ -107,8 +108,16 @@ if [[ -z "$FIGS" ]]; then
 fi
 mkdir -p "$OUT/runs"
 OUT="$(cd "$OUT" && pwd)"
-if [[ -z "$RESULTS" ]]; then
-    if [[ "$MODE" == test ]]; then RESULTS="$OUT/RESULTS.md"; else RESULTS="$REPO/RESULTS.md"; fi
+# Where each grid's block goes: --results takes them all; else by mode.
+[[ -z "$RESULTS" && "$MODE" == test ]] && RESULTS="$OUT/RESULTS.md"
+if [[ -n "$RESULTS" ]]; then
+    SWEEP_RESULTS="$RESULTS"; KEYS_RESULTS="$RESULTS"; MODEL_RESULTS="$RESULTS"
+elif [[ "$MODE" == full ]]; then
+    SWEEP_RESULTS="$REPO/results/LIMIT_STUDY.md"; KEYS_RESULTS="$REPO/results/KEYS.md"
+    MODEL_RESULTS="$REPO/RESULTS.md"
+else
+    SWEEP_RESULTS="$REPO/results/QUICK.md"
+    KEYS_RESULTS="$SWEEP_RESULTS"; MODEL_RESULTS="$SWEEP_RESULTS"
 fi
 
 # The grids: the CSV's (tools/sweep_jobs.py) and the two run by their own tools.
@@ -168,7 +177,8 @@ if [[ "$RUN_CSV" == 1 ]]; then
     "$PY" "$REPO/tools/plot_savings.py" --csv "$CSV" --out "$FIGS"
     "$PY" "$REPO/tools/plot_error_time.py" --csv "$CSV" --out "$FIGS"
     if [[ "$REPORT" == 1 ]]; then
-        "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" --results "$RESULTS" \
+        "$PY" "$REPO/tools/sweep_report.py" --csv "$CSV" --figures "$FIGS" \
+            --results "$SWEEP_RESULTS" \
             --mode "$MODE" --command "$desc" \
             --elapsed $(( $(date +%s) - start )) --joblog "$OUT/joblog"
     fi
@@ -177,21 +187,23 @@ fi
 # The keys and model grids: their tools render (on this machine) and rewrite their blocks.
 tool_args=(--mode "$MODE" --hrpp "$HRPP" --command "$desc")
 [[ "$RESUME" == 1 || "$RUN" == 0 ]] && tool_args+=(--reuse)
-[[ "$REPORT" == 1 ]] && tool_args+=(--results "$RESULTS")
+keys_args=(); model_args=()
+[[ "$REPORT" == 1 ]] && keys_args=(--results "$KEYS_RESULTS") && model_args=(--results "$MODEL_RESULTS")
 if [[ ",$TOOL_GRIDS," == *,keys,* ]]; then
-    echo "sweep: keys grid: tools/key_study.py ${tool_args[*]} --runs $OUT/keys"
-    "$PY" "$REPO/tools/key_study.py" "${tool_args[@]}" --runs "$OUT/keys" > "$OUT/keys.md" \
+    echo "sweep: keys grid: tools/key_study.py ${tool_args[*]} ${keys_args[*]} --runs $OUT/keys"
+    "$PY" "$REPO/tools/key_study.py" "${tool_args[@]}" "${keys_args[@]}" --runs "$OUT/keys" > "$OUT/keys.md" \
         || { echo "sweep: tools/key_study.py failed" >&2; status=1; }
 fi
 if [[ ",$TOOL_GRIDS," == *,model,* ]]; then
-    echo "sweep: model grid: tools/hrpp_model.py ${tool_args[*]} --runs $OUT/model"
-    "$PY" "$REPO/tools/hrpp_model.py" "${tool_args[@]}" --runs "$OUT/model" \
+    echo "sweep: model grid: tools/hrpp_model.py ${tool_args[*]} ${model_args[*]} --runs $OUT/model"
+    "$PY" "$REPO/tools/hrpp_model.py" "${tool_args[@]}" "${model_args[@]}" --runs "$OUT/model" \
         --figure "$FIGS/hrpp_model.png" > "$OUT/model.md" \
         || { echo "sweep: tools/hrpp_model.py failed" >&2; status=1; }
     tail -n 1 "$OUT/model.md"
 fi
 wrote="$FIGS"
 [[ "$RUN_CSV" == 1 ]] && wrote="$CSV, $wrote"
-[[ "$REPORT" == 1 ]] && wrote+=", $RESULTS"
+[[ "$REPORT" == 1 ]] && wrote+=", $SWEEP_RESULTS"
+[[ "$REPORT" == 1 && -n "$TOOL_GRIDS" ]] && wrote+=", $KEYS_RESULTS, $MODEL_RESULTS"
 echo "sweep: $MODE done in $(( $(date +%s) - start )) s: $wrote"
 exit "$status"

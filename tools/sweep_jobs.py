@@ -2,7 +2,7 @@
 """Writes the limit study's job list: one hrpp render per line (jobs.txt, for GNU parallel) and
 its metadata (jobs.jsonl: grid, scene, the varied parameters; the collector joins on "id").
 
-Grids (see RESULTS.md):
+Grids (see results/LIMIT_STUDY.md):
   table1     stand-in scenes at the paper's Table 1 setup (N = 6, go-up 0, unbounded tables,
              speculative, --hrpp-count), plus HRPP off / speculative / exact without counting
              (their wall and kernel times, and the speculative image error)
@@ -15,7 +15,7 @@ Grids (see RESULTS.md):
              counting: these runs are the timed ones) and a high-spp reference image
   paperscale the paper's Sportscar scale (--full only): the 52M-triangle random scene of
              tools/make_big_scene.py at the Table 1 setup, with the unbounded and the tuned
-             table, and its off / speculative / exact runs (RESULTS.md shows it in Table 1)
+             table, and its off / speculative / exact runs (results/LIMIT_STUDY.md shows it in Table 1)
   test       three configurations on the Cornell box (the pipeline test)
 
 Every predicting run uses the paper's keys and, as the paper, traces a ray its prediction did not
@@ -40,7 +40,7 @@ BOUNDED_NODES = 8
 BOUNDED_KIB = [4, 16, 64, 256, 1024, 4096, 16384]
 BOUNDED_WAYS = [1, 4, 8]
 BOUNDED_POLICIES = ["none", "lru"]
-# The estimator RESULTS.md's HRPP grids were rendered with (light sampling alone, independent
+# The estimator the limit study's HRPP grids were rendered with (light sampling alone, independent
 # samples), pinned so that they reproduce. The error-against-time grid renders with hrpp
 # render's own (MIS, Sobol samples: DEFAULT_ESTIMATOR), which its images' error depends on.
 ESTIMATOR = ["--light-sampling", "light", "--sampler", "independent"]

@@ -28,9 +28,9 @@ struct HrppOptions {
   // queries (skip lists are the BVH kernels').
   std::optional<Fallback> fallback;
   // Per ray class (--hash, --hash-bits, --go-up, --go-up-size take "V" for every class, or a
-  // list of V and class=V): the --hrpp on default per class, measured in RESULTS.md ("Keys per
-  // ray class"): camera rays the paper's key; bounce rays grid-spherical at N = 6 (the finest
-  // measured that kept every stand-in's relMSE against HRPP off at most 1e-3); shadow rays
+  // list of V and class=V): the --hrpp on default per class, measured in results/KEYS.md:
+  // camera rays the paper's key; bounce rays grid-spherical at N = 6 (the finest measured that
+  // kept every stand-in's relMSE against HRPP off at most 1e-3); shadow rays
   // light-depth at N = 6 storing the subtree of at least 2% of the scene's extent above the
   // occluder's leaf, four per entry (the beam table).
   PerClass<HashKind> hash{{HashKind::kIeee, HashKind::kGridSpherical, HashKind::kLightDepth}};
