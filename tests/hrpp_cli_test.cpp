@@ -169,7 +169,7 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
 TEST_F(HrppCli, BenchPrintsPredictorFigures) {
   const fs::path json = dir_ / "bench.json";
   const Result r = run("bench teapot --rays 4096 --no-embree --repeat 1 --hrpp on --hrpp-mode exact "
-                       "--strict --json " + json.string());
+                       "--json " + json.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("gpu-hrpp"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("savings"), std::string::npos) << r.out;
@@ -182,7 +182,7 @@ TEST_F(HrppCli, BenchPrintsPredictorFigures) {
 // bench has the shared options too: the validation layer (--validate, as on every GPU command;
 // the rays checked against the CPU reference are --check-rays) and the BVH build.
 TEST_F(HrppCli, BenchTakesTheSharedOptions) {
-  const Result r = run("bench --rays 1024 --kinds primary --no-embree --repeat 1 --strict "
+  const Result r = run("bench --rays 1024 --kinds primary --no-embree --repeat 1 "
                        "--validate --check-rays 512 --bvh-bins 8 --bvh-max-leaf 2 "
                        "--rays-per-invocation 4");
   ASSERT_EQ(r.status, 0) << r.err;

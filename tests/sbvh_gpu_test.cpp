@@ -162,11 +162,11 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
 }
 
 // `hrpp bench` with --bvh-splits spatial and exact HRPP: every tracer checked against the CPU
-// reference (--strict exits 1 on a mismatch); a bad value names the flag.
+// reference (bench exits 1 on a mismatch); a bad value names the flag.
 class SbvhCli : public test::CliTest {};
 
 TEST_F(SbvhCli, BenchTracesAnSbvhAndBadValuesNameTheFlag) {
-  const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
+  const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 "
                                 "--check-rays 2048 --bvh-splits spatial --hrpp on --hrpp-mode exact");
   EXPECT_EQ(r.status, 0) << r.err;
   const test::CliResult bad = run("scene teapot --bvh-splits maybe");

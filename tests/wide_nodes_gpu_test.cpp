@@ -159,14 +159,14 @@ TEST(WideNodesHrpp, HrppOnRefusesTheFormats) {
   }
 }
 
-// `hrpp bench` over wide nodes: every tracer checked against the CPU reference (--strict exits
+// `hrpp bench` over wide nodes: every tracer checked against the CPU reference (bench exits
 // 1 on a mismatch); `hrpp render` with HRPP on says what to do and writes no image. (A bad
 // value naming the flag: tests/bad_input_test.cpp.)
 class WideNodesCli : public test::CliTest {};
 
 TEST_F(WideNodesCli, BenchTracesWideNodesAndHrppOnSaysWhy) {
   for (const char* f : {"wide4", "wide4-float"}) {
-    const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 --strict "
+    const test::CliResult r = run("bench teapot --rays 2048 --no-embree --repeat 1 "
                                   "--check-rays 2048 --bvh-nodes " + std::string(f));
     EXPECT_EQ(r.status, 0) << f << ": " << r.err;
   }

@@ -54,8 +54,8 @@ def parse_args():
 def bench(a, scene, icd):
     with tempfile.NamedTemporaryFile(suffix=".json") as f:
         env = dict(os.environ, VK_DRIVER_FILES=icd)
-        p = subprocess.run([a.hrpp, "bench", scene, "--repeat", "3", "--check-rays", "10000",
-                            "--json", f.name], env=env, capture_output=True, text=True)
+        p = subprocess.run([a.hrpp, "bench", scene, "--warn-mismatches", "--repeat", "3",
+                            "--check-rays", "10000", "--json", f.name], env=env, capture_output=True, text=True)
         if p.returncode != 0 or "GPU skipped" in p.stdout:
             fail(f"hrpp bench {scene} under {icd} failed:\n{p.stdout[-1500:]}{p.stderr[-1500:]}")
         return json.load(open(f.name))

@@ -32,7 +32,7 @@ SCENES = "bunny,lamborghini,dragon"
 def bench(a, scene, out):
     """One process's report (hrpp bench --json)."""
     run([a.hrpp, "bench", scene_arg(scene), "--tracer", "rayquery", "--hrpp", "on",
-         "--rays", str(a.rays), "--repeat", str(a.repeat), "--json", out], "rayquery_table")
+         "--warn-mismatches", "--rays", str(a.rays), "--repeat", str(a.repeat), "--json", out], "rayquery_table")
     with open(out) as f:
         return json.load(f)
 

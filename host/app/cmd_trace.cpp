@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,7 +17,7 @@
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
 #include "app/shared_options.h"
-#include "app/tracer.h"
+#include "harness/tracer.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "common/bytes.h"
@@ -109,6 +110,27 @@ void print_structure(const AccelerationStructureStats& s) {
               format_bytes(s.bytes).c_str(), format_bytes(s.uncompacted_bytes).c_str(), s.build_ms);
 }
 
+// HRPP's lines ("off" without a summary) and their JSON. A true positive answers its ray
+// (hit-any, speculative) or bounds its trace's tmax (exact hit-all): in front of the driver
+// (`driver`), a query skipped or shortened.
+std::string hrpp_figures(const TraceOptions& o, const PredictorConfig& predictor,
+                         const std::optional<PredictorSummary>& s, bool driver,
+                         nlohmann::json& json) {
+  if (!s) return "off";
+  json["summary"] = predictor_summary_json(*s);
+  const std::uint64_t tp = s->counters.c[HRPP_PC_TRUE_POSITIVES];
+  const bool bounds = o.query == QueryKind::kClosest && predictor.mode == PredictorMode::kExact;
+  json["answered_without_trace"] = bounds ? 0 : tp;
+  json["traced_with_shorter_tmax"] = bounds ? tp : 0;
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "            %llu rays answered without a %s, %llu %s with tmax shortened\n",
+                static_cast<unsigned long long>(bounds ? 0 : tp), driver ? "query" : "traversal",
+                static_cast<unsigned long long>(bounds ? tp : 0),
+                driver ? "queries" : "traversals");
+  return describe(predictor) + "\n" + format_summary("", *s, o.query) + line;
+}
+
 // The device tracer --tracer names (--repeat > 1: warmed up), and what it needs kept alive.
 struct TraceBackend {
   std::unique_ptr<GpuTracer> tracer;
@@ -167,26 +189,11 @@ void run_trace(const TraceOptions& o) {
   }
   // HRPP's figures come from one more run that also counts what full traversals would visit
   // (outside the timings).
-  std::string hrpp_text = "off";
   nlohmann::json hrpp_json = predictor_config_json(predictor);
   const auto savings = b.tracer ? count_savings(*b.tracer, predictor, rays, o.query)
                                 : count_savings(*ray_query, predictor, rays, o.query);
-  if (const auto& s = savings) {
-    hrpp_text = describe(predictor) + "\n" + format_summary("", *s, o.query);
-    hrpp_json["summary"] = predictor_summary_json(*s);
-    // A true positive answers its ray (hit-any, speculative), or bounds its trace's tmax
-    // (exact hit-all): in front of the driver, a query skipped or shortened.
-    const std::uint64_t tp = s->counters.c[HRPP_PC_TRUE_POSITIVES];
-    const bool bounds = o.query == QueryKind::kClosest && predictor.mode == PredictorMode::kExact;
-    hrpp_json["answered_without_trace"] = bounds ? 0 : tp;
-    hrpp_json["traced_with_shorter_tmax"] = bounds ? tp : 0;
-    char line[160];
-    std::snprintf(line, sizeof line, "            %llu rays answered without a %s, %llu %s with "
-                  "tmax shortened\n", static_cast<unsigned long long>(bounds ? 0 : tp),
-                  ray_query ? "query" : "traversal", static_cast<unsigned long long>(bounds ? tp : 0),
-                  ray_query ? "queries" : "traversals");
-    hrpp_text += line;
-  }
+  const std::string hrpp_text = hrpp_figures(o, predictor, savings, ray_query != nullptr,
+                                             hrpp_json);
   check_validation_messages(ctx);
   write_file_atomically(o.hits,
                         std::string_view(reinterpret_cast<const char*>(result.hits.data()),

@@ -1,10 +1,10 @@
-#include "app/tracer.h"
+#include "harness/tracer.h"
 
 #include <chrono>
 
 #include "trace/ray_batches.h"
 
-namespace hrpp::app {
+namespace hrpp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -72,4 +72,4 @@ TracerRun RayQueryBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind)
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, predictor};
 }
 
-}  // namespace hrpp::app
+}  // namespace hrpp

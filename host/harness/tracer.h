@@ -1,6 +1,7 @@
 // A tracer: one backend that answers a batch of rays with one hit per ray (closest or any hit),
-// behind `hrpp bench`. A new backend is one class here: a TracerKind, a name, what its times
-// measure and trace(). `hrpp trace` runs the GPU backend through it too.
+// behind `hrpp bench` (the benchmark harness, host/harness/). A new backend is one class here:
+// a TracerKind, a name, what its times measure and trace(). `hrpp trace` runs the device
+// tracers through it too.
 #pragma once
 
 #include <optional>
@@ -18,7 +19,7 @@
 #include "reference/embree_tracer.h"
 #include "trace/traversal_counters.h"
 
-namespace hrpp::app {
+namespace hrpp {
 
 enum class TracerKind {
   kCpuReference,  // trace/cpu_traversal.h on all threads: the ground truth
@@ -153,4 +154,4 @@ std::optional<PredictorSummary> count_savings(DeviceTracerT& tracer,
   return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), visible);
 }
 
-}  // namespace hrpp::app
+}  // namespace hrpp
