@@ -223,7 +223,8 @@ void add_render_command(CLI::App& app) {
   add_shared_options(cmd, o->shared, SharedGroup::kDevice);
   cmd->add_option("--backend", o->backend,
                   "gpu: the wavefront kernels on the Vulkan device; cpu: the CPU reference "
-                  "renderer (the same shading code, one path at a time; no HRPP)")
+                  "renderer (the same shading code, one path at a time; with --hrpp on, HRPP "
+                  "inline in its traversal)")
       ->transform(one_of(kRenderBackendNames))
       ->default_str(name_in(kRenderBackendNames, o->backend));
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
