@@ -25,7 +25,8 @@ reads the uncompressed EXR files of a portable build with numpy alone.
 no kernels, so no time per class). Its times are the frames' wall time, and a class's ratio is
 the frame with only that class predicted (--hrpp-rays CLASS, one more render per class) against
 the frame with HRPP off; the frame's and the image's figures are those of every class
-predicted. No floor (no separate probe).
+predicted. No floor (no separate probe). --cpu-tracer embree puts Embree in place of the CPU
+traversal there, HRPP in front of it.
 
 --tracer rayquery renders with the driver's ray queries (VK_KHR_ray_query) with HRPP in front of
 them: on/off ratios per ray class for that tracer (no interior-node counts: the driver's work is
@@ -33,6 +34,7 @@ invisible).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
                            [--images DIR] [--backend gpu|cpu] [--tracer compute|rayquery]
+                           [--cpu-tracer scalar|embree]
 """
 import argparse
 import json
@@ -101,7 +103,8 @@ def ratio(a, b):
 def bench_scene(binary, scene, a, tmp):
     offs, ons, per_class = [], [], {}
     exr_off = exr_on = None
-    base = ["--backend", a.backend] + (["--tracer", a.tracer] if a.backend == "gpu" else [])
+    base = ["--backend", a.backend] + (["--tracer", a.tracer] if a.backend == "gpu" else
+                                       ["--cpu-tracer", a.cpu_tracer])
     on_flags = base + ["--hrpp", "on"] + a.flags.split()
     for i in range(a.repeat):
         s, exr_off = render_pair_side(binary, scene, a, base + ["--hrpp", "off"], tmp, f"off{i}")
@@ -169,14 +172,19 @@ def main():
                     help="cpu: the CPU renderer with HRPP inline (frame wall times)")
     ap.add_argument("--tracer", choices=["compute", "rayquery"], default="compute",
                     help="--backend gpu: the device tracer HRPP runs in front of")
+    ap.add_argument("--cpu-tracer", choices=["scalar", "embree"], default="scalar",
+                    help="--backend cpu: the CPU tracer HRPP runs in front of")
     a = ap.parse_args()
     if a.backend == "cpu" and a.tracer != "compute":
-        ap.error("--tracer: the CPU backend traces its own BVH")
+        ap.error("--tracer: the CPU backend traces on the CPU (--cpu-tracer)")
+    if a.backend == "gpu" and a.cpu_tracer != "scalar":
+        ap.error("--cpu-tracer: the CPU backend's (--backend cpu)")
     if a.quick:
         a.size, a.spp, a.repeat = "256x256", 2, 1
     if not os.access(a.hrpp, os.X_OK):
         sys.exit(f"hrpp_bench: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
-    print(f"hrpp_bench: {a.backend}{' ' + a.tracer if a.backend == 'gpu' else ''}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
+    tracer = a.tracer if a.backend == "gpu" else a.cpu_tracer
+    print(f"hrpp_bench: {a.backend} {tracer}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
           f"pairs, on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); "
           f"load {os.getloadavg()[0]:.2f}", flush=True)
     rows = []
@@ -188,7 +196,7 @@ def main():
             print_row(rows[-1])
     if a.json:
         with open(a.json + ".partial", "w") as f:
-            json.dump({"backend": a.backend, "tracer": a.tracer, "size": a.size, "spp": a.spp, "seed": a.seed,
+            json.dump({"backend": a.backend, "tracer": tracer, "size": a.size, "spp": a.spp, "seed": a.seed,
                        "flags": a.flags,
                        "rows": rows}, f, indent=1)
         os.replace(a.json + ".partial", a.json)

@@ -27,6 +27,7 @@
 #include "render/render_progress.h"
 #include "render/render_stats.h"
 #include "render/wavefront_renderer.h"
+#include "reference/embree_tracer.h"
 #include "scene/load_scene.h"
 
 namespace hrpp::app {
@@ -37,8 +38,15 @@ enum class RenderBackend { kGpu, kCpu };
 inline constexpr NameTable<RenderBackend, 2> kRenderBackendNames = {
     {{RenderBackend::kGpu, "gpu"}, {RenderBackend::kCpu, "cpu"}}};
 
+// What the CPU backend traces with: its own scalar traversal, or Embree (rtcIntersect1 /
+// rtcOccluded1), HRPP in front of either.
+enum class CpuTracer { kScalar, kEmbree };
+inline constexpr NameTable<CpuTracer, 2> kCpuTracerNames = {
+    {{CpuTracer::kScalar, "scalar"}, {CpuTracer::kEmbree, "embree"}}};
+
 struct RenderOptions {
   RenderBackend backend = RenderBackend::kGpu;
+  CpuTracer cpu_tracer = CpuTracer::kScalar;
   SharedOptions shared;
   std::string size = "256x256";
   std::string out = "render.png";
@@ -120,13 +128,23 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   if (o.render.predictor.enabled && (o.render.predictor.batch > 0 || o.render.predictor.serial))
     throw Error(std::string(o.render.predictor.batch > 0 ? "--hrpp-batch" : "--hrpp-serial") +
                 ": the CPU backend predicts inline, one ray at a time, in its own order");
-  const CpuRenderer renderer(scene, bvh, o.render);
+  std::unique_ptr<EmbreeTracer> embree;
+  OutsideTracer outside;
+  if (o.cpu_tracer == CpuTracer::kEmbree) {
+    if (!embree_available()) throw Error("--cpu-tracer embree: this build has no Embree");
+    embree = std::make_unique<EmbreeTracer>(scene);
+    outside.closest = [e = embree.get()](const gpu::Ray& r) { return e->closest(r); };
+    outside.occluded = [e = embree.get()](const gpu::Ray& r) { return e->occluded(r); };
+  }
+  const CpuRenderer renderer(scene, bvh, o.render, outside);
   const RenderResult result = renderer.render(render_progress(o.render.spp));
   write_image(o.out, result.width, result.height, result.rgb);
   DeviceInfo cpu;
   cpu.name = "CPU reference renderer";
   cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
-  cpu.driver = std::to_string(CpuRenderer::threads()) + " threads";
+  cpu.driver = std::to_string(CpuRenderer::threads()) + " threads, " +
+               name_in(kCpuTracerNames, o.cpu_tracer) +
+               (embree ? " (" + embree_version() + ")" : std::string());
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
   if (o.render.predictor.enabled)
@@ -135,6 +153,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, cpu, result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kCpu);
+    j["cpu_tracer"] = name_in(kCpuTracerNames, o.cpu_tracer);
     j["hrpp_predictor"] = hrpp_json;
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
@@ -164,7 +183,9 @@ void run_render(RenderOptions& o) {
     throw Error(std::string("--bvh-nodes ") + node_format_name(o.shared.nodes) +
                 ": the CPU backend (--backend cpu) traverses binary nodes");
   if (o.backend == RenderBackend::kCpu && o.shared.device_tracer != DeviceTracerKind::kCompute)
-    throw Error("--tracer: the CPU backend (--backend cpu) traces its own BVH");
+    throw Error("--tracer: the CPU backend (--backend cpu) traces on the CPU (--cpu-tracer)");
+  if (o.backend != RenderBackend::kCpu && o.cpu_tracer != CpuTracer::kScalar)
+    throw Error("--cpu-tracer: the CPU backend's (--backend cpu); the device traces with --tracer");
   check_compute_only(o.shared, {});
   o.render.tracer = o.shared.tracer;
   o.render.device_tracer = o.shared.device_tracer;
@@ -227,6 +248,11 @@ void add_render_command(CLI::App& app) {
                   "inline in its traversal)")
       ->transform(one_of(kRenderBackendNames))
       ->default_str(name_in(kRenderBackendNames, o->backend));
+  cmd->add_option("--cpu-tracer", o->cpu_tracer,
+                  "--backend cpu: scalar (the CPU reference traversal) or embree (Embree's "
+                  "rtcIntersect1/rtcOccluded1; with --hrpp on, HRPP in front of it)")
+      ->transform(one_of(kCpuTracerNames))
+      ->default_str(name_in(kCpuTracerNames, o->cpu_tracer));
   cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
+#include "common/error.h"
 #include "common/task_pool.h"
 #include "cpu_render/scene_lookups.h"
 #include "hrpp/reference_predictor.h"
@@ -29,15 +31,26 @@ struct PathTracer {
   PerClass<RayClassStats>& stats;
   ReferencePredictor* hrpp;  // this thread's tables; nullptr: HRPP off
   const PredictorConfig& predictor;
+  const OutsideTracer& outside;
 
-  // trace_closest / trace_any, or with HRPP on for a predicting class, HRPP inline (the
-  // reference predictor's code: probe, verify, fall back, insert) before the traversal.
+  // trace_closest / trace_any (or the outside tracer's), or with HRPP on for a predicting class,
+  // HRPP inline (the reference predictor's code: probe, verify, fall back, insert) before it.
   gpu::Hit trace(const gpu::Ray& ray, RayClass c) {
     RayClassStats& s = stats[c];
     if (hrpp && predictor.predicts(c)) return hrpp->trace_one(ray, c, s.counters, s.predictor);
+    if (outside.closest) return trace_outside(ray, c, s.counters);
     return query_kind(c) == QueryKind::kAny
                ? (trace_any(bvh, ray, &s.counters) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
                : trace_closest(bvh, ray, &s.counters);
+  }
+
+  gpu::Hit trace_outside(const gpu::Ray& ray, RayClass c, TraversalCounters& counters) const {
+    ++counters.rays;
+    const gpu::Hit h = query_kind(c) == QueryKind::kAny
+                           ? (outside.occluded(ray) ? gpu::Hit{0, 0.0f, 0.0f, 0.0f} : kMiss)
+                           : outside.closest(ray);
+    if (h.prim >= 0) ++counters.hits;
+    return h;
   }
 
   // render_shade's next-event estimation: the payload render_accumulate adds when trace_any
@@ -106,11 +119,16 @@ struct PathTracer {
 
 }  // namespace
 
-CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config)
+CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config,
+                         OutsideTracer outside)
     : bvh_(bvh),
       cfg_((check_render_config(config, scene), config)),
+      outside_(std::move(outside)),
       rs_(make_render_scene(scene, config.default_lighting)),
-      params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {}
+      params_(make_render_params(cfg_, scene.cameras[cfg_.camera], rs_, 0)) {
+  if (static_cast<bool>(outside_.closest) != static_cast<bool>(outside_.occluded))
+    throw Error("CpuRenderer: an outside tracer needs both its closest and its occluded query");
+}
 
 int CpuRenderer::threads() { return resolve_threads(0); }
 
@@ -124,14 +142,17 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
   // HRPP on: tables per thread, kept from sample to sample (no locks, no sharing).
   std::vector<ReferencePredictor> tables;
   if (cfg_.predictor.enabled)
-    for (int t = 0; t < pool.size(); ++t) tables.emplace_back(bvh_, cfg_.predictor);
+    for (int t = 0; t < pool.size(); ++t) {
+      tables.emplace_back(bvh_, cfg_.predictor);
+      if (outside_.closest) tables.back().set_full_trace(outside_.closest);
+    }
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     std::vector<PerClass<RayClassStats>> stats(static_cast<std::size_t>(pool.size()));
     pool.parallel_for(blocks, [&](std::size_t block, int thread) {
       const auto t = static_cast<std::size_t>(thread);
       PathTracer tracer{bvh_, rs_, params_, stats[t], tables.empty() ? nullptr : &tables[t],
-                        cfg_.predictor};
+                        cfg_.predictor, outside_};
       const auto begin = static_cast<std::uint32_t>(block * kPixelBlock);
       const std::uint32_t end = std::min(pixels, begin + kPixelBlock);
       for (std::uint32_t p = begin; p < end; ++p) tracer.trace_path(p, sample, sum[p]);

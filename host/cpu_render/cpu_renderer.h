@@ -17,14 +17,25 @@
 
 namespace hrpp {
 
+// An outside tracer in place of the CPU traversal (`--cpu-tracer embree`): the closest hit
+// within a ray's [tmin, tmax], and whether anything lies there. Called from every render thread.
+// Its node work is invisible: the stats count its rays and hits only.
+struct OutsideTracer {
+  std::function<gpu::Hit(const gpu::Ray&)> closest;
+  std::function<bool(const gpu::Ray&)> occluded;
+};
+
 class CpuRenderer {
  public:
   // Throws hrpp::Error on a bad configuration, as WavefrontRenderer does. Of the config only
   // the image, samples, depths, seed, camera and HRPP apply (no wavefronts or tracer). HRPP on
   // (config.predictor.enabled): every ray of a predicting class probes before its traversal,
   // inline, through its thread's tables (host/hrpp/reference_predictor.h, one ray at a time),
-  // kept across samples; no adaptive switch, batches or pilot schedule.
-  CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config);
+  // kept across samples; no adaptive switch, batches or pilot schedule. With `outside` (both
+  // functions set) the rays are traced by it instead of the CPU traversal, and a prediction that
+  // does not answer its ray falls back to it (HRPP in front of Embree; fallback root).
+  CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConfig& config,
+              OutsideTracer outside = {});
 
   // Renders config.spp samples per pixel on threads() threads (one TaskPool for the whole
   // render). `progress(samples_done)` is called after each sample pass. The stats hold the
@@ -37,6 +48,7 @@ class CpuRenderer {
  private:
   const GpuBvh& bvh_;
   RenderConfig cfg_;
+  OutsideTracer outside_;
   RenderScene rs_;
   gpu::RenderParams params_;
 };
