@@ -14,6 +14,7 @@
 #include "gpu/kernel_bindings.h"
 #include "gpu/gpu_predictor.h"
 #include "gpu/ray_sorter.h"
+#include "gpu/resident_rays.h"
 #include "vk/storage_buffer.h"
 #include "vk/texel_view.h"
 #include "gpu/trace_counters.h"
@@ -81,10 +82,9 @@ std::vector<BufferNeed> GpuTracer::buffer_needs(const GpuBvh& bvh, const Predict
 
 // The resident arrays of one query kind (hit-all: camera and bounce rays; hit-any: shadow
 // rays), its trace kernels (HRPP off, or a class that does not probe) and their counters.
-struct QueryArrays {
-  StorageBuffer rays, hits;  // grown on demand
-  TexelView ray_view;        // how the kernels read the rays
-  TexelView hit_view;        // how the HRPP stage reads and writes the hits
+// (ResidentRays: the rays the kernels read by ray_view, the hits the HRPP stage reads and
+// writes by hit_view.)
+struct QueryArrays : ResidentRays {
   StorageBuffer counters;    // TraceCounters of the plain trace
   ComputePipeline kernel;
   // The same kernel over a ray index list (trace_*_indexed.comp), timed under the same label.
@@ -161,23 +161,15 @@ struct GpuTracer::State {
 
   std::size_t chunk_rays() const { return GpuTracer::max_dispatch_rays(ctx->info(), config); }
 
-  void ensure_capacity(RayClass c, std::size_t n) {
+  QueryArrays& ensure_capacity(RayClass c, std::size_t n) {
     QueryArrays& a = query(c);
-    if (a.rays.size() >= n * sizeof(gpu::Ray)) return;
-    a.ray_view = TexelView();
-    a.hit_view = TexelView();
-    a.rays = StorageBuffer();  // free first: one at a time in the heap
-    a.hits = StorageBuffer();
-    const std::string which = query_kind_label(query_kind(c));
-    a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), which + " ray array");
-    a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
-    a.ray_view = TexelView(*ctx, a.rays);
-    a.hit_view = TexelView(*ctx, a.hits);
+    if (!a.reserve(*ctx, query_kind(c), n)) return a;
     for (ComputePipeline* k : {&a.kernel, &a.indexed}) {
       k->bind(HRPP_TRACE_BINDING_RAYS, a.ray_view);
       k->bind(HRPP_TRACE_BINDING_HITS, a.hit_view);
     }
     if (predictor) predictor->bind_rays(query_kind(c), a.ray_view, a.hit_view, n);
+    return a;
   }
 
   gpu::TracePushConstants push_constants() const {
@@ -280,25 +272,10 @@ GpuPredictor* GpuTracer::predictor() { return s_->predictor.get(); }
 const GpuPredictor* GpuTracer::predictor() const { return s_->predictor.get(); }
 
 GpuTraceResult GpuTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter) {
-  GpuTraceResult out;
-  out.hits.resize(rays.size());
-  const std::size_t chunk = s_->chunk_rays();
-  for (std::size_t first = 0; first < rays.size(); first += chunk) {
-    const std::size_t n = std::min(chunk, rays.size() - first);
-    s_->ensure_capacity(c, n);
-    s_->query(c).rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
-    const GpuTraceResult r = trace_resident(n, c, sorter);
-    s_->query(c).hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
-    out.counters += r.counters;
-    out.kernel_ms += r.kernel_ms;
-    out.sort_ms += r.sort_ms;
-    out.traced += r.traced;
-    out.predicted = r.predicted;
-    out.sampled += r.sampled;
-    out.predictor += r.predictor;
-  }
-  if (query_kind(c) == QueryKind::kAny) to_occlusion_records(out.hits);
-  return out;
+  return trace_in_chunks(
+      rays, c, s_->chunk_rays(),
+      [&](std::size_t n) -> ResidentRays& { return s_->ensure_capacity(c, n); },
+      [&](std::size_t n) { return trace_resident(n, c, sorter); });
 }
 
 StorageBuffer& GpuTracer::ray_buffer(RayClass c, std::size_t rays) {

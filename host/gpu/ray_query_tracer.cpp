@@ -10,6 +10,7 @@
 #include "gpu/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/kernel_bindings.h"
+#include "gpu/resident_rays.h"
 #include "gpu/trace_counters.h"
 #include "vk/compute_pipeline.h"
 #include "vk/embedded_shaders.h"
@@ -40,9 +41,7 @@ std::vector<glm::vec3> triangle_vertices(const GpuBvh& bvh) {
 }  // namespace
 
 // The resident arrays of one query kind, its kernel and its counters.
-struct RayQueryArrays {
-  StorageBuffer rays, hits;  // grown on demand
-  TexelView ray_view, hit_view;
+struct RayQueryArrays : ResidentRays {
   StorageBuffer counters;
   ComputePipeline kernel;
 
@@ -91,21 +90,13 @@ struct RayQueryTracer::State {
 
   RayQueryArrays& query(RayClass c) { return *queries[index_of(query_kind(c))]; }
 
-  void ensure_capacity(RayClass c, std::size_t n) {
+  RayQueryArrays& ensure_capacity(RayClass c, std::size_t n) {
     RayQueryArrays& a = query(c);
-    if (a.rays.size() >= n * sizeof(gpu::Ray)) return;
-    a.ray_view = TexelView();
-    a.hit_view = TexelView();
-    a.rays = StorageBuffer();  // free first: one at a time in the heap
-    a.hits = StorageBuffer();
-    const std::string which = query_kind_label(query_kind(c));
-    a.rays = StorageBuffer(*ctx, n * sizeof(gpu::Ray), which + " ray array");
-    a.hits = StorageBuffer(*ctx, n * sizeof(gpu::Hit), which + " hit array");
-    a.ray_view = TexelView(*ctx, a.rays);
-    a.hit_view = TexelView(*ctx, a.hits);
+    if (!a.reserve(*ctx, query_kind(c), n)) return a;
     a.kernel.bind(HRPP_RAY_QUERY_BINDING_RAYS, a.ray_view);
     a.kernel.bind(HRPP_RAY_QUERY_BINDING_HITS, a.hit_view);
     if (predictor) predictor->bind_rays(query_kind(c), a.ray_view, a.hit_view, n);
+    return a;
   }
 
   gpu::TracePushConstants push_constants() const {
@@ -230,25 +221,10 @@ GpuTraceResult RayQueryTracer::trace(std::span<const gpu::Ray> rays, RayClass c)
       throw Error("--tracer rayquery: ray " + std::to_string(i) + " has tmin " +
                   std::to_string(rays[i].tmin) +
                   " < 0; Vulkan's ray queries start at tmin >= 0 (--tracer compute takes it)");
-  GpuTraceResult out;
-  out.hits.resize(rays.size());
-  const std::size_t chunk = max_dispatch_rays(s_->ctx->info(), s_->config);
-  for (std::size_t first = 0; first < rays.size(); first += chunk) {
-    const std::size_t n = std::min(chunk, rays.size() - first);
-    s_->ensure_capacity(c, n);
-    RayQueryArrays& a = s_->query(c);
-    a.rays.upload(rays.data() + first, n * sizeof(gpu::Ray));
-    const GpuTraceResult r = s_->trace_resident(static_cast<std::uint32_t>(n), c);
-    a.hits.download(out.hits.data() + first, n * sizeof(gpu::Hit));
-    out.counters += r.counters;
-    out.kernel_ms += r.kernel_ms;
-    out.traced += r.traced;
-    out.predicted = r.predicted;
-    out.sampled += r.sampled;
-    out.predictor += r.predictor;
-  }
-  if (query_kind(c) == QueryKind::kAny) to_occlusion_records(out.hits);
-  return out;
+  return trace_in_chunks(
+      rays, c, max_dispatch_rays(s_->ctx->info(), s_->config),
+      [&](std::size_t n) -> ResidentRays& { return s_->ensure_capacity(c, n); },
+      [&](std::size_t n) { return s_->trace_resident(static_cast<std::uint32_t>(n), c); });
 }
 
 StorageBuffer& RayQueryTracer::ray_buffer(RayClass c, std::size_t rays) {
