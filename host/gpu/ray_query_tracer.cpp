@@ -189,11 +189,7 @@ std::vector<BufferNeed> RayQueryTracer::buffer_needs(const GpuBvh& bvh,
     for (BufferNeed& n : GpuPredictor::buffer_needs(bvh, predictor, resident_rays))
       needs.push_back(std::move(n));
   }
-  for (QueryKind kind : kQueryKinds) {
-    const std::string label = query_kind_label(kind);
-    needs.push_back({label + " ray array", resident_rays * sizeof(gpu::Ray)});
-    needs.push_back({label + " hit array", resident_rays * sizeof(gpu::Hit)});
-  }
+  for (BufferNeed& n : ResidentRays::needs(resident_rays)) needs.push_back(std::move(n));
   return needs;
 }
 

@@ -21,6 +21,16 @@ bool ResidentRays::reserve(VulkanContext& ctx, QueryKind kind, std::size_t n) {
   return true;
 }
 
+std::vector<BufferNeed> ResidentRays::needs(std::size_t rays) {
+  std::vector<BufferNeed> out;
+  for (QueryKind kind : kQueryKinds) {
+    const std::string label = query_kind_label(kind);
+    out.push_back({label + " ray array", rays * sizeof(gpu::Ray)});
+    out.push_back({label + " hit array", rays * sizeof(gpu::Hit)});
+  }
+  return out;
+}
+
 GpuTraceResult trace_in_chunks(std::span<const gpu::Ray> rays, RayClass c, std::size_t chunk,
                                const std::function<ResidentRays&(std::size_t)>& resident,
                                const std::function<GpuTraceResult(std::size_t)>& trace) {

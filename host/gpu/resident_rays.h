@@ -5,8 +5,10 @@
 #include <cstddef>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "gpu/device_tracer.h"
+#include "vk/memory_plan.h"
 #include "vk/storage_buffer.h"
 #include "vk/texel_view.h"
 
@@ -23,6 +25,9 @@ struct ResidentRays {
   // Makes room for `n` rays of `kind` (freeing the old arrays first: one at a time in the
   // heap). True when it reallocated them: the kernels must be bound to the new views.
   bool reserve(VulkanContext& ctx, QueryKind kind, std::size_t n);
+
+  // Both query kinds' arrays for `rays` resident rays each, for check_fits (vk/memory_plan.h).
+  static std::vector<BufferNeed> needs(std::size_t rays);
 };
 
 // A trace of host rays in chunks of at most `chunk`: per chunk, upload into resident(n)'s rays,
