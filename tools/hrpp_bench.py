@@ -28,22 +28,28 @@ the frame with HRPP off; the frame's and the image's figures are those of every 
 predicted. No floor (no separate probe). --cpu-tracer embree puts Embree in place of the CPU
 traversal there, HRPP in front of it.
 
+--results FILE --block NAME writes the table into that generated block of FILE, headed by the
+command, commit, device, date and load.
+
 --tracer rayquery renders with the driver's ray queries (VK_KHR_ray_query) with HRPP in front of
 them: on/off ratios per ray class for that tracer (no interior-node counts: the driver's work is
 invisible).
 Usage: tools/hrpp_bench.py [--quick] [--scenes a,b] [--size WxH] [--spp N] [--repeat N]
                            [--flags "--hrpp-mode exact ..."] [--hrpp BIN] [--json FILE]
                            [--images DIR] [--backend gpu|cpu] [--tracer compute|rayquery]
-                           [--cpu-tracer scalar|embree]
+                           [--cpu-tracer scalar|embree] [--results MD --block NAME]
 """
 import argparse
+import datetime
 import json
 import os
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import DEFAULT_BIN, STAND_INS, image_errors, read_exr, render  # noqa: E402
+from hrpp_common import (DEFAULT_BIN, REPO, STAND_INS, cpu_model, image_errors,  # noqa: E402
+                         read_exr, render)
+from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 CLASSES = ["camera", "bounce", "shadow"]
 
@@ -139,6 +145,8 @@ def bench_scene(binary, scene, a, tmp):
                      {"predict_ns_per_probe": float("nan"), "trace_ns_per_ray_off": float("nan"),
                       "floor": float("nan")})}
     _, row["relmse"], row["pixels_differ"] = image_errors(read_exr(exr_on), read_exr(exr_off))
+    d = last_off.get("device", {})
+    row["device"] = f"{d.get('name', '?')} ({d.get('driver', '?')})"
     return row
 
 
@@ -154,6 +162,24 @@ def print_row(r):
     floors = "  ".join(f"{c} {r[c]['floor']:.2f} ({r[c]['predict_ns_per_probe']:.3g} / "
                        f"{r[c]['trace_ns_per_ray_off']:.3g} ns)" for c in CLASSES)
     print(f"{'':14s} floor (hrpp_predict per probed ray / off trace per ray): {floors}", flush=True)
+
+
+def block_lines(a, rows, load, device):
+    """The generated block of --results: the command, commit, device, date and load, then one
+    row per scene: ratios on/off (true-positive rate), relMSE, and the floors."""
+    command = " ".join(["tools/hrpp_bench.py"] + sys.argv[1:])
+    head = [f"Made by `{command}` ({a.size}, {a.spp} spp, seed {a.seed}, fastest of {a.repeat} "
+            f"off/on pairs; ratios on/off, above 1: HRPP slower; (true-positive rate, floor)) "
+            f"at commit {repo_commit(REPO)} on {device}, {cpu_model()}, "
+            f"{datetime.date.today()}, load {load[0]:.1f} before and {load[1]:.1f} after:", ""]
+    body = []
+    for r in rows:
+        q = r["ratio"]
+        cls = [f"{q[c]:.2f} ({r[c]['tp_rate']:.2f}, {r[c]['floor']:.2f})" for c in CLASSES]
+        body.append([r["scene"], f"{q['frame']:.3f}", f"{q['wall']:.3f}"] + cls +
+                    [f"{r['relmse']:.1e}", f"{100 * r['pixels_differ']:.1f}%"])
+    return head + [table(["scene", "frame", "wall"] + CLASSES + ["relMSE vs off", "pixels differ"],
+                         body)]
 
 
 def main():
@@ -172,6 +198,8 @@ def main():
                     help="cpu: the CPU renderer with HRPP inline (frame wall times)")
     ap.add_argument("--tracer", choices=["compute", "rayquery"], default="compute",
                     help="--backend gpu: the device tracer HRPP runs in front of")
+    ap.add_argument("--results", help="rewrite the generated block --block of this Markdown file")
+    ap.add_argument("--block", default="hrpp_bench", help="the block's name (with --results)")
     ap.add_argument("--cpu-tracer", choices=["scalar", "embree"], default="scalar",
                     help="--backend cpu: the CPU tracer HRPP runs in front of")
     a = ap.parse_args()
@@ -187,18 +215,21 @@ def main():
     print(f"hrpp_bench: {a.backend} {tracer}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
           f"pairs, on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); "
           f"load {os.getloadavg()[0]:.2f}", flush=True)
-    rows = []
+    rows, load, device = [], [os.getloadavg()[0]], "?"
     with tempfile.TemporaryDirectory(prefix="hrpp_bench_") as tmp:
         out = a.images or tmp
         os.makedirs(out, exist_ok=True)
         for scene in a.scenes.split(","):
             rows.append(bench_scene(a.hrpp, scene, a, out))
+            device = rows[-1].pop("device")
             print_row(rows[-1])
+    load.append(os.getloadavg()[0])
+    if a.results:
+        rewrite_block(a.results, a.block, block_lines(a, rows, load, device), "tools/hrpp_bench.py")
     if a.json:
         with open(a.json + ".partial", "w") as f:
-            json.dump({"backend": a.backend, "tracer": tracer, "size": a.size, "spp": a.spp, "seed": a.seed,
-                       "flags": a.flags,
-                       "rows": rows}, f, indent=1)
+            json.dump({"backend": a.backend, "tracer": tracer, "size": a.size, "spp": a.spp,
+                       "seed": a.seed, "flags": a.flags, "rows": rows}, f, indent=1)
         os.replace(a.json + ".partial", a.json)
 
 
