@@ -43,6 +43,7 @@ import argparse
 import datetime
 import json
 import os
+import shlex
 import sys
 import tempfile
 
@@ -167,7 +168,7 @@ def print_row(r):
 def block_lines(a, rows, load, device):
     """The generated block of --results: the command, commit, device, date and load, then one
     row per scene: ratios on/off (true-positive rate), relMSE, and the floors."""
-    command = " ".join(["tools/hrpp_bench.py"] + sys.argv[1:])
+    command = shlex.join(["tools/hrpp_bench.py"] + sys.argv[1:])
     head = [f"Made by `{command}` ({a.size}, {a.spp} spp, seed {a.seed}, fastest of {a.repeat} "
             f"off/on pairs; ratios on/off, above 1: HRPP slower; (true-positive rate, floor)) "
             f"at commit {repo_commit(REPO)} on {device}, {cpu_model()}, "
