@@ -32,7 +32,8 @@ void add_shared_options(CLI::App* cmd, SharedOptions& o, SharedGroup group) {
            o.vulkan.ray_query = k == DeviceTracerKind::kRayQuery;
          },
          "compute: the project's BVH kernels; rayquery: the driver's own traversal "
-         "(VK_KHR_ray_query; lavapipe from Mesa 24.1, GPUs with ray tracing)")
+         "(VK_KHR_ray_query; lavapipe from Mesa 24.1, GPUs with ray tracing; bench: beside "
+         "the BVH kernels)")
       ->transform(one_of(kDeviceTracerNames))
       ->default_str(name_in(kDeviceTracerNames, o.device_tracer));
   cmd->add_option("--bvh-nodes", o.nodes,
