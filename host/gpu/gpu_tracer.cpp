@@ -41,8 +41,6 @@ static_assert(sizeof(gpu::Ray) == 2 * TexelView::kTexelBytes);
 
 namespace {
 
-constexpr std::uint32_t kCanaryIterations = 2;
-
 // HRPP_SPEC_NODE_FORMAT's value for `f`.
 std::uint32_t spec_value(NodeFormat f) {
   switch (f) {
@@ -171,7 +169,7 @@ struct GpuTracer::State {
   gpu::TracePushConstants push_constants() const {
     gpu::TracePushConstants pc{};
     pc.rays_per_invocation = config.rays_per_invocation;
-    pc.canary_iterations = kCanaryIterations;
+    pc.canary_iterations = HRPP_CANARY_ITERATIONS;
     pc.serial = serial() ? 1u : 0u;
     return pc;
   }

@@ -1,7 +1,6 @@
 #include "gpu/ray_query_tracer.h"
 
 #include <algorithm>
-#include <array>
 #include <limits>
 #include <string>
 
@@ -20,8 +19,6 @@
 
 namespace hrpp {
 namespace {
-
-constexpr std::uint32_t kCanaryIterations = 2;
 
 // Three vertices per triangle id, from the records (an SBVH may hold an id more than once);
 // ids no record holds get a NaN first vertex, which makes them inactive.
@@ -102,7 +99,7 @@ struct RayQueryTracer::State {
   gpu::TracePushConstants push_constants() const {
     gpu::TracePushConstants pc{};
     pc.rays_per_invocation = config.rays_per_invocation;
-    pc.canary_iterations = kCanaryIterations;
+    pc.canary_iterations = HRPP_CANARY_ITERATIONS;
     return pc;
   }
 

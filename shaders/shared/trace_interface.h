@@ -101,9 +101,13 @@ struct TraceCounters {
   uint wide[2 * HRPP_COUNTER_COUNT];  // (lo, hi) pairs, see HRPP_COUNTER_*
 };
 
+// The limiter probe's loop count, set by the host as a push constant (never a literal in GLSL).
+#define HRPP_CANARY_ITERATIONS 2u
+
 struct TracePushConstants {
   uint rays_per_invocation;  // cap on the rays one invocation traces (loop limiter)
-  uint canary_iterations;    // always 2; a loop bound the compiler cannot know (limiter probe)
+  uint canary_iterations;    // HRPP_CANARY_ITERATIONS: a loop bound the compiler cannot know
+                             // (the limiter probe, shaders/lib/loop_limiter.glsl)
   uint serial;  // 1: one ray per subgroup (the CPU reference's node visiting order)
   uint pad1;
 };
