@@ -20,7 +20,7 @@ void main() {
     const InsertRequest r = hrpp_requests[pc.first + i];
     if (r.node == HRPP_EMPTY_NODE) continue;
     const uint64_t key = uint64_t(r.key_lo) | (uint64_t(r.key_hi) << 32);
-    const uint outcome = hrpp_table_insert(key, r.node, pc.clock + i, count_evictions);
+    const uint outcome = hrpp_table_insert(key, r.node, r.t, pc.clock + i, count_evictions);
     if (outcome == kHrppInserted) ++count_inserts;
     else if (outcome == kHrppPresent) ++count_insert_present;
     else ++count_insert_drops;

@@ -1,7 +1,7 @@
 // hrpp_resolve: the last stage of a predicted trace (hrpp_predict → queue → trace kernel →
 // hrpp_resolve), one queue entry per invocation, dispatched indirectly from the queue:
-//   - the trace's hit of the queued ray becomes the ray's answer; exact mode (entry bounded by
-//     its predicted t): the closer of the trace's hit and the predicted one that hrpp_predict
+//   - the trace's hit of the queued ray becomes the ray's answer; exact mode or a gated true
+//     positive (entry bounded by its predicted t): the closer of the trace's hit and the predicted one that hrpp_predict
 //     left in the hit array, ties to the lower id (the predicted triangle's own box may be
 //     culled at tmax = its t: the slab test's near distance rounds too);
 //   - a probed ray whose answer is a hit inserts the prediction node of the hit under its key:
@@ -37,11 +37,11 @@ void insert(QueueEntry e, Hit answer) {
   ++count_insert_requests;
   const int node = hrpp_node_of_prim(uint(answer.prim));
   if (hrpp.insert_deferred != 0u) {
-    hrpp_requests[e.ray] = InsertRequest(e.key_lo, e.key_hi, node, 0u);
+    hrpp_requests[e.ray] = InsertRequest(e.key_lo, e.key_hi, node, answer.t);
     return;
   }
   const uint64_t key = uint64_t(e.key_lo) | (uint64_t(e.key_hi) << 32);
-  const uint outcome = hrpp_table_insert(key, node, hrpp.clock + e.ray, count_evictions);
+  const uint outcome = hrpp_table_insert(key, node, answer.t, hrpp.clock + e.ray, count_evictions);
   if (outcome == kHrppInserted) ++count_inserts;
   else if (outcome == kHrppPresent) ++count_insert_present;
   else ++count_insert_drops;

@@ -158,7 +158,13 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
            {"--hrpp on --table-policy mru", "--table-policy"},
            {"--hrpp on --table-preset huge", "--table-preset"},
            {"--hrpp on --hrpp-rays some", "--hrpp-rays"},
-           {"--hrpp on --hrpp-batch 100000", "--hrpp-batch"}}) {
+           {"--hrpp on --hrpp-batch 100000", "--hrpp-batch"},
+           {"--hrpp on --hash-dir-bits 3", "--hash-dir-bits"},  // camera rays: the paper's key
+           {"--hrpp on --hash-dir-bits bounce=9", "--hash-dir-bits"},
+           {"--hrpp on --hrpp-gate bounce=-1", "--hrpp-gate"},
+           {"--hrpp on --hrpp-gate near", "--hrpp-gate"},
+           {"--hrpp on --hrpp-gate inf", "--hrpp-gate"},
+           {"--hrpp on --hrpp-mode exact --hrpp-gate 1.5", "--hrpp-gate"}}) {
     const Result r = run(base + " " + flags);
     EXPECT_EQ(r.status, 1) << flags;
     EXPECT_NE(r.err.find(needle), std::string::npos) << flags << ": " << r.err;

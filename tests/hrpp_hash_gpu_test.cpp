@@ -80,10 +80,17 @@ std::vector<gpu::Ray> test_rays(const Aabb& box) {
 
 void expect_gpu_equals_mirror(const Aabb& box) {
   const std::vector<gpu::Ray> rays = test_rays(box);
+  std::vector<HashConfig> configs;
   for (const Named<HashKind>& named : kHashKindNames)
     for (std::uint32_t n = 1; n <= HRPP_HASH_BITS_MAX; ++n) {
-      const HashKind kind = named.value;
-      const gpu::HashParams params = make_hash_params({kind, n}, box);
+      configs.push_back({named.value, n});
+      if (named.value == HashKind::kGridSpherical)  // direction bins of their own precision
+        configs.push_back({named.value, n, HRPP_HASH_BITS_MAX + 1 - n});
+    }
+  for (const HashConfig& config : configs) {
+      const HashKind kind = config.kind;
+      const std::uint32_t n = config.bits;
+      const gpu::HashParams params = make_hash_params(config, box);
       const std::vector<std::uint64_t> gpu_keys = hash_rays_on_gpu(context(), params, rays);
       ASSERT_EQ(gpu_keys.size(), rays.size());
       int mismatches = 0;
@@ -101,8 +108,8 @@ void expect_gpu_equals_mirror(const Aabb& box) {
                         << std::bit_cast<std::uint32_t>(rays[i].tmax) << " cpu " << std::hex << cpu
                         << " gpu " << gpu_keys[i];
       }
-      EXPECT_EQ(mismatches, 0) << hash_kind_name(kind) << " N=" << n;
-    }
+      EXPECT_EQ(mismatches, 0) << hash_kind_name(kind) << " N=" << n << " D=" << config.dir_bits;
+  }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

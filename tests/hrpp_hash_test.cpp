@@ -142,6 +142,30 @@ TEST(RayHash, GridHashesQuantiseTheSceneBox) {
   EXPECT_THROW(parse_hash_kind("md5"), Error);
 }
 
+// --hash-dir-bits: grid-spherical's direction bins at their own precision D, the origin cell
+// at N as before; D = N is the default key; other keys have no direction bins to set.
+TEST(RayHash, GridSphericalDirectionBinsTakeTheirOwnPrecision) {
+  const auto with_d = [](std::uint32_t n, std::uint32_t d, glm::vec3 o, glm::vec3 dir) {
+    return hash_ray(o, dir, 1.0f, make_hash_params({HashKind::kGridSpherical, n, d}, kBox));
+  };
+  const glm::vec3 o{0.3f, 1.1f, -0.7f};
+  for (std::uint32_t n = 1; n <= 8; ++n)
+    for (std::uint32_t d = 1; d <= 8; ++d)
+      for (const glm::vec3& dir : {glm::vec3{0.0f, 0.0f, 1.0f}, glm::vec3{0.6f, -0.48f, 0.64f},
+                                   glm::vec3{-0.2f, 0.9f, -0.1f}}) {
+        const std::uint64_t k = with_d(n, d, o, dir);
+        const std::uint64_t origin_mask = (std::uint64_t{1} << (3 * n)) - 1;
+        EXPECT_EQ(k & origin_mask, key(HashKind::kGridSpherical, n, o, dir) & origin_mask);
+        EXPECT_LT(k >> (3 * n), std::uint64_t{1} << (2 * d)) << n << " " << d;
+        // The bins at D are those at N = D, moved above the origin cell.
+        EXPECT_EQ(k >> (3 * n), key(HashKind::kGridSpherical, d, o, dir) >> (3 * d));
+      }
+  EXPECT_EQ(with_d(5, 5, o, {0.6f, -0.48f, 0.64f}), with_d(5, 0, o, {0.6f, -0.48f, 0.64f}));
+  EXPECT_THROW(make_hash_params({HashKind::kGridSpherical, 6, 9}, kBox), Error);
+  EXPECT_THROW(make_hash_params({HashKind::kIeee, 6, 3}, kBox), Error);
+  EXPECT_THROW(make_hash_params({HashKind::kLightDepth, 6, 3}, kBox), Error);
+}
+
 // Light-space keys: the light end's coarse cell, the octahedral cell of the direction from the
 // light, the receiver's distance from the light (light-depth).
 TEST(RayHash, LightKeysAreLightEndDirectionAndReceiver) {

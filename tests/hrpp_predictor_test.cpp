@@ -26,6 +26,7 @@
 #include "gpu_test_context.h"
 #include "hrpp/reference_predictor.h"
 #include "hrpp/reference_table.h"
+#include "hrpp_distance_gate.h"
 #include "hrpp_counter_checks.h"
 #include "test_scenes.h"
 #include "trace/ray_batches.h"
@@ -195,7 +196,8 @@ void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& 
   p.serial = true;
   p.count_baseline = true;
   const TableConfig& table = p.table[RayClass::kCamera];
-  const std::string what = std::string(c.name) + " " + predictor_mode_name(p.mode) + " " +
+  const std::string what = std::string(c.name) + " " + predictor_mode_name(p.mode) +
+                           (p.gate[RayClass::kCamera] > 0.0f ? " gated" : "") + " " +
                            fallback_name(p.fallback) + " go-up " +
                            std::to_string(p.go_up[RayClass::kCamera]) + " table " +
                            std::to_string(table.sets) + "x" + std::to_string(table.ways) + "x" +
@@ -221,12 +223,13 @@ void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& 
     const int full = table.policy == TablePolicy::kNone ? HRPP_PC_INSERT_DROPS : HRPP_PC_EVICTIONS;
     EXPECT_GT(cpu.predictor.c[full], 0u) << what;
   }
-  std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu\n", what.c_str(),
+  std::printf("%-32s probes %llu TP %llu FP %llu neg %llu wrong %llu gated %llu\n", what.c_str(),
               static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_PROBES]),
               static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_TRUE_POSITIVES]),
               static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_FALSE_POSITIVES]),
               static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_NEGATIVES]),
-              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]));
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_WRONG_CLOSEST]),
+              static_cast<unsigned long long>(gpu.predictor.c[HRPP_PC_GATED]));
 }
 
 // The deterministic configuration reproduced: a roomy table and tiny ones that evict (lru,
@@ -246,6 +249,12 @@ TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
         p.fallback = fallback;
         expect_reference_reproduces_gpu(p, c);
       }
+      if (mode == PredictorMode::kSpeculative && c.kind == QueryKind::kClosest)
+        for (const TableConfig& table : {roomy, tiny[0]}) {  // the distance gate, lru evicting
+          PredictorConfig g = config(mode, table);
+          g.gate = {{1.5f, 1.5f, 0.0f}};
+          expect_reference_reproduces_gpu(g, c);
+        }
     }
   EXPECT_EQ(context().validation_messages(), 0u);
 }
@@ -437,6 +446,46 @@ TEST(HrppPredictor, SpeculativeWrongClosestHitsAreCounted) {
   }
 }
 
+// The distance gate: a gated true positive bounds a full traversal, so with a gate that stops
+// every true positive (G tiny) the answers are HRPP off's and nothing is wrong; with G = 1.5 the
+// wrong closest hits counted are still exactly the answers that differ from HRPP off's.
+TEST(HrppPredictor, DistanceGateBoundsTheTraceOfFarPredictions) {
+  GpuTracerConfig off_config;
+  off_config.rays_per_invocation = 8;
+  GpuTracer off(context(), bunny().bvh, off_config);
+  for (const Case& c : cases()) {
+    if (c.kind == QueryKind::kAny) continue;
+    const GpuTraceResult reference = off.trace(*c.rays, QueryKind::kClosest);
+    for (const float gate : {1e-20f, 1.5f}) {
+      char what_text[64];
+      std::snprintf(what_text, sizeof what_text, "%s gate %g", c.name, static_cast<double>(gate));
+      const std::string what = what_text;
+      PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
+      p.count_baseline = true;
+      p.set_hash({HashKind::kIeee, c.bits - 2});  // loose: wrong answers to stop
+      p.gate = {{gate, gate, 0.0f}};
+      const GpuTraceResult on = trace_gpu(p, *c.rays, QueryKind::kClosest);
+      std::uint64_t differ = 0;
+      for (std::size_t i = 0; i < c.rays->size(); ++i)
+        differ += on.hits[i].prim != reference.hits[i].prim || on.hits[i].t != reference.hits[i].t;
+      const auto& pc = on.predictor.c;
+      EXPECT_EQ(pc[HRPP_PC_WRONG_CLOSEST], differ) << what;
+      EXPECT_LE(pc[HRPP_PC_GATED], pc[HRPP_PC_TRUE_POSITIVES]) << what;
+      if (gate < 1.0f) {
+        EXPECT_GT(pc[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+        EXPECT_EQ(differ, 0u) << what;
+        EXPECT_EQ(pc[HRPP_PC_GATED], pc[HRPP_PC_TRUE_POSITIVES]) << what;
+      }
+      expect_counters_add_up(on.predictor, c.rays->size(), what);
+      std::printf("%s: %llu of %llu true positives gated, %llu wrong closest hits\n", what.c_str(),
+                  static_cast<unsigned long long>(pc[HRPP_PC_GATED]),
+                  static_cast<unsigned long long>(pc[HRPP_PC_TRUE_POSITIVES]),
+                  static_cast<unsigned long long>(differ));
+    }
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 // Which key each policy gives up when a full set takes a new one: one set of two ways, keys 1
 // and 2 inserted at clocks 1 and 2, key 1 probed at clock 3, key 3 inserted at clock 4. lru
 // evicts key 2 (key 1 was used last), fifo key 1 (it came in first; the probe wrote nothing),
@@ -459,15 +508,47 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
     params.policy = static_cast<std::uint32_t>(e.policy);
     ReferenceTable table(params);
     std::uint64_t evictions = 0;
-    EXPECT_EQ(table.insert(1, 10, 1, evictions), O::kInserted);
-    EXPECT_EQ(table.insert(2, 20, 2, evictions), O::kInserted);
-    ASSERT_FALSE(table.lookup(1, 3).empty());
-    EXPECT_EQ(table.insert(3, 30, 4, evictions), e.third) << table_policy_name(e.policy);
+    std::uint32_t nearest = 0;
+    EXPECT_EQ(table.insert(1, 10, 1.0f, 1, evictions), O::kInserted);
+    EXPECT_EQ(table.insert(2, 20, 1.0f, 2, evictions), O::kInserted);
+    ASSERT_FALSE(table.lookup(1, 3, nearest).empty());
+    EXPECT_EQ(table.insert(3, 30, 1.0f, 4, evictions), e.third) << table_policy_name(e.policy);
     for (std::uint64_t key = 1; key <= 3; ++key)
-      EXPECT_EQ(!table.lookup(key, 5).empty(), e.holds[key - 1])
+      EXPECT_EQ(!table.lookup(key, 5, nearest).empty(), e.holds[key - 1])
           << table_policy_name(e.policy) << " key " << key;
     EXPECT_EQ(evictions, e.evictions) << table_policy_name(e.policy);
   }
+}
+
+// The distance gate's nearest hit per entry: the least t inserted under the key, none (word 0)
+// for a key that came in by evicting another, and none kept without the gate.
+TEST(HrppPredictor, EntriesKeepTheNearestHitForTheGate) {
+  gpu::PredictorParams params{};
+  params.sets = 1;
+  params.ways = 1;
+  params.nodes = 2;
+  params.policy = static_cast<std::uint32_t>(TablePolicy::kLru);
+  params.gate = 1.5f;
+  ReferenceTable table(params);
+  std::uint64_t evictions = 0;
+  std::uint32_t nearest = 0;
+  table.insert(1, 10, 4.0f, 1, evictions);
+  table.insert(1, 11, 2.0f, 2, evictions);
+  table.insert(1, 10, 3.0f, 3, evictions);
+  ASSERT_FALSE(table.lookup(1, 4, nearest).empty());
+  EXPECT_EQ(nearest, gpu::hrpp_nearest_word(2.0f));
+  EXPECT_FALSE(gpu::hrpp_gated(3.0f, nearest, params.gate));  // 3 <= 1.5 × 2
+  EXPECT_TRUE(gpu::hrpp_gated(3.5f, nearest, params.gate));
+  EXPECT_FALSE(gpu::hrpp_gated(3.5f, 0u, params.gate));  // no hit seen yet: accepted
+  EXPECT_FALSE(gpu::hrpp_gated(3.5f, nearest, 0.0f));    // gate off
+  table.insert(2, 20, 8.0f, 5, evictions);  // evicts key 1
+  ASSERT_FALSE(table.lookup(2, 6, nearest).empty());
+  EXPECT_EQ(nearest, gpu::hrpp_nearest_word(8.0f));
+  params.gate = 0.0f;
+  ReferenceTable off(params);
+  off.insert(1, 10, 4.0f, 1, evictions);
+  ASSERT_FALSE(off.lookup(1, 2, nearest).empty());
+  EXPECT_EQ(nearest, 0u);
 }
 
 }  // namespace

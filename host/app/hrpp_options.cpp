@@ -58,7 +58,7 @@ void parse_per_class(const std::string& text, const std::string& flag, PerClass<
   }
 }
 
-float parse_share(const std::string& v) {
+float parse_number(const std::string& v) {
   std::size_t used = 0;
   float x = 0.0f;
   try {
@@ -91,7 +91,8 @@ PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
   c.mode = mode;
   c.fallback = fallback.value_or(tracer == DeviceTracerKind::kRayQuery ? Fallback::kRoot
                                                                         : Fallback::kSkip);
-  for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k]};
+  for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k], hash_dir_bits[k]};
+  c.gate = gate;
   c.go_up = go_up;
   c.go_up_size = go_up_size;
   for (RayClass k : kRayClasses) {
@@ -109,6 +110,10 @@ PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
   c.classes = classes;
   c.adaptive = adaptive;  // with batches it does not adapt (PredictorConfig::adapts)
   for (RayClass k : kRayClasses) {  // checks sizes and precision now, naming the flag
+    if (!c.predicts(k)) c.hash[k].dir_bits = 0;  // a list's V sets every class
+    if (!c.predicts(k) || query_kind(k) == QueryKind::kAny) c.gate[k] = 0.0f;
+    if (c.gate[k] > 0.0f && c.mode == PredictorMode::kExact)
+      throw Error("--hrpp-gate: exact mode already bounds every true positive's trace");
     (void)make_predictor_params(c, k, Aabb{});
     if (c.predicts(k) && query_kind(k) != QueryKind::kAny && is_light_space(c.hash[k].kind))
       throw Error(std::string("--hash: ") + hash_kind_name(c.hash[k].kind) +
@@ -119,7 +124,7 @@ PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
 }
 
 // A share as --go-up-size takes it: "0.02" (shortest round trip is not needed: 6 digits).
-std::string format_share(float x) {
+std::string format_number(float x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));
   return buf;
@@ -163,6 +168,15 @@ void add_key_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
           per_class_default(o.hash_bits, [](std::uint32_t n) { return std::to_string(n); }))
       ->group(g);
   cmd->add_option_function<std::string>(
+         "--hash-dir-bits",
+         [&o](const std::string& v) {
+           parse_per_class(v, "--hash-dir-bits", o.hash_dir_bits, parse_count);
+         },
+         "grid-spherical: precision D (1..8) of the direction bins (0: N, --hash-bits)" +
+             per_class)
+      ->default_str("0")
+      ->group(g);
+  cmd->add_option_function<std::string>(
          "--go-up",
          [&o](const std::string& v) { parse_per_class(v, "--go-up", o.go_up, parse_count); },
          "Go-up level: predict the ancestor L levels above the leaf that held the hit" + per_class)
@@ -171,12 +185,12 @@ void add_key_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
   cmd->add_option_function<std::string>(
          "--go-up-size",
          [&o](const std::string& v) {
-           parse_per_class(v, "--go-up-size", o.go_up_size, parse_share);
+           parse_per_class(v, "--go-up-size", o.go_up_size, parse_number);
          },
          "Then go further up while the node's box is smaller than this share (0..1) of the "
          "scene box's largest extent: the same beam width on dense and coarse meshes (0: off)" +
              per_class)
-      ->default_str(per_class_default(o.go_up_size, format_share))
+      ->default_str(per_class_default(o.go_up_size, format_number))
       ->group(g);
 }
 
@@ -253,6 +267,15 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
       ->transform(one_of(kFallbackNames))
       ->default_str("skip; root with --tracer rayquery")
       ->group(g);
+  cmd->add_option_function<std::string>(
+         "--hrpp-gate",
+         [&o](const std::string& v) { parse_per_class(v, "--hrpp-gate", o.gate, parse_number); },
+         "Distance gate G, speculative mode: accept a predicted closest hit only within G times "
+         "the nearest hit that traced rays of its key found; a farther one bounds a full "
+         "traversal (fewer wrong closest hits; hit-all classes, 0: off)" +
+             std::string(kPerClass))
+      ->default_str("0")
+      ->group(g);
   add_key_options(cmd, o, g);
   add_table_options(cmd, o, g);
   cmd->add_option("--hrpp-batch", o.batch,
@@ -301,13 +324,15 @@ nlohmann::json class_keys(const PredictorConfig& c) {
   for (RayClass k : kRayClasses)
     keys[ray_class_name(k)] = {{"hash", hash_kind_name(c.hash[k].kind)},
                                {"hash_bits", c.hash[k].bits},
+                               {"hash_dir_bits", c.hash[k].dir_bits},
+                               {"gate", c.gate[k]},
                                {"go_up", c.go_up[k]},
                                {"go_up_size", c.go_up_size[k]},
                                {"table_sets", c.table[k].sets},
                                {"table_ways", c.table[k].ways},
                                {"table_nodes", c.table[k].nodes},
                                {"table_policy", table_policy_name(c.table[k].policy)},
-                               {"table_bytes", c.table[k].bytes()}};
+                               {"table_bytes", c.table_bytes(k)}};
   return keys;
 }
 
@@ -317,9 +342,10 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
            per_class_text(c, c.hash, [](const HashConfig& h) { return hash_kind_name(h.kind); })},
           {"hash_bits", per_class_number(c, [&c](RayClass k) { return c.hash[k].bits; })},
           {"mode", predictor_mode_name(c.mode)},
+          {"gate", per_class_text(c, c.gate, format_number)},
           {"fallback", fallback_name(c.fallback)},
           {"go_up", per_class_number(c, [&c](RayClass k) { return c.go_up[k]; })},
-          {"go_up_size", per_class_text(c, c.go_up_size, format_share)},
+          {"go_up_size", per_class_text(c, c.go_up_size, format_number)},
           {"keys", class_keys(c)},
           {"table_sets", per_class_number(c, [&c](RayClass k) { return c.table[k].sets; })},
           {"table_ways", per_class_number(c, [&c](RayClass k) { return c.table[k].ways; })},
@@ -328,7 +354,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
                                           [](const TableConfig& t) {
                                             return std::string(table_policy_name(t.policy));
                                           })},
-          {"table_bytes", per_class_number(c, [&c](RayClass k) { return c.table[k].bytes(); })},
+          {"table_bytes", per_class_number(c, [&c](RayClass k) { return c.table_bytes(k); })},
           {"ray_classes", class_names(c)},
           {"adaptive", c.adapts()},
           {"count_baseline", c.count_baseline},

@@ -1,6 +1,6 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
-// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hash, --hash-bits,
-// --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of
+// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hrpp-gate, --hash,
+// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of
 // a run's predictor figures.
 #pragma once
 
@@ -35,12 +35,14 @@ struct HrppOptions {
   // occluder's leaf, four per entry (the beam table).
   PerClass<HashKind> hash{{HashKind::kIeee, HashKind::kGridSpherical, HashKind::kLightDepth}};
   PerClass<std::uint32_t> hash_bits{{6, 6, 6}};
+  PerClass<std::uint32_t> hash_dir_bits{};  // grid-spherical direction bins (0: hash_bits)
   PerClass<std::uint32_t> go_up{{0, 0, 0}};
   PerClass<float> go_up_size{{0.0f, 0.0f, 0.02f}};
   // Table per ray class (--table-* take V or a list of V and class=V, as --hash).
   PerClass<TablePreset> preset{{TablePreset::kTuned, TablePreset::kTuned, TablePreset::kBeam}};
   PerClass<std::uint32_t> sets{}, ways{}, nodes{};  // 0: the preset's
   PerClass<std::optional<TablePolicy>> policy{};    // none: the preset's
+  PerClass<float> gate{};  // --hrpp-gate (PredictorConfig::gate; hit-all classes)
   std::uint32_t batch = 0;
   std::uint32_t pilot = PredictorConfig{}.pilot;
   bool serial = false;

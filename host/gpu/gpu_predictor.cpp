@@ -44,14 +44,15 @@ std::size_t texel_bytes(std::size_t bytes) {
 }
 
 // A class's table buffers (each its own storage buffer, held to the limits on its own): the
-// tags, the use stamps and the node slots.
+// tags, the use stamps (with the distance gate, then the nearest hits) and the node slots.
 enum TableBuffer { kTags, kStamps, kSlots };
 std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uint64_t ways,
-                                        std::uint64_t nodes) {
+                                        std::uint64_t nodes, bool gate) {
   const std::string cls = ray_class_name(c);
   return {BufferNeed{cls + " predictor tags (--table-sets × --table-ways)",
                      texel_bytes(sets * ways * sizeof(std::uint64_t))},
-          BufferNeed{cls + " predictor stamps", sets * ways * sizeof(std::uint32_t)},
+          BufferNeed{cls + (gate ? " predictor stamps and nearest hits" : " predictor stamps"),
+                     (gate ? 2u : 1u) * sets * ways * sizeof(std::uint32_t)},
           BufferNeed{cls + " predictor node slots (sets × ways × --table-nodes)",
                      texel_bytes(sets * ways * nodes * sizeof(std::uint32_t))}};
 }
@@ -91,7 +92,7 @@ struct Table {
   ComputePipeline resolve, insert;
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback)
-      : Table(ctx, p, c, fallback, table_buffers(c, p.sets, p.ways, p.nodes)) {}
+      : Table(ctx, p, c, fallback, table_buffers(c, p.sets, p.ways, p.nodes, p.gate > 0.0f)) {}
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback,
         const std::array<BufferNeed, 3>& b)
@@ -383,7 +384,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     const TableConfig& t = config.table[c];
-    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes)) needs.push_back(b);
+    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes, config.gate[c] > 0.0f)) needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
   needs.push_back(
@@ -631,7 +632,7 @@ TableOccupancy GpuPredictor::occupancy(RayClass c) const {
   if (!s_->tables[c]) return o;
   const Table& t = s_->table(c);
   o.capacity = std::uint64_t{t.params.sets} * t.params.ways;
-  o.bytes = s_->config.table[c].bytes();
+  o.bytes = s_->config.table_bytes(c);
   std::vector<std::uint64_t> tags(o.capacity);
   t.tags.download(std::span<std::uint64_t>(tags));
   std::vector<std::uint32_t> slots(o.capacity * t.params.nodes);

@@ -1,6 +1,7 @@
 #include "hrpp/predictor_config.h"
 
 #include <bit>
+#include <cmath>
 #include <string>
 
 #include "common/error.h"
@@ -43,6 +44,8 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
   if (config.go_up[c] > 64) throw Error("--go-up: must be 0..64");
   if (!(config.go_up_size[c] >= 0.0f && config.go_up_size[c] <= 1.0f))
     throw Error("--go-up-size: must be 0..1");
+  if (!(config.gate[c] >= 0.0f && std::isfinite(config.gate[c])))
+    throw Error("--hrpp-gate: must be a finite number >= 0");
   gpu::PredictorParams p{};
   p.hash = make_hash_params(config.hash[c], scene_box);
   p.sets = t.sets;
@@ -51,6 +54,7 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
   p.policy = static_cast<std::uint32_t>(t.policy);
   p.go_up = config.go_up[c];
   p.go_up_size = config.go_up_size[c];
+  p.gate = config.gate[c];
   p.mode = static_cast<std::uint32_t>(config.mode);
   p.insert_deferred = config.batch > 0 ? 1u : 0u;
   p.count_baseline = config.count_baseline ? 1u : 0u;

@@ -61,8 +61,11 @@ struct TableConfig {
 
   std::uint64_t entries() const { return std::uint64_t{sets} * ways; }
   friend bool operator==(const TableConfig&, const TableConfig&) = default;
-  // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots.
-  std::uint64_t bytes() const { return entries() * (8u + 4u + 4u * std::uint64_t{nodes}); }
+  // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots; with
+  // the distance gate also a 32-bit nearest hit.
+  std::uint64_t bytes(bool gate = false) const {
+    return entries() * (8u + 4u + (gate ? 4u : 0u) + 4u * std::uint64_t{nodes});
+  }
 };
 
 // Named table sizes (--table-preset, per ray class); "tuned" (512 KiB) is the default of camera
@@ -93,6 +96,10 @@ struct PredictorConfig {
   PerClass<std::uint32_t> go_up{};
   PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
   PerClass<TableConfig> table;   // per ray class (--table-*)
+  // The distance gate per hit-all class (--hrpp-gate; shaders/shared/hrpp_distance_gate.h):
+  // speculative mode accepts a true positive only within gate × the nearest hit its key's traced
+  // rays found, and bounds an exact trace with the others. 0: off.
+  PerClass<float> gate{};
   // Insert order. 0: inserts happen during the trace, as rays finish (fast, not reproducible).
   // K > 0, the deterministic order: rays go in batches of K in index order; every ray of a batch
   // probes the table as the previous batches left it; after the batch its inserts are applied
@@ -123,6 +130,7 @@ struct PredictorConfig {
   std::uint32_t sample = 128;
 
   bool predicts(RayClass c) const { return enabled && classes[c]; }
+  std::uint64_t table_bytes(RayClass c) const { return table[c].bytes(gate[c] > 0.0f); }
   // The same key or go-up level for every class.
   void set_hash(const HashConfig& h) { hash = {{h, h, h}}; }
   void set_go_up(std::uint32_t level) { go_up = {{level, level, level}}; }

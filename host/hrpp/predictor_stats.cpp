@@ -1,5 +1,6 @@
 #include "hrpp/predictor_stats.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "common/bytes.h"
@@ -36,13 +37,18 @@ PredictorSummary summarize(const gpu::PredictorCounters& counters, const Travers
 }
 
 std::string describe(const PredictorConfig& config) {
-  const std::string table = per_class_text(config, config.table, [](const TableConfig& t) {
-    return std::to_string(t.sets) + "x" + std::to_string(t.ways) + "x" + std::to_string(t.nodes) +
-           " " + table_policy_name(t.policy) + " (" + format_bytes(t.bytes()) + ")";
-  });
+  PerClass<std::string> tables;
+  for (RayClass c : kRayClasses) {
+    const TableConfig& t = config.table[c];
+    tables[c] = std::to_string(t.sets) + "x" + std::to_string(t.ways) + "x" +
+                std::to_string(t.nodes) + " " + table_policy_name(t.policy) + " (" +
+                format_bytes(config.table_bytes(c)) + ")";
+  }
+  const std::string table = per_class_text(config, tables, [](const std::string& s) { return s; });
   char buf[640];
   const std::string hash = per_class_text(config, config.hash, [](const HashConfig& h) {
-    return std::string(hash_kind_name(h.kind)) + " N=" + std::to_string(h.bits);
+    return std::string(hash_kind_name(h.kind)) + " N=" + std::to_string(h.bits) +
+           (h.dir_bits > 0 ? " D=" + std::to_string(h.dir_bits) : "");
   });
   PerClass<std::string> levels;
   for (RayClass c : kRayClasses) {
@@ -52,8 +58,15 @@ std::string describe(const PredictorConfig& config) {
     levels[c] = std::to_string(config.go_up[c]) + size;
   }
   const std::string go_up = per_class_text(config, levels, [](const std::string& s) { return s; });
+  std::string mode = predictor_mode_name(config.mode);
+  if (std::ranges::any_of(kRayClasses, [&](RayClass c) { return config.gate[c] > 0.0f; }))
+    mode += " with distance gate " + per_class_text(config, config.gate, [](float g) {
+              char text[32];
+              std::snprintf(text, sizeof text, "%g", static_cast<double>(g));
+              return std::string(text);
+            });
   std::snprintf(buf, sizeof buf, "hash %s, go-up %s, %s, table %s per ray class, %s", hash.c_str(),
-                go_up.c_str(), predictor_mode_name(config.mode), table.c_str(),
+                go_up.c_str(), mode.c_str(), table.c_str(),
                 config.batch == 0 ? "inserts during the trace"
                                   : ("batches of " + std::to_string(config.batch) +
                                      (config.serial ? ", one ray per subgroup" : ""))
@@ -89,7 +102,9 @@ std::string format_summary(const std::string& label, const PredictorSummary& s, 
         100.0 * s.savings, 100.0 * s.net_savings,
         kind == QueryKind::kAny
             ? ""
-            : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST])).c_str());
+            : (", wrong closest hits " + std::to_string(c[HRPP_PC_WRONG_CLOSEST]) +
+               (c[HRPP_PC_GATED] > 0 ? ", gated " + std::to_string(c[HRPP_PC_GATED]) : ""))
+                  .c_str());
   }
   return buf;
 }

@@ -89,7 +89,7 @@ std::uint64_t hash_grid_spherical(const glm::vec3& o, const glm::vec3& d,
                                   const gpu::HashParams& h) {
   const std::uint32_t n = h.bits;
   return std::uint64_t{grid_cell(flushed(o), h.grid_lo, h.grid_scale, n)} |
-         (std::uint64_t{direction_bins(d, n)} << (3u * n));
+         (std::uint64_t{direction_bins(d, h.second_bits)} << (3u * n));
 }
 
 std::uint64_t hash_two_point(const glm::vec3& o, const glm::vec3& d, const gpu::HashParams& h) {
@@ -128,7 +128,7 @@ std::uint32_t octahedral_cell(const glm::vec3& dir, std::uint32_t n) {
 
 std::uint64_t hash_light(const glm::vec3& o, const glm::vec3& d, float tmax,
                          const gpu::HashParams& h, bool with_depth) {
-  const std::uint32_t n = h.bits, c = h.light_bits;
+  const std::uint32_t n = h.bits, c = h.second_bits;
   const glm::vec3 oc = flushed(o);
   const glm::vec3 e = oc + flushed(d) * flushed(tmax);
   std::uint64_t key = std::uint64_t{grid_cell(e, h.far_lo, h.far_scale, c)} |
@@ -153,6 +153,11 @@ glm::vec3 grid_scale(const glm::vec3& extent, std::uint32_t n) {
 gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box) {
   if (config.bits < 1 || config.bits > HRPP_HASH_BITS_MAX)
     throw Error("--hash-bits: " + std::to_string(config.bits) + " is outside 1..8");
+  if (config.dir_bits > HRPP_HASH_BITS_MAX)
+    throw Error("--hash-dir-bits: " + std::to_string(config.dir_bits) + " is outside 1..8");
+  if (config.dir_bits > 0 && config.kind != HashKind::kGridSpherical)
+    throw Error(std::string("--hash-dir-bits: only grid-spherical keys have direction bins, not ") +
+                hash_kind_name(config.kind));
   gpu::HashParams p{};
   p.kind = static_cast<std::uint32_t>(config.kind);
   p.bits = config.bits;
@@ -163,11 +168,13 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
   p.grid_scale = grid_scale(extent, config.bits);
   p.reach = std::isfinite(reach) ? flushed(reach) : 0.0f;
   if (is_light_space(config.kind)) {  // far_* hold the light end's grid over the scene box
-    p.light_bits = std::min(config.bits + 1, 8u);
+    p.second_bits = std::min(config.bits + 1, 8u);
     p.far_lo = p.grid_lo;
-    p.far_scale = grid_scale(extent, p.light_bits);
+    p.far_scale = grid_scale(extent, p.second_bits);
     return p;
   }
+  if (config.kind == HashKind::kGridSpherical)
+    p.second_bits = config.dir_bits > 0 ? config.dir_bits : config.bits;
   p.far_lo = flushed(box.lo - glm::vec3(p.reach));
   p.far_scale = grid_scale(extent + glm::vec3(2.0f * p.reach), config.bits);
   return p;

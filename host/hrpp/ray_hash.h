@@ -16,7 +16,7 @@ namespace hrpp {
 static_assert(sizeof(gpu::HashParams) == 64);
 static_assert(offsetof(gpu::HashParams, grid_scale) == 16 &&
               offsetof(gpu::HashParams, far_lo) == 32 && offsetof(gpu::HashParams, reach) == 44 &&
-              offsetof(gpu::HashParams, light_bits) == 60);
+              offsetof(gpu::HashParams, second_bits) == 60);
 
 enum class HashKind : std::uint32_t {
   kIeee = HRPP_HASH_IEEE,
@@ -34,6 +34,7 @@ constexpr bool is_light_space(HashKind kind) {
 struct HashConfig {
   HashKind kind = HashKind::kIeee;
   std::uint32_t bits = 6;  // precision N, 1..8 (the paper's Table 1 uses 6)
+  std::uint32_t dir_bits = 0;  // grid-spherical: the direction bins' precision D (0: N)
 
   friend bool operator==(const HashConfig&, const HashConfig&) = default;
 };
@@ -51,7 +52,7 @@ inline HashKind parse_hash_kind(std::string_view name) {
 }
 
 // The parameters the kernels get: grid origin and scales over `scene_box`. Throws hrpp::Error
-// when bits is outside 1..8.
+// when bits is outside 1..8, or dir_bits outside 0..8 or set for a key without direction bins.
 gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box);
 
 // The paper's per-float hash at precision n (sign | top n exponent bits | top min(n, 7)

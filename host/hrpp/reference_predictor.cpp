@@ -4,6 +4,7 @@
 #include <array>
 
 #include "hrpp/prediction_node.h"
+#include "hrpp_distance_gate.h"
 #include "hrpp/shared_table.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_setup.h"
@@ -72,14 +73,15 @@ struct ReferencePredictor::Trace {
     return predicted;
   }
 
-  // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none).
+  // Probe and verify (hrpp_predict). Returns the predicted hit (prim < 0: none); `nearest`:
+  // the entry's nearest-hit word (0: no entry, or none yet).
   gpu::Hit predict(const gpu::Ray& ray, Table& table, std::uint64_t key, std::uint32_t clock,
-                   SkipList& tested) {
+                   SkipList& tested, std::uint32_t& nearest) {
     ++counter(HRPP_PC_PROBES);
     SharedTable::Nodes copy;
     const std::span<const int> slots =
-        shared ? std::span<const int>(copy.data(), shared->lookup(key, clock, copy))
-               : table.lookup(key, clock);
+        shared ? std::span<const int>(copy.data(), shared->lookup(key, clock, copy, nearest))
+               : table.lookup(key, clock, nearest);
     if (slots.empty()) {
       ++counter(HRPP_PC_NEGATIVES);
       return kMiss;
@@ -88,23 +90,23 @@ struct ReferencePredictor::Trace {
     return verify(ray, slots, tested);
   }
 
-  // count_baseline: what HRPP off would visit (not in the trace counters) and, speculative,
-  // whether the accepted hit was the closest.
-  void count_baseline(const gpu::Ray& ray, const gpu::Hit& predicted) {
+  // count_baseline: what HRPP off would visit (not in the trace counters) and whether a
+  // speculative answer (`speculative`: accepted as it is) was the closest hit.
+  void count_baseline(const gpu::Ray& ray, const gpu::Hit& predicted, bool speculative) {
     TraversalCounters b;  // counted whether or not the work is
     const gpu::Hit truth = trace_skipping(*p.bvh_, ray, kind, {}, &b);
     counter(HRPP_PC_BASELINE_INTERIOR) += b.interior_visited;
-    if (predicted.prim >= 0 && kind == QueryKind::kClosest && !exact &&
-        (truth.prim != predicted.prim || truth.t != predicted.t))
+    if (speculative && (truth.prim != predicted.prim || truth.t != predicted.t))
       ++counter(HRPP_PC_WRONG_CLOSEST);
   }
 
-  // The answer of a probed ray: the prediction, or the trace of the queue (exact mode: bounded
-  // by the predicted t, the closer of the two, ties to the lower id), not entering the nodes
-  // in `skip`. `traced`: the ray was queued (then a hit inserts).
+  // The answer of a probed ray: the prediction (`speculative`: a hit-all one accepted as it
+  // is), or the trace of the queue (a bounded true positive: tmax = the predicted t, the closer
+  // of the two, ties to the lower id), not entering the nodes in `skip`. `traced`: the ray was
+  // queued (then a hit inserts).
   gpu::Hit answer(const gpu::Ray& ray, const gpu::Hit& predicted, const SkipList& skip,
-                  bool& traced) {
-    traced = predicted.prim < 0 || (exact && kind == QueryKind::kClosest);
+                  bool speculative, bool& traced) {
+    traced = predicted.prim < 0 || (kind == QueryKind::kClosest && !speculative);
     if (!traced) return predicted;
     gpu::Ray r = ray;
     if (predicted.prim >= 0) r.tmax = predicted.t;
@@ -121,15 +123,19 @@ struct ReferencePredictor::Trace {
     const std::uint64_t key = hash_ray(ray.origin, ray.dir, ray.tmax, params.hash);
     SkipList tested;
     tested.fill(HRPP_EMPTY_NODE);
-    const gpu::Hit predicted = predict(ray, table, key, clock, tested);
-    if (p.config_.count_baseline) count_baseline(ray, predicted);
+    std::uint32_t nearest = 0;
+    const gpu::Hit predicted = predict(ray, table, key, clock, tested, nearest);
+    const bool hit_all_tp = predicted.prim >= 0 && kind == QueryKind::kClosest && !exact;
+    const bool gated = hit_all_tp && gpu::hrpp_gated(predicted.t, nearest, params.gate);
+    if (gated) ++counter(HRPP_PC_GATED);
+    if (p.config_.count_baseline) count_baseline(ray, predicted, hit_all_tp && !gated);
     bool traced = false;
-    const gpu::Hit best = answer(ray, predicted, tested, traced);
+    const gpu::Hit best = answer(ray, predicted, tested, hit_all_tp && !gated, traced);
     if (traced && best.prim >= 0) {
       ++counter(HRPP_PC_INSERT_REQUESTS);
       const std::uint32_t leaf = p.leaf_of_prim_[static_cast<std::size_t>(best.prim)];
       inserts.push_back(
-          {key, prediction_node(*p.bvh_, leaf, params.go_up, params.go_up_size), clock});
+          {key, prediction_node(*p.bvh_, leaf, params.go_up, params.go_up_size), best.t, clock});
     }
     return best;
   }
@@ -138,8 +144,8 @@ struct ReferencePredictor::Trace {
   void apply_inserts(Table& table) {
     for (const Insert& in : inserts) {
       std::uint64_t& evictions = counter(HRPP_PC_EVICTIONS);
-      switch (shared ? shared->insert(in.key, in.node, in.clock, evictions)
-                     : table.insert(in.key, in.node, in.clock, evictions)) {
+      switch (shared ? shared->insert(in.key, in.node, in.t, in.clock, evictions)
+                     : table.insert(in.key, in.node, in.t, in.clock, evictions)) {
         case ReferenceTable::Outcome::kInserted: ++counter(HRPP_PC_INSERTS); break;
         case ReferenceTable::Outcome::kPresent: ++counter(HRPP_PC_INSERT_PRESENT); break;
         case ReferenceTable::Outcome::kDropped: ++counter(HRPP_PC_INSERT_DROPS); break;

@@ -7,8 +7,9 @@
 //   - predictor hit: the ray is tested against the entry's nodes in list order (leaf: its
 //     triangles; interior: its subtree), hit-all keeping the closest hit (tmax shrinking across
 //     nodes), hit-any stopping at the first hit. A hit is a true positive: hit-any and
-//     speculative hit-all take it; exact hit-all traces from the root with tmax = its t and
-//     keeps the closer of that answer and the predicted hit (ties: lower id). No hit:
+//     speculative hit-all take it; exact hit-all, and speculative hit-all that the distance
+//     gate stops (shaders/shared/hrpp_distance_gate.h), trace from the root with tmax = its t and
+//     keep the closer of that answer and the predicted hit (ties: lower id). No hit:
 //     false positive, full traversal. No entry: negative, full traversal. With
 //     --hrpp-fallback skip (PredictorConfig::fallback) these traversals do not enter the first
 //     HRPP_SKIP_NODES nodes the verification tested;
@@ -81,6 +82,7 @@ class ReferencePredictor {
   struct Insert {
     std::uint64_t key;
     int node;
+    float t;              // the hit's (the distance gate's nearest hit)
     std::uint32_t clock;  // the ray's use stamp
   };
   struct Trace;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "hrpp_distance_gate.h"
 #include "hrpp_table_set.h"
 
 namespace hrpp {
@@ -22,13 +23,16 @@ std::size_t ReferenceTable::set_base(std::uint64_t key) const {
   return std::size_t{gpu::hrpp_set_of(key, params_.sets)} * params_.ways;
 }
 
-std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock) {
+std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock,
+                                            std::uint32_t& nearest) {
+  nearest = 0;
   if (ways_.empty()) return {};
   const std::size_t base = set_base(key);
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag != key) continue;
     if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
+    nearest = way.nearest;
     return slots(base + w);
   }
   return {};
@@ -43,6 +47,7 @@ std::size_t ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
     Way& way = ways_[base + w];
     if (way.tag == key || way.tag == kEmptyTag) {
       claim = way.tag == key ? Claim::kFound : Claim::kClaimed;
+      if (claim == Claim::kClaimed) way.nearest = 0;
       way.tag = key;
       return base + w;
     }
@@ -61,12 +66,13 @@ std::size_t ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
   claim = Claim::kClaimed;
   ++evictions;
   ways_[victim].tag = key;
+  ways_[victim].nearest = 0;
   std::ranges::fill(slots(victim), kEmptyNode);
   return victim;
 }
 
-ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std::uint32_t clock,
-                                               std::uint64_t& evictions) {
+ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, float t,
+                                               std::uint32_t clock, std::uint64_t& evictions) {
   if (ways_.empty()) return Outcome::kDropped;
   Claim claim = Claim::kFound;
   const std::size_t w = claim_way(key, claim, evictions);
@@ -74,6 +80,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, std:
   Way& way = ways_[w];
   if (policy_ == TablePolicy::kLru || (policy_ == TablePolicy::kFifo && claim == Claim::kClaimed))
     way.stamp = std::max(way.stamp, clock);
+  if (params_.gate > 0.0f) way.nearest = std::max(way.nearest, gpu::hrpp_nearest_word(t));
   Outcome outcome = Outcome::kDropped;
   const std::span<int> way_slots = slots(w);
   for (int& slot : way_slots) {

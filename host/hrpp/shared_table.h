@@ -23,9 +23,10 @@ class SharedTable {
 
   explicit SharedTable(const gpu::PredictorParams& params);
 
-  // The entry's node slots copied into `out`: their count, 0 when no way holds the key.
-  std::size_t lookup(std::uint64_t key, std::uint32_t clock, Nodes& out);
-  ReferenceTable::Outcome insert(std::uint64_t key, int node, std::uint32_t clock,
+  // The entry's node slots copied into `out`: their count, 0 when no way holds the key; its
+  // nearest-hit word into `nearest` (ReferenceTable::lookup).
+  std::size_t lookup(std::uint64_t key, std::uint32_t clock, Nodes& out, std::uint32_t& nearest);
+  ReferenceTable::Outcome insert(std::uint64_t key, int node, float t, std::uint32_t clock,
                                  std::uint64_t& evictions);
   // Stamps for `rays` more rays: the first of them (the threads' rays share one clock).
   std::uint32_t draw_clock(std::uint32_t rays) { return clock_.fetch_add(rays); }

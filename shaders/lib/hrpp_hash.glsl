@@ -119,11 +119,12 @@ uint hrpp_direction_bins(vec3 dir, uint n) {
 }
 
 // MICRO'21 grid-spherical hash (Liu et al., "Intersection Prediction for Accelerated GPU Ray
-// Tracing"): origin cell (3n bits) | θ-bin << 3n | φ-bin << 4n (5n ≤ 40 bits).
+// Tracing"): origin cell (3n bits) | θ-bin << 3n | φ-bin << (3n + d), with d = h.second_bits
+// bits per direction bin (3n + 2d ≤ 40 bits).
 uint64_t hrpp_hash_grid_spherical(vec3 o, vec3 d, HashParams h) {
   const uint n = h.bits;
   return uint64_t(hrpp_grid_cell(hrpp_flushed(o), h.grid_lo, h.grid_scale, n)) |
-         (uint64_t(hrpp_direction_bins(d, n)) << (3u * n));
+         (uint64_t(hrpp_direction_bins(d, h.second_bits)) << (3u * n));
 }
 
 // Two-point hash: the origin's cell on the scene grid and the cell of q = o + u × (reach / m),
@@ -172,7 +173,7 @@ uint hrpp_octahedral_cell(vec3 dir, uint n) {
 
 // Light-space keys for shadow rays, which run from a receiver o towards a point on a light and
 // end there (tmax): the light end e = o + d × tmax on the grid over the scene box at C =
-// light_bits = min(n + 1, 8) bits per axis (far_lo, far_scale: which light, and which part of an
+// second_bits = min(n + 1, 8) bits per axis (far_lo, far_scale: which light, and which part of an
 // area light; a directional light's rays end far outside, in a border cell) | the octahedral
 // cell of -d (the direction from the light to the receiver, at n bits) << 3C; with `with_depth`
 // also the receiver's distance from the light in quarter octaves, bits 21..28 of tmax (sign,
@@ -181,7 +182,7 @@ uint hrpp_octahedral_cell(vec3 dir, uint n) {
 // bits). Receivers in one cone from one part of a light share a key, so they test the occluders
 // that earlier rays of that cone found first.
 uint64_t hrpp_hash_light(vec3 o, vec3 d, float tmax, HashParams h, bool with_depth) {
-  const uint n = h.bits, c = h.light_bits;
+  const uint n = h.bits, c = h.second_bits;
   const vec3 oc = hrpp_flushed(o);
   precise vec3 e = oc + hrpp_flushed(d) * hrpp_flushed(tmax);
   uint64_t key = uint64_t(hrpp_grid_cell(e, h.far_lo, h.far_scale, c)) |

@@ -8,9 +8,10 @@
 //   - predictor hit: the ray is tested against the entry's nodes in slot order (leaf: its
 //     triangles; interior: its subtree), hit-all keeping the closest hit, hit-any stopping at
 //     the first. A hit is a true positive: hit-any and speculative hit-all write it as the
-//     ray's answer and are done; exact hit-all writes it and queues the ray with tmax = its t
-//     (hrpp_resolve keeps the closer of the two: the answer of HRPP off). No hit: false
-//     positive, queued. No entry: negative, queued;
+//     ray's answer and are done; exact hit-all, and speculative hit-all that the distance gate
+//     stops (hrpp_distance_gate.h), write it and queue the ray with tmax = its t (hrpp_resolve
+//     keeps the closer of the two: the answer of HRPP off). No hit: false positive, queued. No
+//     entry: negative, queued;
 //   - with the skip list on (kSkipList, --hrpp-fallback skip) a queued ray also gets the first
 //     HRPP_SKIP_NODES nodes it tested, which the queue's trace (trace_*_skipping) does not
 //     enter: nothing in them answers the ray before its queued tmax;
@@ -78,15 +79,19 @@ Hit verify_entry(RaySetup r, int entry, inout bool finished, inout ivec4 tested)
 }
 
 // Probes the table for ray `index` (set up as r) and verifies the prediction. Returns the
-// predicted hit (prim < 0: none); `tested`: the nodes tested (verify_entry).
-Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished, inout ivec4 tested) {
+// predicted hit (prim < 0: none); `tested`: the nodes tested (verify_entry); `nearest`: the
+// entry's nearest-hit word with the distance gate on (else 0).
+Hit predict(uint index, RaySetup r, uint64_t key, inout bool finished, inout ivec4 tested,
+            out uint nearest) {
   ++count_probes;
+  nearest = 0u;
   const int entry = hrpp_table_lookup(key, hrpp.clock + index);
   if (entry < 0) {
     ++count_negatives;
     return Hit(-1, 0.0, 0.0, 0.0);
   }
   ++count_predictor_hits;
+  if (hrpp.gate > 0.0) nearest = hrpp_stamps[hrpp_nearest_index(uint(entry))];
   const uint i0 = g_interior, l0 = g_leaves, t0 = g_triangles;
   const Hit predicted = verify_entry(r, entry, finished, tested);
   count_verify_interior += g_interior - i0;
@@ -129,22 +134,27 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
   ivec4 tested = ivec4(kSentinel);
   if (in_range) {
     if (hrpp.insert_deferred != 0u)
-      hrpp_requests[index] = InsertRequest(0u, 0u, HRPP_EMPTY_NODE, 0u);
+      hrpp_requests[index] = InsertRequest(0u, 0u, HRPP_EMPTY_NODE, 0.0);
     ray = load_ray(index);
     const RaySetup r = setup_ray(ray);
     if (r.valid) {
       const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, ray.tmax, hrpp.hash);
       entry = QueueEntry(index, HRPP_QUEUE_PROBED, uint(key), uint(key >> 32));
-      const Hit predicted = predict(index, r, key, finished, tested);
+      uint nearest;
+      const Hit predicted = predict(index, r, key, finished, tested, nearest);
+      // A speculative answer: a true positive of a hit-all ray that the gate lets through.
+      const bool speculative = HRPP_ANY_HIT == 0 && hrpp.mode == HRPP_MODE_SPECULATIVE &&
+                               predicted.prim >= 0;
+      const bool gated = speculative && hrpp_gated(predicted.t, nearest, hrpp.gate);
+      if (gated) ++count_gated;
       if (kCountBaseline && hrpp.count_baseline != 0u) {
         const Hit truth = baseline_traversal(r);
-        if (HRPP_ANY_HIT == 0 && hrpp.mode == HRPP_MODE_SPECULATIVE && predicted.prim >= 0 &&
-            (truth.prim != predicted.prim || truth.t != predicted.t))
+        if (speculative && !gated && (truth.prim != predicted.prim || truth.t != predicted.t))
           ++count_wrong_closest;
       }
       if (predicted.prim >= 0) {
         store_hit(index, predicted);
-        resolved = HRPP_ANY_HIT != 0 || hrpp.mode == HRPP_MODE_SPECULATIVE;
+        resolved = HRPP_ANY_HIT != 0 || (speculative && !gated);
         entry.flags |= HRPP_QUEUE_BOUNDED;
         ray.tmax = predicted.t;
       }

@@ -13,11 +13,15 @@
 //         claimed, or a victim replaced), never renewed: the oldest key is evicted, and a probe
 //         hit writes nothing to the table.
 // Stamps are the ray's clock (PredictorParams.clock + ray index), so they wrap after 2^32 rays.
+// With the distance gate (PredictorParams.gate > 0) the stamp buffer holds after the sets × ways
+// stamps each entry's nearest hit (shaders/shared/hrpp_distance_gate.h): inserts raise it, a key
+// that comes in clears it.
 //
 // The includer defines HRPP_TABLE_BASE (first binding) and enables 64-bit integers and atomics.
 #ifndef HRPP_TABLE_GLSL
 #define HRPP_TABLE_GLSL
 
+#include "hrpp_distance_gate.h"
 #include "hrpp_interface.h"
 #include "hrpp_table_set.h"
 
@@ -56,6 +60,9 @@ layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_COUNTERS) restric
   uint hrpp_counter_words[];
 };
 
+// Entry e's nearest-hit word (the distance gate's): in the stamp buffer, after the stamps.
+uint hrpp_nearest_index(uint e) { return hrpp.sets * hrpp.ways + e; }
+
 const uint64_t kHrppEmptyTag = ~uint64_t(0);
 const uint kHrppEmptyNode = uint(HRPP_EMPTY_NODE);
 
@@ -84,9 +91,9 @@ int hrpp_table_lookup(uint64_t key, uint clock) {
   return found;
 }
 
-// Inserts node `node` under `key`; returns kHrppInserted / kHrppPresent / kHrppDropped and adds
-// the entries and nodes it replaced to `evictions`.
-uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions) {
+// Inserts node `node`, found by a traced ray at `t`, under `key`; returns kHrppInserted /
+// kHrppPresent / kHrppDropped and adds the entries and nodes it replaced to `evictions`.
+uint hrpp_table_insert(uint64_t key, int node, float t, uint clock, inout uint evictions) {
   const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
   int entry = -1;
   bool claimed = false;  // this insert brought the key in (fifo's stamp)
@@ -118,6 +125,10 @@ uint hrpp_table_insert(uint64_t key, int node, uint clock, inout uint evictions)
   }
   if (hrpp.policy == HRPP_POLICY_LRU || (hrpp.policy == HRPP_POLICY_FIFO && claimed))
     atomicMax(hrpp_stamps[entry], clock);
+  if (hrpp.gate > 0.0) {
+    if (claimed) atomicExchange(hrpp_stamps[hrpp_nearest_index(uint(entry))], 0u);
+    atomicMax(hrpp_stamps[hrpp_nearest_index(uint(entry))], hrpp_nearest_word(t));
+  }
   const uint first = uint(entry) * hrpp.nodes;
   uint outcome = kHrppDropped;  // until a slot holds the node
   for (uint s = 0u; s < hrpp.nodes && outcome == kHrppDropped; ++s) {

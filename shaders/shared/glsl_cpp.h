@@ -25,6 +25,7 @@ using vec2 = glm::vec2;
 using ivec2 = glm::ivec2;
 using glm::abs;
 using glm::clamp;
+using glm::floatBitsToUint;
 using glm::floor;
 using glm::fract;
 using glm::greaterThan;

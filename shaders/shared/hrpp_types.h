@@ -17,6 +17,7 @@ using uint64_t = std::uint64_t;
 // host/hrpp/ray_hash.cpp, repeats them operation for operation).
 #define HRPP_HASH_IEEE 0            // the paper's IEEE-754 bit hash with the xor swizzle
 #define HRPP_HASH_GRID_SPHERICAL 1  // MICRO'21: origin on a 2^N grid, direction as θ/φ bins
+                                    // (2^D each; D = N unless --hash-dir-bits says)
 #define HRPP_HASH_TWO_POINT 2       // origin and a point further along the ray, both on grids
 #define HRPP_HASH_LIGHT 3           // light space: the ray's end (the light) on a grid and the
                                     // direction from it to the origin in octahedral cells
@@ -33,10 +34,11 @@ using uint64_t = std::uint64_t;
 //   grid_lo, grid_scale: origin cell along axis a = (o[a] - grid_lo[a]) * grid_scale[a], where
 //     grid_scale[a] = 2^N / extent[a] of the scene box (0 for a flat axis: one cell);
 //   far_lo, far_scale: the same for the two-point hash's second point, on the scene box grown by
-//     `reach` on every side; for the light-space keys, the light end's grid (light_bits per
+//     `reach` on every side; for the light-space keys, the light end's grid (second_bits per
 //     axis) over the scene box itself;
 //   reach: the scene box's largest extent, the max-norm distance of the second point;
-//   light_bits: the light-space keys' light-end grid precision, min(N + 1, 8); 0 for the others.
+//   second_bits: the light-space keys' light-end grid precision, min(N + 1, 8); grid-spherical:
+//     the direction bins' precision (--hash-dir-bits, default N); 0 for the others.
 struct HashParams {
   vec3 grid_lo;
   uint kind;  // HRPP_HASH_*
@@ -45,7 +47,7 @@ struct HashParams {
   vec3 far_lo;
   float reach;
   vec3 far_scale;
-  uint light_bits;
+  uint second_bits;
 };
 
 
@@ -76,7 +78,8 @@ struct HashParams {
 
 // One predictor (a table and how it is used); one per ray class, each in buffers of its own.
 // Table: sets (a power of two) × ways entries, each a 64-bit tag (the full key; all ones =
-// empty), a use stamp and `nodes` node slots. Bytes: sets × ways × (8 + 4 + 4 × nodes).
+// empty), a use stamp and `nodes` node slots; with the distance gate also the nearest hit its
+// key's traced rays found. Bytes: sets × ways × (8 + 4 + 4 × nodes), + 4 with the gate.
 struct PredictorParams {
   HashParams hash;
   uint sets;
@@ -92,7 +95,7 @@ struct PredictorParams {
   uint serial;  // 1: one ray per subgroup (the CPU reference's node order; deterministic runs)
   float go_up_size;  // then further up while the node's box is smaller than this fraction of
                      // the scene box (host/hrpp/prediction_node.h; 0: levels only)
-  uint pad2;
+  float gate;  // the distance gate G (shaders/shared/hrpp_distance_gate.h; 0: off)
 };
 
 // The HRPP stage's queue of one trace (shaders/hrpp_predict.comp → the trace kernel →
@@ -116,8 +119,8 @@ struct PredictQueue {
 
 // A queued ray's origin: its index in the class's ray array, its key and how it was probed.
 #define HRPP_QUEUE_PROBED 1u   // the ray probed the table (valid): a hit is inserted
-#define HRPP_QUEUE_BOUNDED 2u  // exact mode, true positive: tmax = the predicted t, and the
-                               // predicted hit waits in the hit array
+#define HRPP_QUEUE_BOUNDED 2u  // a true positive of exact mode or of the distance gate: tmax =
+                               // the predicted t, and the predicted hit waits in the hit array
 struct QueueEntry {
   uint ray;
   uint flags;  // HRPP_QUEUE_*
@@ -130,7 +133,7 @@ struct InsertRequest {
   uint key_lo;
   uint key_hi;
   int node;  // HRPP_EMPTY_NODE: nothing to insert
-  uint pad;
+  float t;   // the hit's t (the distance gate's nearest hit)
 };
 
 // Predictor counters of one ray class, summed over a dispatch (64-bit atomics). One list,
@@ -142,7 +145,8 @@ struct InsertRequest {
 // Counted by hrpp_predict:
 //   verify_*: nodes visited testing predicted nodes;
 //   baseline_interior: count_baseline, a full traversal's interior nodes;
-//   wrong_closest: count_baseline, speculative: accepted hit != closest hit.
+//   wrong_closest: count_baseline, speculative: accepted hit != closest hit;
+//   gated: true positives of hit-all rays that the distance gate sent to an exact trace.
 #define HRPP_PREDICT_COUNTERS(X)                   \
   X(PROBES, probes, 0u)                            \
   X(PREDICTOR_HITS, predictor_hits, 1u)            \
@@ -153,16 +157,17 @@ struct InsertRequest {
   X(VERIFY_LEAVES, verify_leaves, 6u)              \
   X(VERIFY_TRIANGLES, verify_triangles, 7u)        \
   X(BASELINE_INTERIOR, baseline_interior, 8u)      \
-  X(WRONG_CLOSEST, wrong_closest, 9u)
+  X(WRONG_CLOSEST, wrong_closest, 9u)              \
+  X(GATED, gated, 10u)
 // The outcomes of table inserts (hrpp_resolve, hrpp_insert): node stored, node already in the
 // entry, no room (policy none, or a lost replacement race), entries or nodes replaced (lru).
 #define HRPP_INSERT_OUTCOME_COUNTERS(X)            \
-  X(INSERTS, inserts, 11u)                         \
-  X(INSERT_PRESENT, insert_present, 12u)           \
-  X(INSERT_DROPS, insert_drops, 13u)               \
-  X(EVICTIONS, evictions, 14u)
+  X(INSERTS, inserts, 12u)                         \
+  X(INSERT_PRESENT, insert_present, 13u)           \
+  X(INSERT_DROPS, insert_drops, 14u)               \
+  X(EVICTIONS, evictions, 15u)
 #define HRPP_INSERT_COUNTERS(X)                    \
-  X(INSERT_REQUESTS, insert_requests, 10u)         \
+  X(INSERT_REQUESTS, insert_requests, 11u)         \
   HRPP_INSERT_OUTCOME_COUNTERS(X)
 #define HRPP_PREDICTOR_COUNTERS(X) HRPP_PREDICT_COUNTERS(X) HRPP_INSERT_COUNTERS(X)
 
