@@ -47,9 +47,12 @@ for row in ("| teapot | hrpp N=6 (paper) |",
             "| teapot | light-depth N=6 size 0.02, beam (default) |",
             "| teapot | grid-spherical N=6 (default) |"):
     assert row in keys, (row, keys)
-assert keys.count("| teapot |") == 5, keys  # the paper's key for both classes, each default,
-study = keys.split("The study's setup, 32x32, 1 spp")[1]  # and a row of the study's setup
+# The paper's key for both classes, each default, a row of the study's setup and one of the
+# distance gate's table.
+assert keys.count("| teapot |") == 6, keys
+study, gates = keys.split("The study's setup, 32x32, 1 spp")[1].split("The distance gate, ")
 assert study.count("| teapot |") == 1 and "answered, beam table (default)" in study, study
+assert gates.count("| teapot |") == 1 and "gate 1.4: net savings" in gates, gates
 model = results.split("<!-- BEGIN hrpp_model:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in model and "| teapot | camera |" in model, model
 last = open(os.path.join(work, "run", "model.md")).read().strip().splitlines()[-1]

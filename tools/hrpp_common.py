@@ -2,6 +2,7 @@
 an hrpp command, one `hrpp render` wrapper, reading EXR images and the image error metrics, so
 that every script computes them the same way. The commands import it (sys.path holds tools/).
 """
+import datetime
 import json
 import os
 import platform
@@ -28,6 +29,18 @@ def cpu_model():
     except OSError:
         pass
     return platform.processor() or "?"
+
+
+def device_name(stats):
+    """A render's device as its stats name it: "NAME (DRIVER)"."""
+    d = stats.get("device", {})
+    return f"{d.get('name', '?')} ({d.get('driver', '?')})"
+
+
+def machine_line(device):
+    """The device, CPU, date and load, for the headers of generated blocks."""
+    return (f"{device}, {cpu_model()}, {datetime.date.today()}, "
+            f"load {os.getloadavg()[0]:.1f}")
 
 
 def scene_arg(name):

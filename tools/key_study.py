@@ -11,11 +11,13 @@ grid):
           the goal (a quarter of the occluded share);
   bounce: savings net of verification, true positives and wrong closest hits per probe, and the
           image's relMSE against HRPP off (eps 0.01, as tools/sweep_collect.py);
-  study's setup: the same per scene for the default keys on the tuned and the beam table.
+  study's setup: the same per scene for the default keys on the tuned and the beam table;
+  the distance gate: bounce rays on a fine key at the study's setup, per gate (--hrpp-gate),
+          on the Vulkan device or (--backend cpu, that table alone) the CPU renderer.
 
   tools/key_study.py [--mode full|quick|smoke|test] [--hrpp build/ci/host/hrpp] [--size WxH]
                      [--spp N] [--scenes a,b] [--classes shadow,bounce] [--runs DIR] [--reuse]
-                     [--results MD] [--command TEXT]
+                     [--results MD] [--command TEXT] [--backend gpu|cpu]
 """
 import argparse
 import os
@@ -31,6 +33,11 @@ from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
 N4 = ["--table-preset", "beam"]  # 4096 x 2 x 4 lru: 224 KiB
+# The distance gate's key: a finer origin grid, coarser direction bins, four times the tuned
+# table's sets (65536 x 2 x 1 lru: 2 MiB, 2.5 MiB with the gate).
+FINE = ["--hash-bits", "7", "--hash-dir-bits", "3", "--table-sets", "65536"]
+# The distance gates of the gate table (tools/key_study.py --backend), 0: none.
+GATES = [0, 1.1, 1.4, 2]
 SHADOW = {
     "hrpp N=6 (paper)": ["--hash", "hrpp", "--hash-bits", "6"],
     "grid-spherical N=3 go-up 4": ["--hash", "grid-spherical", "--hash-bits", "3", "--go-up", "4"],
@@ -56,6 +63,9 @@ BOUNCE = {
     "two-point N=5 go-up 2": ["--hash", "two-point", "--hash-bits", "5", "--go-up", "2"],
     "grid-spherical N=4 exact": ["--hash", "grid-spherical", "--hash-bits", "4",
                                  "--hrpp-mode", "exact"],
+    "grid-spherical N=7 D=3, 65536 sets": ["--hash", "grid-spherical"] + FINE,
+    "grid-spherical N=7 D=3, 65536 sets, gate 1.4": ["--hash", "grid-spherical"] + FINE
+    + ["--hrpp-gate", "1.4"],
 }
 
 
@@ -176,6 +186,39 @@ STUDY_HEAD = ["scene", "occluded shadow rays", "answered, tuned table",
               "wrong / probe, relMSE"]
 
 
+def gate_study(a):
+    """One row per scene at the study's setup, bounce rays alone on FINE: per distance gate the
+    net savings, wrong closest hits per probe and relMSE against HRPP off."""
+    rows = []
+    on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays", "bounce",
+          "--hash", "grid-spherical", "--table-preset", "tuned"] + FINE
+    for scene in a.scenes:
+        _, off_exr = render(a, scene, "off", a.backend, a.study)
+        off_image = read_exr(off_exr)
+        row = [scene]
+        for gate in GATES:
+            j, exr = render(a, scene, f"gate-{gate}", a.backend + on + ["--hrpp-gate", str(gate)],
+                            a.study)
+            b = j["hrpp_predictor"]["bounce"]
+            a.device = hrpp_common.device_name(j)
+            relmse = image_errors(read_exr(exr), off_image)[1]
+            row.append(f"{pct(b['net_savings'])}, "
+                       f"{100 * b['wrong_closest'] / max(b['probes'], 1):.2f}%, {relmse:.2e}")
+        rows.append(row)
+        print(" | ".join(row), file=sys.stderr, flush=True)
+    return rows
+
+
+def gate_lines(a, rows):
+    size, spp = a.study
+    where = "the CPU renderer, HRPP inline" if a.backend else "the Vulkan device's HRPP stage"
+    head = ["scene"] + [f"gate {g}: net savings, wrong / probe, relMSE" if g else
+                        "no gate: net savings, wrong / probe, relMSE" for g in GATES]
+    return ["", f"The distance gate, {size}, {spp} spp, seed 5, on {where}: bounce rays alone on "
+            "grid-spherical N = 7 with D = 3 direction bits and 65536 sets (`"
+            + " ".join(FINE) + " --hrpp-gate G`):", "", table(head, rows)]
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     keys = lambda v: "" if v["keys"] is None else f", {len(v['keys'])} keys"
@@ -191,6 +234,9 @@ def main():
     p.add_argument("--reuse", action="store_true", help="reuse the renders --runs holds")
     p.add_argument("--results", help="rewrite this Markdown file's block key_study:MODE")
     p.add_argument("--command", help="the command named in the block (default: this one)")
+    p.add_argument("--backend", choices=["gpu", "cpu"], default="gpu",
+                   help="cpu: only the distance gate's table, on the CPU renderer (block "
+                        "key_study:MODE-cpu)")
     a = p.parse_args()
     m = MODES[a.mode]
     a.size, a.spp = a.size or m["size"], a.spp or m["spp"]
@@ -200,16 +246,25 @@ def main():
     a.study = m["study"]
     a.runs = a.runs or os.path.join(REPO, "build", "key-study", a.mode)
     a.command = a.command or " ".join(["tools/key_study.py"] + sys.argv[1:])
-    a.made, a.reused = set(), set()
+    a.made, a.reused, a.device = set(), set(), "?"
     os.makedirs(a.runs, exist_ok=True)
     start = time.time()
-    rows = study(a)
-    setup = study_setup(a)
+    cpu = a.backend == "cpu"
+    a.backend = ["--backend", "cpu"] if cpu else []
+    rows = {} if cpu else study(a)
+    setup = [] if cpu else study_setup(a)
+    gates = gate_study(a)
     elapsed = int(time.time() - start)
     lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed 5; {len(a.made)} renders"
              f"{f' and {len(a.reused)} reused' if a.reused else ''}, "
              f"this command {elapsed // 60} min {elapsed % 60} s; repository at "
-             f"{repo_commit(REPO)}):"]
+             f"{repo_commit(REPO)}; {hrpp_common.machine_line(a.device)}):"]
+    if cpu:
+        print("\n".join(lines + gate_lines(a, gates)))
+        if a.results:
+            rewrite_block(a.results, f"key_study:{a.mode}-cpu", lines + gate_lines(a, gates),
+                          "tools/key_study.py")
+        return
     for cls in a.classes:
         lines += ["", f"{cls} rays, {a.size}, {a.spp} spp, seed 5:", "",
                   table(HEADS[cls], rows[cls])]
@@ -219,7 +274,7 @@ def main():
               "rays at N = 6 and N = 5 (`" + " ".join(STUDY_KEYS) + "` with `"
               + " ".join(STUDY["tuned"][len(STUDY_KEYS):]) + "` or `"
               + " ".join(STUDY["beam"][len(STUDY_KEYS):]) + "`):", "",
-              table(STUDY_HEAD, setup)]
+              table(STUDY_HEAD, setup)] + gate_lines(a, gates)
     print("\n".join(lines))
     if a.results:
         rewrite_block(a.results, f"key_study:{a.mode}", lines, "tools/key_study.py")
