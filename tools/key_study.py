@@ -255,7 +255,8 @@ def main():
     setup = [] if cpu else study_setup(a)
     gates = gate_study(a)
     elapsed = int(time.time() - start)
-    lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed 5; {len(a.made)} renders"
+    size, spp = a.study if cpu else (a.size, a.spp)
+    lines = [f"Made by `{a.command}` ({size}, {spp} spp, seed 5; {len(a.made)} renders"
              f"{f' and {len(a.reused)} reused' if a.reused else ''}, "
              f"this command {elapsed // 60} min {elapsed % 60} s; repository at "
              f"{repo_commit(REPO)}; {hrpp_common.machine_line(a.device)}):"]
