@@ -53,17 +53,14 @@ Hit query(Ray r) {
 }
 
 // Persistent invocations as in trace_kernel.glsl: one lane per subgroup takes the next rays with
-// atomicAdd on the counters' cursor, at most pc.rays_per_invocation per invocation (lavapipe's
+// atomicAdd on the counters' cursor (fetch_position), at most pc.rays_per_invocation per invocation (lavapipe's
 // loop limiter counts the driver's traversal loops too).
 void main() {
   uint done = 0u, hit_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
-    const uvec4 lanes = subgroupBallot(true);
-    uint base = 0u;
-    if (subgroupElect()) base = atomicAdd(counters.next_ray, subgroupBallotBitCount(lanes));
-    base = subgroupBroadcastFirst(base);
-    if (base >= counters.ray_count) break;  // uniform across the subgroup
-    const uint index = base + subgroupBallotExclusiveBitCount(lanes);
+    bool more;
+    const uint index = fetch_position(more);
+    if (!more) break;  // uniform across the subgroup
     if (index >= counters.ray_count) continue;
     const Hit h = query(load_ray(index));
     if (loop_budget_left()) {

@@ -63,13 +63,9 @@ void main() {
   if (pc.serial != 0u && gl_SubgroupInvocationID != 0u) return;  // one ray per subgroup
   uint done = 0u, hit_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
-    // One atomicAdd per subgroup for all its active lanes (any subgroup size).
-    const uvec4 lanes = subgroupBallot(true);
-    uint base = 0u;
-    if (subgroupElect()) base = atomicAdd(counters.next_ray, subgroupBallotBitCount(lanes));
-    base = subgroupBroadcastFirst(base);
-    if (base >= counters.ray_count) break;  // uniform across the subgroup
-    const uint slot = base + subgroupBallotExclusiveBitCount(lanes);
+    bool more;
+    const uint slot = fetch_position(more);
+    if (!more) break;  // uniform across the subgroup
     if (slot >= counters.ray_count) continue;
 
     const uint index = ray_at(slot);
