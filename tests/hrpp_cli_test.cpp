@@ -105,6 +105,9 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   EXPECT_LE(s.at("wrong_closest").get<std::uint64_t>(), s.at("true_positives").get<std::uint64_t>());
   // Every counter of the one list (HRPP_PREDICTOR_COUNTERS) under its key.
   for (const CounterKey& k : kPredictorCounterKeys) EXPECT_TRUE(s.contains(k.key)) << k.key;
+  // The device and its driver (lavapipe: "llvmpipe Mesa ...").
+  EXPECT_FALSE(j.at("device").at("name").get<std::string>().empty());
+  EXPECT_FALSE(j.at("device").at("driver").get<std::string>().empty());
 }
 
 // --hash, --hash-bits and --go-up per ray class: "V" sets every class, "class=V" one, in order; the

@@ -223,6 +223,7 @@ void run_trace(const TraceOptions& o) {
                         {"memory", memory_json(ctx.memory().report())},
                         {"device",
                          {{"name", ctx.info().name},
+                          {"driver", ctx.info().driver},
                           {"subgroup_size", ctx.info().subgroup_size},
                           {"denorm_preserve", ctx.info().denorm_preserve}}}};
     if (o.shared.tracer.count_steps) {
