@@ -186,10 +186,13 @@ void run_render(RenderOptions& o) {
     throw Error("--tracer: the CPU backend (--backend cpu) traces on the CPU (--cpu-tracer)");
   if (o.backend != RenderBackend::kCpu && o.cpu_tracer != CpuTracer::kScalar)
     throw Error("--cpu-tracer: the CPU backend's (--backend cpu); the device traces with --tracer");
-  check_compute_only(o.shared, {});
   o.render.tracer = o.shared.tracer;
   o.render.device_tracer = o.shared.device_tracer;
   o.render.predictor = o.hrpp.config(o.shared.device_tracer);
+  check_compute_only(o.shared, {{"--reorder", o.render.reorder != RayOrder::kOff},
+                                {"--hrpp-fallback skip",
+                                 o.render.predictor.enabled &&
+                                     o.render.predictor.fallback == Fallback::kSkip}});
   Scene scene = load_scene(o.shared.scene);
   if (o.backend == RenderBackend::kCpu)
     return run_cpu_render(
