@@ -1,9 +1,10 @@
 // hrpp_resolve: the last stage of a predicted trace (hrpp_predict → queue → trace kernel →
 // hrpp_resolve), one queue entry per invocation, dispatched indirectly from the queue:
 //   - the trace's hit of the queued ray becomes the ray's answer; exact mode or a gated true
-//     positive (entry bounded by its predicted t): the closer of the trace's hit and the predicted one that hrpp_predict
-//     left in the hit array, ties to the lower id (the predicted triangle's own box may be
-//     culled at tmax = its t: the slab test's near distance rounds too);
+//     positive (entry bounded by its predicted t): the closer of the trace's hit and the
+//     predicted one that hrpp_predict left in the hit array, ties to the lower id (the
+//     predicted triangle's own box may be culled at tmax = its t: the slab test's near
+//     distance rounds too);
 //   - a probed ray whose answer is a hit inserts the prediction node of the hit under its key:
 //     at once (hrpp_table.glsl), or as a request that hrpp_insert.comp applies in ray order
 //     (PredictorParams.insert_deferred, the deterministic batches).
@@ -41,7 +42,8 @@ void insert(QueueEntry e, Hit answer) {
     return;
   }
   const uint64_t key = uint64_t(e.key_lo) | (uint64_t(e.key_hi) << 32);
-  const uint outcome = hrpp_table_insert(key, node, answer.t, hrpp.clock + e.ray, count_evictions);
+  const uint outcome =
+      hrpp_table_insert(key, node, answer.t, hrpp.clock + e.ray, count_evictions);
   if (outcome == kHrppInserted) ++count_inserts;
   else if (outcome == kHrppPresent) ++count_insert_present;
   else ++count_insert_drops;

@@ -88,27 +88,27 @@ void expect_gpu_equals_mirror(const Aabb& box) {
         configs.push_back({named.value, n, HRPP_HASH_BITS_MAX + 1 - n});
     }
   for (const HashConfig& config : configs) {
-      const HashKind kind = config.kind;
-      const std::uint32_t n = config.bits;
-      const gpu::HashParams params = make_hash_params(config, box);
-      const std::vector<std::uint64_t> gpu_keys = hash_rays_on_gpu(context(), params, rays);
-      ASSERT_EQ(gpu_keys.size(), rays.size());
-      int mismatches = 0;
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        const std::uint64_t cpu = hash_ray(rays[i].origin, rays[i].dir, rays[i].tmax, params);
-        if (cpu == gpu_keys[i]) continue;
-        if (++mismatches <= 5)
-          ADD_FAILURE() << hash_kind_name(kind) << " N=" << n << " ray " << i << " o=("
-                        << std::bit_cast<std::uint32_t>(rays[i].origin.x) << ","
-                        << std::bit_cast<std::uint32_t>(rays[i].origin.y) << ","
-                        << std::bit_cast<std::uint32_t>(rays[i].origin.z) << ") d=("
-                        << std::bit_cast<std::uint32_t>(rays[i].dir.x) << ","
-                        << std::bit_cast<std::uint32_t>(rays[i].dir.y) << ","
-                        << std::bit_cast<std::uint32_t>(rays[i].dir.z) << ") tmax "
-                        << std::bit_cast<std::uint32_t>(rays[i].tmax) << " cpu " << std::hex << cpu
-                        << " gpu " << gpu_keys[i];
-      }
-      EXPECT_EQ(mismatches, 0) << hash_kind_name(kind) << " N=" << n << " D=" << config.dir_bits;
+    const HashKind kind = config.kind;
+    const std::uint32_t n = config.bits;
+    const gpu::HashParams params = make_hash_params(config, box);
+    const std::vector<std::uint64_t> gpu_keys = hash_rays_on_gpu(context(), params, rays);
+    ASSERT_EQ(gpu_keys.size(), rays.size());
+    int mismatches = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const std::uint64_t cpu = hash_ray(rays[i].origin, rays[i].dir, rays[i].tmax, params);
+      if (cpu == gpu_keys[i]) continue;
+      if (++mismatches <= 5)
+        ADD_FAILURE() << hash_kind_name(kind) << " N=" << n << " ray " << i << " o=("
+                      << std::bit_cast<std::uint32_t>(rays[i].origin.x) << ","
+                      << std::bit_cast<std::uint32_t>(rays[i].origin.y) << ","
+                      << std::bit_cast<std::uint32_t>(rays[i].origin.z) << ") d=("
+                      << std::bit_cast<std::uint32_t>(rays[i].dir.x) << ","
+                      << std::bit_cast<std::uint32_t>(rays[i].dir.y) << ","
+                      << std::bit_cast<std::uint32_t>(rays[i].dir.z) << ") tmax "
+                      << std::bit_cast<std::uint32_t>(rays[i].tmax) << " cpu " << std::hex << cpu
+                      << " gpu " << gpu_keys[i];
+    }
+    EXPECT_EQ(mismatches, 0) << hash_kind_name(kind) << " N=" << n << " D=" << config.dir_bits;
   }
   EXPECT_EQ(context().validation_messages(), 0u);
 }

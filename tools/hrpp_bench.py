@@ -48,8 +48,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import (DEFAULT_BIN, REPO, STAND_INS, cpu_model, image_errors,  # noqa: E402
-                         read_exr, render)
+from hrpp_common import (DEFAULT_BIN, REPO, STAND_INS, cpu_model, device_name,  # noqa: E402
+                         image_errors, read_exr, render)
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 CLASSES = ["camera", "bounce", "shadow"]
@@ -146,8 +146,7 @@ def bench_scene(binary, scene, a, tmp):
                      {"predict_ns_per_probe": float("nan"), "trace_ns_per_ray_off": float("nan"),
                       "floor": float("nan")})}
     _, row["relmse"], row["pixels_differ"] = image_errors(read_exr(exr_on), read_exr(exr_off))
-    d = last_off.get("device", {})
-    row["device"] = f"{d.get('name', '?')} ({d.get('driver', '?')})"
+    row["device"] = device_name(last_off)
     return row
 
 

@@ -192,13 +192,16 @@ def gate_study(a):
     rows = []
     on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays", "bounce",
           "--hash", "grid-spherical", "--table-preset", "tuned"] + FINE
+    cpu = a.backend == "cpu"
+    flags = ["--backend", "cpu"] if cpu else []
+    prefix = "cpu-" if cpu else ""  # the device's renders of the same names share --runs
     for scene in a.scenes:
-        _, off_exr = render(a, scene, "off", a.backend, a.study)
+        _, off_exr = render(a, scene, prefix + "off", flags, a.study)
         off_image = read_exr(off_exr)
         row = [scene]
         for gate in GATES:
-            j, exr = render(a, scene, f"gate-{gate}", a.backend + on + ["--hrpp-gate", str(gate)],
-                            a.study)
+            j, exr = render(a, scene, f"{prefix}gate-{gate}",
+                            flags + on + ["--hrpp-gate", str(gate)], a.study)
             b = j["hrpp_predictor"]["bounce"]
             a.device = hrpp_common.device_name(j)
             relmse = image_errors(read_exr(exr), off_image)[1]
@@ -211,7 +214,8 @@ def gate_study(a):
 
 def gate_lines(a, rows):
     size, spp = a.study
-    where = "the CPU renderer, HRPP inline" if a.backend else "the Vulkan device's HRPP stage"
+    where = ("the CPU renderer, HRPP inline" if a.backend == "cpu"
+             else "the Vulkan device's HRPP stage")
     head = ["scene"] + [f"gate {g}: net savings, wrong / probe, relMSE" if g else
                         "no gate: net savings, wrong / probe, relMSE" for g in GATES]
     return ["", f"The distance gate, {size}, {spp} spp, seed 5, on {where}: bounce rays alone on "
@@ -250,7 +254,6 @@ def main():
     os.makedirs(a.runs, exist_ok=True)
     start = time.time()
     cpu = a.backend == "cpu"
-    a.backend = ["--backend", "cpu"] if cpu else []
     rows = {} if cpu else study(a)
     setup = [] if cpu else study_setup(a)
     gates = gate_study(a)

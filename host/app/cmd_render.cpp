@@ -189,10 +189,7 @@ void run_render(RenderOptions& o) {
   o.render.tracer = o.shared.tracer;
   o.render.device_tracer = o.shared.device_tracer;
   o.render.predictor = o.hrpp.config(o.shared.device_tracer);
-  check_compute_only(o.shared, {{"--reorder", o.render.reorder != RayOrder::kOff},
-                                {"--hrpp-fallback skip",
-                                 o.render.predictor.enabled &&
-                                     o.render.predictor.fallback == Fallback::kSkip}});
+  check_compute_only(o.shared, {{"--reorder", o.render.reorder != RayOrder::kOff}});
   Scene scene = load_scene(o.shared.scene);
   if (o.backend == RenderBackend::kCpu)
     return run_cpu_render(

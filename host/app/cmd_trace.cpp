@@ -167,9 +167,7 @@ void run_trace(const TraceOptions& o) {
   const PredictorConfig predictor = o.hrpp.config(o.shared.device_tracer);
   check_compute_only(o.shared, {{"--reorder", o.reorder != RayOrder::kOff},
                                 {"--count-steps", o.shared.tracer.count_steps},
-                                {"--bvh-layout", o.bvh_layout != NodeLayout::kDfs},
-                                {"--hrpp-fallback skip", predictor.enabled &&
-                                                             predictor.fallback == Fallback::kSkip}});
+                                {"--bvh-layout", o.bvh_layout != NodeLayout::kDfs}});
   if (o.reorder != RayOrder::kOff && predictor.predicts(ray_file_class(o.query)))
     throw Error("--reorder: HRPP's predicted trace takes the rays in file order; use "
                 "--reorder off with HRPP on");

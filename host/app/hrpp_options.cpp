@@ -91,6 +91,9 @@ PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
   c.mode = mode;
   c.fallback = fallback.value_or(tracer == DeviceTracerKind::kRayQuery ? Fallback::kRoot
                                                                         : Fallback::kSkip);
+  if (enabled && tracer == DeviceTracerKind::kRayQuery && c.fallback == Fallback::kSkip)
+    throw Error("--hrpp-fallback skip: skip lists are the BVH kernels'; in front of the "
+                "driver's ray queries use --hrpp-fallback root");
   for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k], hash_dir_bits[k]};
   c.gate = gate;
   c.go_up = go_up;
@@ -123,7 +126,7 @@ PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
   return c;
 }
 
-// A share as --go-up-size takes it: "0.02" (shortest round trip is not needed: 6 digits).
+// A number as --go-up-size and --hrpp-gate take it: "0.02" (6 digits; no round trip needed).
 std::string format_number(float x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));

@@ -1,7 +1,7 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
 // --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hrpp-gate, --hash,
-// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON form of the configuration and of
-// a run's predictor figures.
+// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON
+// form of the configuration and of a run's predictor figures.
 #pragma once
 
 #include <cstdint>

@@ -384,7 +384,8 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     const TableConfig& t = config.table[c];
-    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes, config.gate[c] > 0.0f)) needs.push_back(b);
+    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes, config.gate[c] > 0.0f))
+      needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
   needs.push_back(

@@ -36,6 +36,17 @@ PredictorSummary summarize(const gpu::PredictorCounters& counters, const Travers
   return s;
 }
 
+namespace {
+
+// A setting's number as the flags take it ("0.02", "1.4").
+std::string number_text(float x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(x));
+  return text;
+}
+
+}  // namespace
+
 std::string describe(const PredictorConfig& config) {
   PerClass<std::string> tables;
   for (RayClass c : kRayClasses) {
@@ -51,20 +62,13 @@ std::string describe(const PredictorConfig& config) {
            (h.dir_bits > 0 ? " D=" + std::to_string(h.dir_bits) : "");
   });
   PerClass<std::string> levels;
-  for (RayClass c : kRayClasses) {
-    char size[32] = "";
-    if (config.go_up_size[c] > 0.0f)
-      std::snprintf(size, sizeof size, " size %g", static_cast<double>(config.go_up_size[c]));
-    levels[c] = std::to_string(config.go_up[c]) + size;
-  }
+  for (RayClass c : kRayClasses)
+    levels[c] = std::to_string(config.go_up[c]) +
+                (config.go_up_size[c] > 0.0f ? " size " + number_text(config.go_up_size[c]) : "");
   const std::string go_up = per_class_text(config, levels, [](const std::string& s) { return s; });
   std::string mode = predictor_mode_name(config.mode);
   if (std::ranges::any_of(kRayClasses, [&](RayClass c) { return config.gate[c] > 0.0f; }))
-    mode += " with distance gate " + per_class_text(config, config.gate, [](float g) {
-              char text[32];
-              std::snprintf(text, sizeof text, "%g", static_cast<double>(g));
-              return std::string(text);
-            });
+    mode += " with distance gate " + per_class_text(config, config.gate, number_text);
   std::snprintf(buf, sizeof buf, "hash %s, go-up %s, %s, table %s per ray class, %s", hash.c_str(),
                 go_up.c_str(), mode.c_str(), table.c_str(),
                 config.batch == 0 ? "inserts during the trace"

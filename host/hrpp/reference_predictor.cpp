@@ -4,8 +4,8 @@
 #include <array>
 
 #include "hrpp/prediction_node.h"
-#include "hrpp_distance_gate.h"
 #include "hrpp/shared_table.h"
+#include "hrpp_distance_gate.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_setup.h"
 #include "trace_interface.h"

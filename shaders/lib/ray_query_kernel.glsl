@@ -53,8 +53,8 @@ Hit query(Ray r) {
 }
 
 // Persistent invocations as in trace_kernel.glsl: one lane per subgroup takes the next rays with
-// atomicAdd on the counters' cursor (fetch_position), at most pc.rays_per_invocation per invocation (lavapipe's
-// loop limiter counts the driver's traversal loops too).
+// atomicAdd on the counters' cursor (fetch_position), at most pc.rays_per_invocation per
+// invocation (lavapipe's loop limiter counts the driver's traversal loops too).
 void main() {
   uint done = 0u, hit_count = 0u, aborted = 0u;
   for (uint k = 0u; k < pc.rays_per_invocation; ++k) {
