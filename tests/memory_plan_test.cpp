@@ -9,7 +9,7 @@
 #include "error_of.h"
 #include "common/bytes.h"
 #include "common/error.h"
-#include "gpu/device_bvh.h"
+#include "kernels/device_bvh.h"
 #include "vk/memory_plan.h"
 
 namespace hrpp {
@@ -56,7 +56,7 @@ TEST(MemoryPlan, EachBindingHasItsOwnLimit) {
   EXPECT_EQ(name, "maxBufferSize");
 }
 
-// The triangle records are three planes of one texel a triangle (gpu/device_bvh.h): a BVH of n
+// The triangle records are three planes of one texel a triangle (kernels/device_bvh.h): a BVH of n
 // triangles needs n texels of each, where one array of 3-texel records needed 3n, so scenes up
 // to maxTexelBufferElements triangles fit.
 TEST(MemoryPlan, TrianglePlanesNeedOneTexelATriangle) {

@@ -12,7 +12,7 @@
 #include "common/name_table.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "hrpp/ray_hash.h"
 #include "kernel_names.h"
 #include "trace/query_kind.h"

@@ -26,7 +26,7 @@
 #include "cli_runner.h"
 #include "common/error.h"
 #include "extreme_cases.h"
-#include "gpu/gpu_predictor.h"
+#include "hrpp/gpu_predictor.h"
 #include "gpu/ray_query_tracer.h"
 #include "gpu_test_context.h"
 #include "reference/embree_tracer.h"

@@ -4,17 +4,14 @@
 // and RayQueryTracer (the driver's traversal, host/gpu/ray_query_tracer.h) implement it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <span>
-#include <vector>
 
 #include <vulkan/vulkan.h>
 
 #include "gpu/device_tracer_kind.h"
-#include "gpu_types.h"
-#include "hrpp_types.h"
-#include "hrpp/ray_class.h"
-#include "trace/traversal_counters.h"
+#include "kernels/trace_result.h"
+#include "trace/ray_class.h"
 
 namespace hrpp {
 
@@ -22,25 +19,6 @@ class GpuPredictor;
 class KernelTimer;
 class StorageBuffer;
 class TexelView;
-
-// What one trace of a ray class did, read back after its submit.
-struct GpuTraceResult {
-  std::vector<gpu::Hit> hits;  // GpuTracer::trace only: one per ray; any-hit: prim 0
-                               // occluded, -1 free (t, u, v = 0)
-  TraversalCounters counters;  // summed over the ray chunks of the call
-  double kernel_ms = 0.0;      // device timestamps around the trace's dispatches (0 when
-                               // HRPP runs in batches: many small dispatches)
-  double sort_ms = 0.0;        // of kernel_ms, the sort's dispatches (trace() with a sorter)
-  bool predicted = false;      // the HRPP stage ran (the class probes)
-  std::uint64_t traced = 0;    // rays the trace kernel traced (HRPP: the queue)
-  gpu::PredictorCounters predictor{};  // HRPP on: HRPP_PC_* of this call's ray class
-  std::uint64_t sampled = 0;           // HRPP sample (Probe::kSample): rays that ran the stage
-};
-
-// The records a hit-any trace leaves in a ray file (hrpp trace): prim 0 occluded, -1 free.
-inline void to_occlusion_records(std::span<gpu::Hit> hits) {
-  for (gpu::Hit& h : hits) h = gpu::Hit{h.prim >= 0 ? 0 : -1, 0.0f, 0.0f, 0.0f};
-}
 
 class DeviceTracer {
  public:
@@ -67,7 +45,7 @@ class DeviceTracer {
   //   finish(c)               after the submit: checks that every ray finished (throws
   //                           hrpp::Error otherwise), returns the counters (hits left empty).
   // One trace per query kind (hit-all, hit-any) per command buffer. Dispatches are timed with
-  // `timer` when given, under {kernel, class} labels (hrpp/timer_label.h).
+  // `timer` when given, under {kernel, class} labels (vk/timer_label.h).
   virtual void begin(RayClass c) = 0;
   virtual void record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
                       const TexelView* ray_indices = nullptr) = 0;
@@ -84,7 +62,7 @@ class DeviceTracer {
   // this before timing.
   virtual void warm_up() = 0;
 
-  // HRPP's stage (host/gpu/gpu_predictor.h) when this tracer's traces run through it: the
+  // HRPP's stage (host/hrpp/gpu_predictor.h) when this tracer's traces run through it: the
   // renderer sets how each class probes and reads the tables; nullptr when HRPP is off.
   virtual GpuPredictor* predictor() = 0;
   virtual const GpuPredictor* predictor() const = 0;

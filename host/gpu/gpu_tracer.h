@@ -2,7 +2,7 @@
 // trace_closest / trace_any kernels with the CPU reference's semantics (host/trace/
 // cpu_traversal.h), results, work counters and kernel time read back. The wavefront renderer's
 // device tracer (gpu/device_tracer.h); with HRPP on, the classes that probe trace through the
-// HRPP stage (gpu/gpu_predictor.h), which decides how each trace runs.
+// HRPP stage (hrpp/gpu_predictor.h), which decides how each trace runs.
 #pragma once
 
 #include <cstdint>
@@ -14,11 +14,11 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/device_tracer.h"
-#include "gpu/gpu_predictor.h"
+#include "hrpp/gpu_predictor.h"
 #include "gpu/gpu_tracer_config.h"
 #include "vk/memory_plan.h"
 #include "hrpp/predictor_config.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 
 namespace hrpp {
 
@@ -41,7 +41,7 @@ class GpuTracer final : public DeviceTracer {
   // triangle count), then uploads the BVH. Throws hrpp::Error when an array exceeds its limit
   // (vk/memory_plan.h) or all of them the device's heap, before anything is allocated. With
   // predictor.enabled (HRPP on), the classes it names trace through the HRPP stage
-  // (host/gpu/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
+  // (host/hrpp/gpu_predictor.h): predict, the trace kernel over the queue, resolve.
   GpuTracer(VulkanContext& ctx, const GpuBvh& bvh, const GpuTracerConfig& config = {},
             const PredictorConfig& predictor = {});
   // The same, freeing each of `bvh`'s arrays once the device holds it (it keeps its bounds).

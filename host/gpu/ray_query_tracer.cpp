@@ -5,12 +5,12 @@
 #include <string>
 
 #include "common/error.h"
-#include "gpu/device_bvh.h"
-#include "gpu/gpu_predictor.h"
+#include "kernels/device_bvh.h"
+#include "hrpp/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
-#include "gpu/kernel_bindings.h"
+#include "kernels/kernel_bindings.h"
 #include "gpu/resident_rays.h"
-#include "gpu/trace_counters.h"
+#include "kernels/trace_counters.h"
 #include "vk/compute_pipeline.h"
 #include "vk/embedded_shaders.h"
 #include "vk/storage_buffer.h"

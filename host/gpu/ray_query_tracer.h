@@ -3,7 +3,7 @@
 // by trace_rayquery_closest / trace_rayquery_any (shaders/lib/ray_query_kernel.glsl) with the BVH
 // kernels' ray and hit formats and rules. A second device tracer (gpu/device_tracer.h) beside
 // GpuTracer, chosen with --tracer rayquery. The driver's node work is invisible: its counters
-// hold rays and hits only. With HRPP on, the HRPP stage (gpu/gpu_predictor.h) runs in front of
+// hold rays and hits only. With HRPP on, the HRPP stage (hrpp/gpu_predictor.h) runs in front of
 // the driver's traversal, the setting of the hardware proposals: the prediction is verified on
 // the project's BVH (uploaded for it), a verified hit-any prediction answers the ray without a
 // query, a verified closest hit (exact mode) queues the ray with tmax shortened to its t, and

@@ -46,7 +46,7 @@ class RaySorter {
   void bind_rays(const TexelView& rays);
   // Records the sort of the first `count` rays into `cmd`: keys, then the radix passes, whose
   // last writes the order. Dispatches are timed under their kernels when `timer` is given
-  // (reported together as "ray_sort": hrpp/timer_label.h).
+  // (reported together as "ray_sort": vk/timer_label.h).
   void record(VkCommandBuffer cmd, std::uint32_t count, KernelTimer* timer);
   // The order once a recorded sort has run: entry j (uint, 4 per 16-byte texel) is the queue
   // index of the ray at sorted position j. Valid until the next sort.

@@ -42,8 +42,8 @@
 
 #include "common/name_table.h"
 #include "hrpp/predictor_config.h"
-#include "hrpp/timer_label.h"
-#include "hrpp/ray_class.h"
+#include "vk/timer_label.h"
+#include "trace/ray_class.h"
 
 namespace hrpp {
 

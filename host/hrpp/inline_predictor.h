@@ -18,7 +18,7 @@
 #include "bvh/gpu_layout.h"
 #include "common/name_table.h"
 #include "hrpp/predictor_config.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "hrpp/reference_predictor.h"
 #include "hrpp/shared_table.h"
 

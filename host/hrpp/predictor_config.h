@@ -1,5 +1,5 @@
 // How HRPP runs: hash, mode, go-up level, table geometry and policy, insert order. Filled by the
-// CLI (host/app/hrpp_options.h), read by the GPU predictor (host/gpu/gpu_predictor.h) and the CPU
+// CLI (host/app/hrpp_options.h), read by the GPU predictor (host/hrpp/gpu_predictor.h) and the CPU
 // reference predictor (host/hrpp/reference_predictor.h).
 #pragma once
 
@@ -9,7 +9,7 @@
 
 #include "bvh/aabb.h"
 #include "common/name_table.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "hrpp/ray_hash.h"
 #include "hrpp_types.h"
 

@@ -29,7 +29,7 @@
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/reference_table.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "trace/traversal_counters.h"
 
 namespace hrpp {

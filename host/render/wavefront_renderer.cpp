@@ -14,7 +14,7 @@
 #include "common/free_array.h"
 #include "vk/compute_pipeline.h"
 #include "gpu/device_tracer.h"
-#include "gpu/gpu_predictor.h"
+#include "hrpp/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_query_tracer.h"
 #include "vk/embedded_shaders.h"

@@ -18,7 +18,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_stats.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "render/render_config.h"
 #include "render/render_scene.h"
 #include "scene/scene.h"

@@ -13,7 +13,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "hrpp/timer_label.h"
+#include "vk/timer_label.h"
 #include "kernel_names.h"
 
 namespace hrpp {

@@ -1,7 +1,7 @@
 // HRPP (hash-based ray path prediction): the constants and structs that the C++ side
-// (host/hrpp/, host/gpu/gpu_predictor.cpp) and the GLSL side (shaders/lib/hrpp_*.glsl,
+// (host/hrpp/, host/hrpp/gpu_predictor.cpp) and the GLSL side (shaders/lib/hrpp_*.glsl,
 // shaders/hrpp_*.comp) share. One definition each; the host static_asserts sizes
-// (host/hrpp/ray_hash.h, host/hrpp/predictor_config.h, host/gpu/gpu_predictor.cpp).
+// (host/hrpp/ray_hash.h, host/hrpp/predictor_config.h, host/hrpp/gpu_predictor.cpp).
 #ifndef HRPP_HRPP_TYPES_H
 #define HRPP_HRPP_TYPES_H
 
@@ -65,7 +65,7 @@ struct HashParams {
      // host/hrpp/reference_table.cpp, its name in predictor_config.h
 
 // Ray classes: each has its own table, switch, counters and
-// kernel times (host/hrpp/ray_class.h names them). Camera and bounce rays are hit-all (closest
+// kernel times (host/trace/ray_class.h names them). Camera and bounce rays are hit-all (closest
 // hit), shadow rays hit-any.
 #define HRPP_RAY_CLASS_CAMERA 0
 #define HRPP_RAY_CLASS_BOUNCE 1

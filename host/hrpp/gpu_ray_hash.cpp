@@ -1,4 +1,4 @@
-#include "gpu/gpu_ray_hash.h"
+#include "hrpp/gpu_ray_hash.h"
 
 #include <algorithm>
 #include <string>

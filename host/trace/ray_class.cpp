@@ -1,4 +1,4 @@
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-#include "gpu/trace_counters.h"
+#include "kernels/trace_counters.h"
 
 #include <cstddef>
 

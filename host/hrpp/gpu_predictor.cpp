@@ -1,4 +1,4 @@
-#include "gpu/gpu_predictor.h"
+#include "hrpp/gpu_predictor.h"
 
 #include <algorithm>
 #include <array>
@@ -10,12 +10,12 @@
 
 #include "common/error.h"
 #include "vk/compute_pipeline.h"
-#include "gpu/device_bvh.h"
+#include "kernels/device_bvh.h"
 #include "vk/embedded_shaders.h"
-#include "gpu/kernel_bindings.h"
+#include "kernels/kernel_bindings.h"
 #include "vk/storage_buffer.h"
 #include "vk/texel_view.h"
-#include "gpu/trace_counters.h"
+#include "kernels/trace_counters.h"
 #include "vk/vulkan_context.h"
 #include "hrpp/prediction_node.h"
 

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "kernel_names.h"
 
 namespace hrpp {

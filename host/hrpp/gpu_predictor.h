@@ -19,12 +19,12 @@
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
-#include "gpu/device_tracer.h"
+#include "kernels/trace_result.h"
 #include "vk/memory_plan.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "hrpp/predictor_stats.h"
-#include "hrpp/ray_class.h"
+#include "trace/ray_class.h"
 #include "hrpp_interface.h"
 #include "trace/traversal_counters.h"
 #include "trace_interface.h"
@@ -103,7 +103,7 @@ class GpuPredictor {
   //   begin(c)          before recording: zeroes the class's counters (host write) when it probes;
   //   record_trace(...) records the stage as probing(c) says, its use stamps (LRU) continuing
   //                     the class's clock, its kernels timed under {kernel, phase, class}
-  //                     labels (hrpp/timer_label.h). Returns true when the stage answers every
+  //                     labels (vk/timer_label.h). Returns true when the stage answers every
   //                     ray (Probe::kAll), false when the tracer traces them itself (off, or
   //                     after a sample's stage);
   //   recorded(c)       after the submit: how that trace ran the stage;

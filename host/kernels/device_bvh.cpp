@@ -1,4 +1,4 @@
-#include "gpu/device_bvh.h"
+#include "kernels/device_bvh.h"
 
 #include <algorithm>
 #include <cstddef>
