@@ -168,7 +168,10 @@ if [[ "$RUN_CSV" == 1 ]]; then
         [[ "$RESUME" == 1 ]] && par+=(--resume)
         [[ -n "$SSHLOGINFILE" ]] && par+=(--sshloginfile "$SSHLOGINFILE" --workdir "$REPO")
         echo "sweep: $(wc -l < "$OUT/jobs.txt") jobs, ${par[*]} < $OUT/jobs.txt"
+        [[ "$RESUME" == 1 && -f "$OUT/provenance.json" ]] ||
+            "$PY" "$REPO/tools/sweep_common.py" provenance "$OUT" before
         "${par[@]}" < "$OUT/jobs.txt" || status=$?
+        "$PY" "$REPO/tools/sweep_common.py" provenance "$OUT" after
         [[ "$status" == 0 ]] || echo "sweep: $status jobs failed (see $OUT/joblog and runs/*.log)" >&2
     fi
     # A subset of grids (--grids) replaces those grids' rows of the CSV and keeps the others.

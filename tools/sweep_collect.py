@@ -13,7 +13,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import image_errors, read_exr  # noqa: E402
+from hrpp_common import device_name, image_errors, read_exr  # noqa: E402
+from sweep_common import run_line  # noqa: E402
 
 META = ["id", "grid", "scene", "size", "spp", "seed", "variant", "bits", "goup", "hash", "kib",
         "policy", "ways", "ok"]
@@ -29,12 +30,13 @@ DERIVED = ["rays", "nodes_per_entry", "used_bytes", "compact_bytes", "occupancy"
            "interior_per_ray"]
 TIMES = ["wall_s", "kernels_ms_total", "trace_ms"]
 ERRORS = ["rmse_off", "relmse_off", "pixels_differ_off", "rmse_ref", "relmse_ref"]
-TAIL = ["flags", "cmd"]
+TAIL = ["flags", "cmd", "run"]
 
 
-def flatten(meta, stats):
+def flatten(meta, stats, note):
     r = {k: meta.get(k, "") for k in META}
     r["flags"], r["cmd"] = meta.get("flags", ""), meta.get("cmd", "")
+    r["run"] = run_line(note, device_name(stats))  # the render's provenance
     r["ok"] = 1
     h = stats.get("hrpp_predictor", {})
     on = bool(h.get("enabled"))
@@ -97,13 +99,15 @@ def main():
                          "previous contents (a run of some grids merged into a full CSV)")
     a = ap.parse_args()
     metas = [json.loads(l) for l in open(a.jobs) if l.strip()]
+    note_path = os.path.join(os.path.dirname(os.path.abspath(a.runs)), "provenance.json")
+    note = json.load(open(note_path)) if os.path.exists(note_path) else {}
     kept = kept_rows(a.csv, {m["grid"] for m in metas}) if a.keep_other_grids else []
     rows = []
     for m in metas:
         js = os.path.join(a.runs, m["id"] + ".json")
         try:
             with open(js) as f:
-                rows.append(flatten(m, json.load(f)))
+                rows.append(flatten(m, json.load(f), note))
         except (OSError, ValueError) as e:
             r = {k: m.get(k, "") for k in META}
             r.update(ok=0, flags=m.get("flags", ""), cmd=m.get("cmd", ""))

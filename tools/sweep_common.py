@@ -1,8 +1,15 @@
 """Shared by the limit study's plot and report scripts (tools/sweep.sh's steps): the CSV reader,
-the paper's numbers, and the rewriting of a generated block of RESULTS.md."""
+the paper's numbers, each run's provenance, and the rewriting of a generated block of
+RESULTS.md. `sweep_common.py provenance OUT before|after` notes a run's provenance
+(tools/sweep.sh, around its renders)."""
 import csv
+import datetime
+import json
 import os
 import subprocess
+import sys
+
+from hrpp_common import cpu_model
 
 # The paper's Table 1 (Demoullin, Gubran, Aamodt, EG 2019): 1024x1024, 8 spp, go-up 0,
 # precision 6. Savings in %, table sizes in MB. "<1" is entered as 0.5. Our stand-in scenes:
@@ -57,6 +64,30 @@ def repo_commit(repo):
         return "?"
 
 
+def note_run(out_dir, when):
+    """OUT/provenance.json of a sweep's renders: before them the repository's commit, the CPU,
+    the date and the load; after them (when = "after") the load again. sweep_collect.py stamps
+    every row it collects from that run directory with it."""
+    path = os.path.join(out_dir, "provenance.json")
+    load = f"{os.getloadavg()[0]:.1f}"
+    if when == "before":
+        note = {"commit": repo_commit(os.path.join(os.path.dirname(__file__), "..")),
+                "cpu": cpu_model(), "date": str(datetime.date.today()), "load_before": load}
+    else:
+        with open(path) as f:
+            note = json.load(f)
+        note["load_after"] = load
+    with open(path, "w") as f:
+        json.dump(note, f)
+
+
+def run_line(note, device):
+    """A grid's provenance as the report prints it: commit, device, CPU, date and load."""
+    return (f"commit {note.get('commit', '?')}, {device}, {note.get('cpu', '?')}, "
+            f"{note.get('date', '?')}, load {note.get('load_before', '?')} before and "
+            f"{note.get('load_after', '?')} after")
+
+
 def rewrite_block(path, name, lines, generator):
     """Replaces the generated block NAME of the Markdown file at `path` (everything between
     <!-- BEGIN NAME --> and <!-- END NAME -->) with `lines`, headed by a comment naming the
@@ -71,3 +102,9 @@ def rewrite_block(path, name, lines, generator):
         text = text.rstrip("\n") + "\n\n" + block + "\n"
     with open(path, "w") as f:
         f.write(text)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4 or sys.argv[1] != "provenance" or sys.argv[3] not in ("before", "after"):
+        sys.exit("usage: sweep_common.py provenance OUT_DIR before|after")
+    note_run(sys.argv[2], sys.argv[3])

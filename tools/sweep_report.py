@@ -301,6 +301,16 @@ def span(joblog):
     return f"renders: {len(st)} jobs over {int(t) // 60} min {int(t) % 60} s; "
 
 
+def grid_runs(data):
+    """One line per grid: where and when its renders ran (the CSV's `run` column; a grid whose
+    rows differ names each)."""
+    out = []
+    for grid in dict.fromkeys(r["grid"] for r in data):
+        runs = sorted({r.get("run") or "not recorded" for r in data if r["grid"] == grid})
+        out.append(f"- {grid}: {'; '.join(runs)}")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--csv", required=True)
@@ -318,7 +328,8 @@ def main():
            f"{span(a.joblog)}this command {a.elapsed // 60} min {a.elapsed % 60} s, "
            f"repository at {repo_commit(repo)}; "
            f"CSV: `{os.path.relpath(a.csv, repo)}`, figures: "
-           f"`{os.path.relpath(a.figures, repo)}/`).\n"]
+           f"`{os.path.relpath(a.figures, repo)}/`). The grids' renders ran at:\n"]
+    out += grid_runs(data) + [""]
     for s in (section_table1, section_precision, section_goup, section_spp, section_bounded,
               section_errtime):
         s(data, out, a.figures, a.results)
