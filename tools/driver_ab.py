@@ -3,12 +3,13 @@
 VK_DRIVER_FILES, alternating the order round by round (same binary, rays and seed). Prints a
 Markdown table: the GPU's median kernel time per query kind under each driver (median over the
 rounds), the per-round time ratio B/A, the GPU/Embree speed under each (Embree runs in the same
-process, so it is the same under both) and the GPU's mismatches against the CPU reference; then
-one line of provenance (command, commit, date, drivers, load).
+process, so it is the same under both) and the GPU's mismatches against the CPU reference,
+headed by one line of provenance (command, commit, date, drivers, load). With --results the
+same lines become the generated block --block of that Markdown file.
 
 Usage: tools/driver_ab.py --driver A=ICD.json --driver B=ICD.json
                           [--scenes bunny,lamborghini,dragon] [--rounds 2] [--hrpp BIN]
-                          [--json FILE]
+                          [--json FILE] [--results FILE [--block NAME]]
 Example (Mesa 22.3 unpacked beside the system's Mesa 25):
   tools/driver_ab.py --driver 22.3=/opt/mesa22/lvp_icd.json \\
                      --driver 25.0=/usr/share/vulkan/icd.d/lvp_icd.json
@@ -23,6 +24,8 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from sweep_common import rewrite_block  # noqa: E402
 DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
 KINDS = ["primary", "ao", "diffuse"]
 
@@ -39,6 +42,8 @@ def parse_args():
     p.add_argument("--rounds", type=int, default=2)
     p.add_argument("--hrpp", default=DEFAULT_BIN)
     p.add_argument("--json", help="write every bench report, by scene and driver")
+    p.add_argument("--results", help="rewrite the generated block --block of this Markdown file")
+    p.add_argument("--block", default="driver_ab:bench", help="the block's name (with --results)")
     a = p.parse_args()
     if len(a.driver) != 2 or any("=" not in d for d in a.driver):
         fail("--driver NAME=ICD_JSON must be given twice")
@@ -85,9 +90,18 @@ def main():
                 reports[(scene, name)].append(bench(a, scene, a.drivers[name]))
                 print(f"driver_ab: round {rnd + 1}/{a.rounds} {scene} {name}", file=sys.stderr)
     A, B = names
-    print(f"| scene | kind | {A} ms | {B} ms | {B}/{A} time, per round | GPU/Embree {A} | "
-          f"GPU/Embree {B} | mismatches {A}, {B} |")
-    print("|---|---|---|---|---|---|---|---|")
+    commit = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip() or "unknown"
+    drivers = "; ".join(f"{n}: {reports[(scenes[0], n)][0]['machine']['vulkan_driver']}"
+                        for n in names)
+    results = f" --results {a.results} --block {a.block}" if a.results else ""
+    lines = [f"Made by `tools/driver_ab.py {' '.join('--driver ' + d for d in a.driver)} "
+             f"--scenes {a.scenes} --rounds {a.rounds}{results}` at commit {commit}, "
+             f"{time.strftime('%Y-%m-%d')}, {reports[(scenes[0], A)][0]['machine']['cpu']}; "
+             f"{drivers}; load {min(loads):.1f}-{max(loads):.1f}:", "",
+             f"| scene | kind | {A} ms | {B} ms | {B}/{A} time, per round | GPU/Embree {A} | "
+             f"GPU/Embree {B} | mismatches {A}, {B} |",
+             "|---|---|---|---|---|---|---|---|"]
     for scene in scenes:
         for kind in KINDS:
             ga, ea, ma = kind_row(reports[(scene, A)], kind)
@@ -95,16 +109,12 @@ def main():
             ratios = " / ".join(f"{y / x:.2f}" for x, y in zip(ga, gb))
             sa = statistics.median(e / g for g, e in zip(ga, ea))
             sb = statistics.median(e / g for g, e in zip(gb, eb))
-            print(f"| {scene} | {kind} | {statistics.median(ga):.1f} | {statistics.median(gb):.1f} "
-                  f"| {ratios} | {sa:.2f} | {sb:.2f} | {ma}, {mb} |")
-    commit = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip() or "unknown"
-    drivers = "; ".join(f"{n}: {reports[(scenes[0], n)][0]['machine']['vulkan_driver']}"
-                        for n in names)
-    print(f"\nMade by `tools/driver_ab.py {' '.join('--driver ' + d for d in a.driver)} "
-          f"--scenes {a.scenes} --rounds {a.rounds}` at commit {commit}, "
-          f"{time.strftime('%Y-%m-%d')}, {reports[(scenes[0], A)][0]['machine']['cpu']}; "
-          f"{drivers}; load {min(loads):.1f}-{max(loads):.1f}.")
+            lines.append(f"| {scene} | {kind} | {statistics.median(ga):.1f} | "
+                         f"{statistics.median(gb):.1f} | {ratios} | {sa:.2f} | {sb:.2f} | "
+                         f"{ma}, {mb} |")
+    print("\n".join(lines))
+    if a.results:
+        rewrite_block(a.results, a.block, lines, "tools/driver_ab.py")
     if a.json:
         with open(a.json, "w") as f:
             json.dump({f"{s}|{n}": v for (s, n), v in reports.items()}, f)
