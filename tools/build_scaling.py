@@ -25,7 +25,8 @@ import statistics
 import subprocess
 import sys
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hrpp_common import REPO, need_binary  # noqa: E402
 
 
 CAPTURE = os.devnull  # the children's stdout, set in main
@@ -108,8 +109,7 @@ def main():
         sys.exit(f"build_scaling: --sizes {a.sizes}: expected numbers, e.g. 0.1,1,10")
     if not sizes or min(sizes) <= 0 or a.repeat < 1:
         sys.exit("build_scaling: --sizes must be positive and --repeat at least 1")
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"build_scaling: --hrpp {a.hrpp}: not an executable")
+    need_binary(a.hrpp, "build_scaling")
     os.makedirs(a.work, exist_ok=True)
     CAPTURE = os.path.join(a.work, "stdout.txt")
     manifests = []

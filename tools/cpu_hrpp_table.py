@@ -22,7 +22,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import DEFAULT_BIN, REPO, cpu_model, run, scene_arg  # noqa: E402
+from hrpp_common import DEFAULT_BIN, REPO, cpu_model, need_binary, run, scene_arg  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = "cornell,teapot,bunny,lamborghini,dragon"
@@ -78,8 +78,7 @@ def main():
     ap.add_argument("--results", help="rewrite the block cpu_hrpp:bench of this Markdown file")
     a = ap.parse_args()
     a.scenes, a.bits = a.scenes.split(","), [int(b) for b in a.bits.split(",")]
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"cpu_hrpp_table: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    need_binary(a.hrpp, "cpu_hrpp_table")
     load = [os.getloadavg()[0]]
     results = {}
     with tempfile.TemporaryDirectory(prefix="cpu_hrpp_") as tmp:

@@ -27,7 +27,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import model_common as cm  # noqa: E402
-from hrpp_common import DEFAULT_BIN, render  # noqa: E402
+from hrpp_common import DEFAULT_BIN, need_binary, render  # noqa: E402
 
 CLASSES = ["camera", "bounce", "shadow"]
 SETTINGS = {
@@ -129,8 +129,7 @@ def main():
     ap.add_argument("--core", type=int, default=1, help="the one core every render runs on")
     ap.add_argument("--json", help="write every figure here")
     a = ap.parse_args()
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"cpu_model: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    need_binary(a.hrpp, "cpu_model")
     os.sched_setaffinity(0, {a.core})  # the renders inherit it
     load = os.getloadavg()[0]
     runs, spreads = {}, []

@@ -23,7 +23,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hrpp_common  # noqa: E402
-from hrpp_common import DEFAULT_BIN, REPO, run, scene_arg  # noqa: E402
+from hrpp_common import DEFAULT_BIN, REPO, need_binary, run, scene_arg  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 KINDS = ["primary", "ao", "diffuse"]
@@ -74,9 +74,8 @@ def main():
     a = ap.parse_args()
     a.harness = a.harness or os.path.join(os.path.dirname(os.path.dirname(a.hrpp)), "bench",
                                           "bench_embree_harness")
-    for binary in (a.hrpp, a.harness):
-        if not os.access(binary, os.X_OK):
-            sys.exit(f"embree_check: no binary at {binary} (tools/build.sh builds it)")
+    need_binary(a.hrpp, "embree_check")
+    need_binary(a.harness, "embree_check", "--harness")
     with tempfile.TemporaryDirectory(prefix="embree_check_") as tmp:
         rows, device = rows_for(a, tmp)
     command = shlex.join(["tools/embree_check.py"] + sys.argv[1:])

@@ -34,8 +34,7 @@ BASELINE = ("light", "independent")
 
 def output_dir(a, who, prefix):
     """Checks --hrpp and returns the directory the renders go to (--images, else a new one)."""
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"{who}: --hrpp {a.hrpp}: not an executable (build first)")
+    hrpp_common.need_binary(a.hrpp, who)
     out_dir = a.images or tempfile.mkdtemp(prefix=prefix)
     os.makedirs(out_dir, exist_ok=True)
     return out_dir

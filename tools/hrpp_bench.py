@@ -49,7 +49,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from hrpp_common import (DEFAULT_BIN, REPO, STAND_INS, cpu_model, device_name,  # noqa: E402
-                         image_errors, read_exr, render)
+                         image_errors, need_binary, read_exr, render)
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 CLASSES = ["camera", "bounce", "shadow"]
@@ -209,8 +209,7 @@ def main():
         ap.error("--cpu-tracer: the CPU backend's (--backend cpu)")
     if a.quick:
         a.size, a.spp, a.repeat = "256x256", 2, 1
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"hrpp_bench: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    need_binary(a.hrpp, "hrpp_bench")
     tracer = a.tracer if a.backend == "gpu" else a.cpu_tracer
     print(f"hrpp_bench: {a.backend} {tracer}, {a.size}, {a.spp} spp, seed {a.seed}, {a.repeat} off/on "
           f"pairs, on = --hrpp on {a.flags}; ratios on/off (< 1: HRPP faster); "

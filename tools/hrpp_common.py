@@ -43,6 +43,13 @@ def machine_line(device):
             f"load {os.getloadavg()[0]:.1f}")
 
 
+def need_binary(path, who, flag="--hrpp"):
+    """Exits with one line naming `who`, the path and the flag that sets it unless `path` is an
+    executable."""
+    if not os.access(path, os.X_OK):
+        sys.exit(f"{who}: no binary at {path} ({flag}; tools/build.sh builds it)")
+
+
 def scene_arg(name):
     """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json."""
     if name.startswith("builtin:") or "/" in name or name.endswith((".glb", ".gltf", ".json")):

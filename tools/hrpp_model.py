@@ -321,8 +321,7 @@ def main():
     a.command = a.command or " ".join(["tools/hrpp_model.py"] + sys.argv[1:])
     if len(a.scenes) < 2:
         sys.exit("hrpp_model: --scenes needs at least two scenes (each is held out in turn)")
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"hrpp_model: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    hrpp_common.need_binary(a.hrpp, "hrpp_model")
     a.runs = a.runs or os.path.join(REPO, "build", "hrpp-model", a.mode)
     a.figure = a.figure or os.path.join(HERE, "figures", *([] if a.mode == "full" else [a.mode]),
                                         "hrpp_model.png")

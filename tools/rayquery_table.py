@@ -23,7 +23,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import DEFAULT_BIN, REPO, cpu_model, run, scene_arg  # noqa: E402
+from hrpp_common import DEFAULT_BIN, REPO, cpu_model, need_binary, run, scene_arg  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = "bunny,lamborghini,dragon"
@@ -84,8 +84,7 @@ def main():
     ap.add_argument("--results", help="rewrite the block rayquery:bench of this Markdown file")
     a = ap.parse_args()
     a.scenes = a.scenes.split(",")
-    if not os.access(a.hrpp, os.X_OK):
-        sys.exit(f"rayquery_table: no hrpp binary at {a.hrpp} (--hrpp; tools/build.sh builds it)")
+    need_binary(a.hrpp, "rayquery_table")
     load = [os.getloadavg()[0]]
     reports = {}
     with tempfile.TemporaryDirectory(prefix="rayquery_") as tmp:
