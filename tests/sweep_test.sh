@@ -21,7 +21,7 @@ rows = list(csv.DictReader(open(os.path.join(work, "test.csv"))))
 need = ["id", "grid", "scene", "size", "spp", "seed", "variant", "ok", "hrpp", "mode", "wall_s",
         "kernels_ms_total", "trace_ms", "all_savings", "any_savings", "all_table_entries",
         "all_table_bytes", "all_nodes_per_entry", "any_table_bytes", "all_wrong_closest",
-        "rmse_off", "relmse_off", "rmse_ref", "relmse_ref", "cmd"]
+        "rmse_off", "relmse_off", "rmse_ref", "relmse_ref", "cmd", "run"]
 missing = [c for c in need if c not in rows[0]]
 assert not missing, f"CSV lacks columns {missing}"
 assert len(rows) == 4, f"{len(rows)} rows, expected 4"
@@ -41,6 +41,13 @@ results = open(os.path.join(work, "run", "RESULTS.md")).read()
 for block in ("sweep:test", "key_study:test", "hrpp_model:test"):
     assert results.count(f"<!-- BEGIN {block} -->") == 1, (block, results)
     assert results.count(f"<!-- END {block} -->") == 1, (block, results)
+# Every row and the sweep's block name where the renders ran: commit, device, CPU, date, load.
+sweep = results.split("<!-- BEGIN sweep:test -->")[1].split("<!-- END")[0]
+run = rows[0]["run"]
+assert re.match(r"commit [0-9a-f]{7,}, .+ \(.+\), .+, \d{4}-\d\d-\d\d, load \d+\.\d before and "
+                r"\d+\.\d after$", run), run
+assert all(r["run"] == run for r in rows), [r["run"] for r in rows]
+assert f"- test: {run}" in sweep, sweep
 keys = results.split("<!-- BEGIN key_study:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in keys, keys
 for row in ("| teapot | hrpp N=6 (paper) |",
