@@ -47,7 +47,7 @@ run = rows[0]["run"]
 assert re.match(r"commit [0-9a-f]{7,}, .+ \(.+\), .+, \d{4}-\d\d-\d\d, load \d+\.\d before and "
                 r"\d+\.\d after$", run), run
 assert all(r["run"] == run for r in rows), [r["run"] for r in rows]
-assert f"- test: {run}" in sweep, sweep
+assert f"- test: {run}" in sweep, sweep  # one run, one line
 keys = results.split("<!-- BEGIN key_study:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in keys, keys
 for row in ("| teapot | hrpp N=6 (paper) |",

@@ -302,13 +302,12 @@ def span(joblog):
 
 
 def grid_runs(data):
-    """One line per grid: where and when its renders ran (the CSV's `run` column; a grid whose
-    rows differ names each)."""
-    out = []
-    for grid in dict.fromkeys(r["grid"] for r in data):
-        runs = sorted({r.get("run") or "not recorded" for r in data if r["grid"] == grid})
-        out.append(f"- {grid}: {'; '.join(runs)}")
-    return out
+    """Where and when the renders ran (the CSV's `run` column): one line per run, naming its
+    grids (a grid merged from several runs is named under each)."""
+    grids = {}
+    for r in data:
+        grids.setdefault(r.get("run") or "not recorded", {})[r["grid"]] = None
+    return [f"- {', '.join(g)}: {run}" for run, g in grids.items()]
 
 
 def main():
