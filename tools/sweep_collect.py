@@ -2,8 +2,10 @@
 """Collects the limit study's runs into one CSV: every --stats JSON (configuration, per-class
 predictor counters, table figures, wall and per-kernel times) joined with the job's grid
 parameters (jobs.jsonl), plus image errors computed here from the EXR images:
-  *_off  against the HRPP-off image of the same scene, size, spp and seed (exact mode: 0)
-  *_ref  against the high-spp HRPP-off reference of the same scene and size (errtime grid)
+  *_off  against the HRPP-off image of the same scene, size, spp, seed and estimator (exact
+         mode: 0)
+  *_ref  against the high-spp HRPP-off reference of the same scene, size and estimator
+         (errtime grid)
 RMSE over all pixels and channels; relMSE = mean((x - y)^2 / (y^2 + eps)), eps = 0.01, y the
 image compared with. Needs python3-openimageio and numpy (Debian)."""
 import argparse
@@ -80,6 +82,14 @@ def flatten(meta, stats, note):
     return r
 
 
+def estimator(row):
+    """The light sampling and sampler flags of a row's render: images compare only with HRPP
+    off's of the same estimator (the grids pin different ones: tools/sweep_jobs.py)."""
+    words = row.get("cmd", "").split()
+    return tuple(words[i + 1] for i, w in enumerate(words[:-1])
+                 if w in ("--light-sampling", "--sampler"))
+
+
 def kept_rows(path, grids):
     """The rows of `path` (if it exists) whose grid is not in `grids`, as read."""
     if not os.path.exists(path):
@@ -123,12 +133,12 @@ def main():
                 cache[rid] = read_exr(p) if os.path.exists(p) else None
             return cache[rid]
 
-        key = lambda r: (r["scene"], r["size"], r["spp"], r["seed"])
+        key = lambda r: (r["scene"], r["size"], r["spp"], r["seed"], estimator(r))
         offs, refs = {}, {}
         for r in rows:
             if r["ok"] and r.get("hrpp") == "off":
                 if r.get("variant") == "reference":
-                    refs.setdefault((r["scene"], r["size"]), r["id"])
+                    refs.setdefault((r["scene"], r["size"], estimator(r)), r["id"])
                 else:
                     offs.setdefault(key(r), r["id"])
         for r in rows:
@@ -140,7 +150,7 @@ def main():
             o = offs.get(key(r))
             if o is not None and img(o) is not None:
                 r["rmse_off"], r["relmse_off"], r["pixels_differ_off"] = image_errors(x, img(o))
-            ref = refs.get((r["scene"], r["size"]))
+            ref = refs.get((r["scene"], r["size"], estimator(r)))
             if ref is not None and ref != r["id"] and img(ref) is not None:
                 r["rmse_ref"], r["relmse_ref"], _ = image_errors(x, img(ref))
             if len(cache) > 64:   # keep memory bounded (1024^2 images are 24 MiB each)
