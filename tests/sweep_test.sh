@@ -62,6 +62,7 @@ assert study.count("| teapot |") == 1 and "answered, beam table (default)" in st
 assert gates.count("| teapot |") == 1 and "gate 1.4: net savings" in gates, gates
 model = results.split("<!-- BEGIN hrpp_model:test -->")[1].split("<!-- END")[0]
 assert "Made by `tools/sweep.sh --test`" in model and "| teapot | camera |" in model, model
+assert re.search(r"\) at commit [0-9a-f]{7,}, .+, \d{4}-\d\d-\d\d, load \d+\.\d before", model), model
 last = open(os.path.join(work, "run", "model.md")).read().strip().splitlines()[-1]
 assert re.fullmatch(r"model: max relative error \d+\.\d+ on 10 held-out runs", last), last
 p = os.path.join(work, "figures", "hrpp_model.png")

@@ -38,7 +38,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import model_common as cm  # noqa: E402
 import hrpp_common  # noqa: E402
 from hrpp_common import HERE, REPO, STAND_INS  # noqa: E402
-from sweep_common import rewrite_block  # noqa: E402
+from sweep_common import note_run, rewrite_block, run_line  # noqa: E402
 
 PREDICT_ALL = ["--hrpp", "on", "--hrpp-adaptive", "off"]
 SETTINGS = {
@@ -245,11 +245,11 @@ def summary(rows):
             "worst": max(rows, key=lambda r: abs(r["error"]))}
 
 
-def report_lines(a, costs, held, twins, ans, device, load):
+def report_lines(a, costs, held, twins, ans, provenance):
     timed = (f"each frame and class timed by the least of {a.repeat} renders" if a.repeat > 1
              else "one render of each")
     lines = [f"Made by `{a.command}` ({a.size}, {a.spp} spp, seed {a.seed}, {timed}; "
-             f"scenes {', '.join(a.scenes)}), {device}, load {load}.", "",
+             f"scenes {', '.join(a.scenes)}) at {provenance}.", "",
              "Costs per operation (ns), fitted on every run:", "",
              "| kernel | op | ns |", "|---|---|---|"]
     for model, c in costs.items():
@@ -325,15 +325,16 @@ def main():
     a.runs = a.runs or os.path.join(REPO, "build", "hrpp-model", a.mode)
     a.figure = a.figure or os.path.join(HERE, "figures", *([] if a.mode == "full" else [a.mode]),
                                         "hrpp_model.png")
-    load = os.getloadavg()[0]
+    note = os.path.join(a.runs, "provenance.json")  # commit, CPU, date, load of the renders
+    fresh = not (a.reuse and os.path.exists(note))
+    os.makedirs(a.runs, exist_ok=True)
+    if fresh:
+        note_run(a.runs, "before")
     runs = collect(a)
-    load_file = os.path.join(a.runs, "load.txt")  # the load while the renders ran
-    if not (a.reuse and os.path.exists(load_file)):
-        with open(load_file, "w") as f:
-            f.write(f"{load:.1f}-{os.getloadavg()[0]:.1f}\n")
-    load = open(load_file).read().strip()
-    first = next(iter(runs.values()))[0]
-    device = f"{first['device']['name']} ({first['device']['driver']})"
+    if fresh:
+        note_run(a.runs, "after")
+    with open(note) as f:
+        provenance = run_line(json.load(f), hrpp_common.device_name(next(iter(runs.values()))[0]))
     obs = all_observations(runs)
     costs = cm.fit(obs)
     held = {scheme: held_out(obs, scheme) for scheme in HOLD_OUT}
@@ -342,7 +343,7 @@ def main():
     os.makedirs(os.path.dirname(a.figure), exist_ok=True)
     if not plot(ans, a.figure):
         a.figure = None
-    lines = report_lines(a, costs, held, twins, ans, device, load)
+    lines = report_lines(a, costs, held, twins, ans, provenance)
     print("\n".join(lines))
     if a.json:
         with open(a.json, "w") as f:
