@@ -23,10 +23,10 @@ import sys
 import tempfile
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from sweep_common import rewrite_block  # noqa: E402
-DEFAULT_BIN = os.path.join(HERE, "..", "build", "release", "host", "hrpp")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hrpp_common import DEFAULT_BIN, REPO, need_binary  # noqa: E402
+from sweep_common import repo_commit, rewrite_block  # noqa: E402
+
 KINDS = ["primary", "ao", "diffuse"]
 
 
@@ -53,6 +53,7 @@ def parse_args():
             fail(f"--driver {name}={icd}: no such file")
     if a.rounds < 1:
         fail(f"--rounds {a.rounds}: at least 1")
+    need_binary(a.hrpp, "driver_ab")
     return a
 
 
@@ -90,13 +91,11 @@ def main():
                 reports[(scene, name)].append(bench(a, scene, a.drivers[name]))
                 print(f"driver_ab: round {rnd + 1}/{a.rounds} {scene} {name}", file=sys.stderr)
     A, B = names
-    commit = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip() or "unknown"
     drivers = "; ".join(f"{n}: {reports[(scenes[0], n)][0]['machine']['vulkan_driver']}"
                         for n in names)
     results = f" --results {a.results} --block {a.block}" if a.results else ""
     lines = [f"Made by `tools/driver_ab.py {' '.join('--driver ' + d for d in a.driver)} "
-             f"--scenes {a.scenes} --rounds {a.rounds}{results}` at commit {commit}, "
+             f"--scenes {a.scenes} --rounds {a.rounds}{results}` at commit {repo_commit(REPO)}, "
              f"{time.strftime('%Y-%m-%d')}, {reports[(scenes[0], A)][0]['machine']['cpu']}; "
              f"{drivers}; load {min(loads):.1f}-{max(loads):.1f}:", "",
              f"| scene | kind | {A} ms | {B} ms | {B}/{A} time, per round | GPU/Embree {A} | "

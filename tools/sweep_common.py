@@ -9,7 +9,7 @@ import os
 import subprocess
 import sys
 
-from hrpp_common import cpu_model
+from hrpp_common import REPO, cpu_model
 
 # The paper's Table 1 (Demoullin, Gubran, Aamodt, EG 2019): 1024x1024, 8 spp, go-up 0,
 # precision 6. Savings in %, table sizes in MB. "<1" is entered as 0.5. Our stand-in scenes:
@@ -71,7 +71,7 @@ def note_run(out_dir, when):
     path = os.path.join(out_dir, "provenance.json")
     load = f"{os.getloadavg()[0]:.1f}"
     if when == "before":
-        note = {"commit": repo_commit(os.path.join(os.path.dirname(__file__), "..")),
+        note = {"commit": repo_commit(REPO),
                 "cpu": cpu_model(), "date": str(datetime.date.today()), "load_before": load}
     else:
         with open(path) as f:
