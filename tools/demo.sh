@@ -16,13 +16,33 @@ echo "(image: build/demo/cornell.png, linear EXR with --out FILE.exr; stats: bui
 echo
 echo "== $hrpp bench --hrpp on   (HRPP off vs on, side by side: gpu and gpu-hrpp rows)"
 "$hrpp" bench --rays 65536 --no-embree --repeat 1 --hrpp on --hrpp-mode exact --kinds primary,ao
+echo "(one run each: these Mrays/s and ratios show what runs, not which is faster; below, pairs)"
+echo "(uptime: $(uptime | sed 's/^ *//'))"
 echo
-echo "== HRPP on against off (tools/hrpp_bench.py: same binary, seed and image, off/on"
-echo "   interleaved; ratios of device time per ray class and frame, < 1: HRPP faster)"
-/usr/bin/python3 tools/hrpp_bench.py --scenes builtin:cornell --size 256x256 --spp 8 --repeat 1 \
-  --images build/demo/default
-/usr/bin/python3 tools/hrpp_bench.py --scenes builtin:cornell --size 256x256 --spp 8 --repeat 1 \
-  --flags "--hrpp-mode exact" --images build/demo/exact
+# Off/on pairs, interleaved: hrpp_bench.py's table takes the fastest of each side; the spread of
+# the pairs' own ratios says whether the difference is more than the noise of this machine.
+pairs=5
+spread() {  # the frame's on/off device-time ratio of each pair in build/demo/$1
+  /usr/bin/python3 - "build/demo/$1" "$pairs" <<'PY'
+import json, statistics, sys
+d, n = sys.argv[1], int(sys.argv[2])
+ms = lambda f: json.load(open(f"{d}/builtin_cornell_{f}.json"))["kernels_ms_total"]
+r = sorted(ms(f"on{i}") / ms(f"off{i}") for i in range(n))
+verdict = ("the pairs disagree on which is faster: no difference measured" if r[0] < 1 < r[-1]
+           else "every pair points the same way, at this size and load")
+print(f"frame on/off over {n} pairs: min {r[0]:.3f}, median {statistics.median(r):.3f}, "
+      f"max {r[-1]:.3f} ({verdict})")
+PY
+  echo "(uptime: $(uptime | sed 's/^ *//'))"
+}
+echo "== HRPP on against off (tools/hrpp_bench.py: same binary, seed and image, $pairs off/on"
+echo "   pairs interleaved; ratios of device time per ray class and frame, < 1: HRPP faster)"
+/usr/bin/python3 tools/hrpp_bench.py --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
+  --spp 8 --repeat "$pairs" --images build/demo/default
+spread default
+/usr/bin/python3 tools/hrpp_bench.py --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
+  --spp 8 --repeat "$pairs" --flags "--hrpp-mode exact" --images build/demo/exact
+spread exact
 oiiotool build/demo/default/builtin_cornell_off0.exr build/demo/exact/builtin_cornell_on0.exr \
   build/demo/default/builtin_cornell_on0.exr --mosaic 3x1 --colorconvert linear sRGB \
   -o build/demo/hrpp_off_exact_speculative.png
