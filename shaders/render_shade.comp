@@ -88,7 +88,7 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   const SurfaceHit s = make_surface_hit(t, hit, ray.dir);
   const GpuMaterial m = load_material(s.material);
   const vec3 wo = -ray.dir;
-  vec3 radiance = hit_emission(ray, hit, path, t, m.emission);
+  vec3 radiance = hit_emission(ray, hit, path, t, emission_toward(m, t, ray.dir));
   shadow_end = 0u;
   if (closes_path(path, params.max_depth)) return radiance;
   vec3 albedo = m.base_color * s.color;

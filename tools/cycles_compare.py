@@ -22,6 +22,7 @@ Usage: tools/cycles_compare.py
                                [--blender BIN] [--json FILE] [--images DIR]
 """
 import argparse
+import json
 import os
 import shutil
 import sys
@@ -37,11 +38,16 @@ HRPP_CONFIGS = {"hrpp mis/sobol": ["--light-sampling", "mis", "--sampler", "sobo
 
 
 def cycles(a, export, out, seed):
+    """Cycles' image of the export, flipped left to right for a mirrored camera
+    (cycles_reference.py renders it unmirrored)."""
+    with open(export) as f:
+        mirrored = json.load(f)["cameras"][0].get("mirrored", False)
     run([a.blender, "--background", "--factory-startup", "--python",
          os.path.join(HERE, "cycles_reference.py"), "--", "--scene", export, "--out", out,
          "--size", a.size, "--spp", str(a.spp), "--max-depth", str(a.max_depth), "--seed",
          str(seed)], "cycles_compare", echo=True)
-    return read_exr(out)
+    img = read_exr(out)
+    return img[:, ::-1].copy() if mirrored else img
 
 
 def hrpp(a, scene, flags, out, seed=1):

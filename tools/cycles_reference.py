@@ -1,6 +1,6 @@
 """Renders an hrpp scene export with Blender's Cycles, set up to compute the integral hrpp render
 computes: the same triangles, vertex normals, camera and image size, Lambertian materials
-(Diffuse BSDF, roughness 0) with two-sided emission added, the same constant environment (the
+(Diffuse BSDF, roughness 0) with emission added (two-sided, or from the front alone), the same constant environment (the
 scene's, or for a scene without light hrpp's default environment and sun), paths of the same
 length (Cycles' max bounces = hrpp's --max-depth - 1: 0 means direct light only in both), a box pixel
 filter one pixel wide, no clamping, no glossy blur, no light threshold, no denoising, no
@@ -10,7 +10,9 @@ Run by Blender (Debian's blender package), not by python3:
   blender --background --factory-startup --python tools/cycles_reference.py -- \\
       --scene SCENE.json --out ref.exr [--size 64x64] [--spp 1024] [--max-depth 8] [--seed 0] \\
       [--camera 0] [--default-environment 0.5] [--default-sun 1.5]
-SCENE.json comes from `hrpp scene SCENE --export-json SCENE.json`. Scenes with metal, glass,
+SCENE.json comes from `hrpp scene SCENE --export-json SCENE.json`. A mirrored camera (pbrt's
+left-handed camera space) is rendered unmirrored: its image is this one flipped left to right,
+which tools/cycles_compare.py does. Scenes with metal, glass,
 textures or point, spot and directional lights are refused: their models differ between the two
 renderers. tools/cycles_compare.py runs this for you.
 """
@@ -70,7 +72,14 @@ def make_material(m):
         emission.inputs["Strength"].default_value = strength
         add = nt.nodes.new("ShaderNodeAddShader")
         nt.links.new(diffuse.outputs[0], add.inputs[0])
-        nt.links.new(emission.outputs[0], add.inputs[1])
+        if m.get("two_sided_emission", True):
+            nt.links.new(emission.outputs[0], add.inputs[1])
+        else:  # only the front (the side the triangle's winding faces) emits
+            geometry = nt.nodes.new("ShaderNodeNewGeometry")
+            mix = nt.nodes.new("ShaderNodeMixShader")
+            nt.links.new(geometry.outputs["Backfacing"], mix.inputs["Fac"])
+            nt.links.new(emission.outputs[0], mix.inputs[1])
+            nt.links.new(mix.outputs[0], add.inputs[1])
         nt.links.new(add.outputs[0], out.inputs["Surface"])
     else:
         nt.links.new(diffuse.outputs[0], out.inputs["Surface"])

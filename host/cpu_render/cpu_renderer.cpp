@@ -76,11 +76,12 @@ struct PathTracer {
     const gpu::GpuMaterial& m = rs.materials[s.material];
     const vec3 wo = -ray.dir;
     vec3 radiance(0.0f);
-    if (gpu::kEmissiveTriangles && m.emission != vec3(0.0f)) {
+    const vec3 emission = gpu::emission_toward(m, t, ray.dir);
+    if (gpu::kEmissiveTriangles && emission != vec3(0.0f)) {
       const float pick = t.light > 0u ? pick_prob(rs, t.light - 1u) : 0.0f;
       const float light_pdf = gpu::hit_light_pdf(t, pick, ray.dir, hit.t);
       const bool bsdf_sees = gpu::bsdf_sees_light_at(ray.origin, hit.t);
-      radiance += path.throughput * m.emission *
+      radiance += path.throughput * emission *
                   gpu::emission_weight(params.light_strategy, path, bsdf_sees, light_pdf);
     }
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);

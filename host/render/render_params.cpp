@@ -35,8 +35,9 @@ gpu::RenderParams make_render_params(const RenderConfig& c, const Camera& cam,
   p.seed = c.seed;
   p.max_depth = c.max_depth;
   const glm::vec3 f = glm::normalize(cam.forward);
-  const glm::vec3 right = glm::normalize(glm::cross(f, cam.up));
-  const glm::vec3 up = glm::cross(right, f);
+  const glm::vec3 right_handed = glm::normalize(glm::cross(f, cam.up));
+  const glm::vec3 up = glm::cross(right_handed, f);
+  const glm::vec3 right = cam.mirrored ? -right_handed : right_handed;  // pbrt's left-handed
   // The image's own aspect ratio: a camera's stored aspect would stretch other image sizes.
   p.cam_position = glm::vec4(cam.position, std::tan(0.5f * cam.yfov));
   p.cam_forward = glm::vec4(f, static_cast<float>(c.width) / static_cast<float>(c.height));

@@ -115,6 +115,7 @@ void add_materials(const Scene& scene, RenderScene& out) {
     g.roughness = m.roughness;
     g.transmission = m.transmission;
     g.ior = m.ior;
+    g.flags = m.two_sided_emission ? 0u : HRPP_MATERIAL_ONE_SIDED;
     out.materials.push_back(g);
     f_tex = f_tex || textured;
     f_glass = f_glass || m.transmission > 0.5f;
@@ -141,16 +142,19 @@ float add_triangle_lights(const Scene& scene, RenderScene& out, std::vector<floa
     hi = glm::max(hi, glm::max(t.v0, glm::max(t.v1, t.v2)));
     const glm::vec3 e = out.materials[material_of(scene, scene.shading[i])].emission;
     if (!is_triangle_light(t, e)) continue;
-    // Two-sided emitter: flux 2π · L · area.
+    // Flux π · L · area a side.
     const float area = 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
+    const bool one_sided = (out.materials[material_of(scene, scene.shading[i])].flags &
+                            HRPP_MATERIAL_ONE_SIDED) != 0u;
     gpu::GpuLight l{};
     l.type = HRPP_LIGHT_TRIANGLE;
     l.position = t.v0;
     l.dir = t.v1 - t.v0;
     l.edge2 = t.v2 - t.v0;
     l.color = e;
+    l.cos_inner = one_sided ? 1.0f : 0.0f;
     out.lights.push_back(l);
-    power.push_back(2.0f * kPi * luminance(e) * area);
+    power.push_back((one_sided ? 1.0f : 2.0f) * kPi * luminance(e) * area);
     ++out.emissive_triangles;
   }
   return 0.5f * glm::length(hi - lo);

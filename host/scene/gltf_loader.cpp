@@ -28,7 +28,7 @@
 #include "scene/gltf_meshopt.h"
 #include "scene/gltf_prepass.h"
 #include "scene/gltf_topology.h"
-#include "scene/image_header.h"
+#include "scene/texture_decode.h"
 #include "scene/load_scene.h"
 
 namespace hrpp {
@@ -40,7 +40,6 @@ constexpr std::size_t kMaxReusedNodes = std::size_t{1} << 16;  // node visits be
 constexpr std::size_t kMaxTriangles = std::size_t{1} << 27;      // ~13 GiB of scene data
 constexpr std::uintmax_t kMaxExternalFileBytes = (std::uintmax_t{1} << 32) - 1;
 constexpr std::size_t kMaxJsonDepth = 512;  // real files nest < 10 levels
-constexpr std::uint32_t kMaxTextureSide = 16384;  // 1 GiB decoded at most
 
 // Deepest nesting of [ and { in a JSON text (outside strings); stops counting past the limit.
 std::size_t json_nesting_depth(const unsigned char* text, std::size_t size) {
@@ -342,41 +341,10 @@ class GltfLoader {
     if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       fail("image " + std::to_string(img) + " has an invalid size");
     }
-    // A PNG's or JPEG's size is in its header: refuse a decompression bomb (a few MB that
-    // decode to gigabytes) before stb_image allocates it.
-    const auto header = read_image_header({bytes, size});
-    if (header && (header->width > kMaxTextureSide || header->height > kMaxTextureSide)) {
-      fail("image " + std::to_string(img) + ": " + header->format + " of " +
-           std::to_string(header->width) + " x " + std::to_string(header->height) +
-           " pixels, larger than " + std::to_string(kMaxTextureSide) + " on a side");
-    }
-    tinygltf::Image decoded;
-    decoded.name = gi.name;
-    std::string err, warn;
-    if (!tinygltf::LoadImageData(&decoded, img, &err, &warn, 0, 0, bytes, static_cast<int>(size),
-                                 nullptr)) {
-      fail("image " + std::to_string(img) + ": " + err);
-    }
-    Texture tex;
-    tex.name = gi.name.empty() ? (gi.uri.empty() ? "image " + std::to_string(img) : gi.uri)
-                               : gi.name;
-    tex.width = decoded.width;
-    tex.height = decoded.height;
-    const std::size_t texels = static_cast<std::size_t>(tex.width) * tex.height;
-    if (decoded.component != 4 || (decoded.bits != 8 && decoded.bits != 16) ||
-        decoded.image.size() < texels * 4 * (decoded.bits / 8)) {
-      fail("image " + std::to_string(img) + ": unexpected decoded format");
-    }
-    if (decoded.bits == 8) {
-      tex.rgba.assign(decoded.image.begin(), decoded.image.begin() + texels * 4);
-    } else {  // 16-bit channels in host order: keep the high byte
-      tex.rgba.resize(texels * 4);
-      for (std::size_t i = 0; i < texels * 4; ++i) {
-        std::uint16_t v;
-        std::memcpy(&v, decoded.image.data() + 2 * i, 2);
-        tex.rgba[i] = static_cast<std::uint8_t>(v >> 8);
-      }
-    }
+    const std::string name =
+        gi.name.empty() ? (gi.uri.empty() ? "image " + std::to_string(img) : gi.uri) : gi.name;
+    Texture tex =
+        decode_texture({bytes, size}, name, one_line(file_ + ": image " + std::to_string(img)));
     scene_.textures.push_back(std::move(tex));
     return static_cast<int>(scene_.textures.size() - 1);
   }

@@ -6,10 +6,13 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
+#include "scene/mesh_file.h"
+#include "scene/pbrt_loader.h"
 
 namespace hrpp {
 namespace {
@@ -45,6 +48,17 @@ std::string manifest_list() {
   return s.empty() ? "none" : s;
 }
 
+// scenes/fetched/<folder>/NAME.pbrt (tools/fetch-scenes.sh puts the Killeroos there).
+std::optional<std::filesystem::path> fetched_pbrt(const std::string& name) {
+  std::error_code ec;
+  const std::filesystem::path fetched = std::filesystem::path(HRPP_SCENES_DIR) / "fetched";
+  for (const auto& e : std::filesystem::directory_iterator(fetched, ec)) {
+    const std::filesystem::path f = e.path() / (name + ".pbrt");
+    if (e.is_directory(ec) && std::filesystem::exists(f, ec)) return f;
+  }
+  return std::nullopt;
+}
+
 Scene dispatch(const std::string& spec) {
   if (spec.rfind("builtin:", 0) == 0) {
     if (spec == "builtin:cornell") return builtin_cornell();
@@ -52,17 +66,22 @@ Scene dispatch(const std::string& spec) {
   }
   if (ends_with(spec, ".gltf") || ends_with(spec, ".glb")) return load_gltf(spec);
   if (ends_with(spec, ".json")) return load_manifest(spec);
+  if (ends_with(spec, ".obj") || ends_with(spec, ".ply")) return load_mesh_file(spec);
+  if (ends_with(spec, ".pbrt")) return load_pbrt(spec);
   const std::filesystem::path p(spec);
   if (!spec.empty() && !p.has_parent_path() && !p.has_extension()) {
     const std::filesystem::path manifest =
         std::filesystem::path(HRPP_SCENES_DIR) / (spec + ".scene.json");
     std::error_code ec;
     if (std::filesystem::exists(manifest, ec)) return load_manifest(manifest);
+    if (const auto pbrt = fetched_pbrt(spec)) return load_pbrt(*pbrt);
     throw Error(spec + ": unknown scene: not a builtin (" + builtin_list() +
-                "), a .gltf/.glb/.scene.json file, or a manifest in " + HRPP_SCENES_DIR +
-                " (available: " + manifest_list() + ")");
+                "), a .gltf/.glb/.obj/.ply/.pbrt/.scene.json file, a manifest in " +
+                HRPP_SCENES_DIR + " (available: " + manifest_list() +
+                ") or a scene that tools/fetch-scenes.sh fetched (killeroo-simple, killeroo-gold)");
   }
-  throw Error(spec + ": unknown scene file type (expected .gltf, .glb or .scene.json)");
+  throw Error(spec + ": unknown scene file type (expected .gltf, .glb, .obj, .ply, .pbrt or "
+              ".scene.json)");
 }
 
 void add_default_camera(Scene& scene) {

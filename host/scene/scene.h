@@ -41,6 +41,9 @@ struct Material {
   float transmission = 0.0f;    // 1: dielectric (glass)
   float ior = 1.5f;
   glm::vec3 emission{0.0f};     // emissive factor × KHR_materials_emissive_strength
+  // false: only the front emits (pbrt's area lights unless "twosided"), the side that
+  // cross(v1 - v0, v2 - v0) points to; glTF and manifests emit from both sides.
+  bool two_sided_emission = true;
 };
 
 // Decoded texture, 8-bit RGBA, rows top to bottom as glTF stores them.
@@ -76,6 +79,9 @@ struct Camera {
   glm::vec3 up{0, 1, 0};        // unit, orthogonal to forward
   float yfov = 0.6911504f;      // vertical field of view, radians
   float aspect = 0.0f;          // 0: take it from the image size
+  // The image's right is cross(up, forward) instead of cross(forward, up): a left-handed
+  // camera space (pbrt's).
+  bool mirrored = false;
 };
 
 struct Scene {
@@ -88,6 +94,9 @@ struct Scene {
   std::vector<Camera> cameras;            // never empty after load_scene (a default is added)
   bool default_camera = false;            // true when cameras[0] was made from the bounds
   std::vector<std::string> warnings;      // one line each, naming the file (already printed)
+  // The scene file's own image settings (pbrt's Film and Sampler), the defaults of --size and
+  // --spp; 0: none given.
+  std::uint32_t film_width = 0, film_height = 0, film_spp = 0;
 };
 
 }  // namespace hrpp

@@ -17,7 +17,8 @@ nlohmann::json material_json(const Material& m) {
           {"roughness", m.roughness},
           {"transmission", m.transmission},
           {"ior", m.ior},
-          {"emission", vec(m.emission)}};
+          {"emission", vec(m.emission)},
+          {"two_sided_emission", m.two_sided_emission}};
 }
 
 nlohmann::json light_json(const Light& l) {
@@ -37,7 +38,8 @@ nlohmann::json camera_json(const Camera& c) {
           {"forward", vec(c.forward)},
           {"up", vec(c.up)},
           {"yfov", c.yfov},
-          {"aspect", c.aspect}};
+          {"aspect", c.aspect},
+          {"mirrored", c.mirrored}};
 }
 
 }  // namespace

@@ -99,8 +99,9 @@ std::vector<gpu::Hit> trace_batch_cpu(const GpuBvh& bvh, std::span<const gpu::Ra
 std::vector<gpu::Ray> make_primary_rays(const Camera& camera, std::uint32_t width,
                                         std::uint32_t height, bool jitter, std::uint64_t seed) {
   const glm::vec3 forward = glm::normalize(camera.forward);
-  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
-  const glm::vec3 up = glm::cross(right, forward);
+  const glm::vec3 right_handed = glm::normalize(glm::cross(forward, camera.up));
+  const glm::vec3 up = glm::cross(right_handed, forward);
+  const glm::vec3 right = camera.mirrored ? -right_handed : right_handed;
   const float aspect = camera.aspect > 0.0f
                            ? camera.aspect
                            : static_cast<float>(width) / static_cast<float>(std::max(height, 1u));

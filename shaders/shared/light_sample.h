@@ -42,8 +42,8 @@ HRPP_INLINE float triangle_solid_angle_pdf(float area2, float cos_l, float dist)
   return ieee_div(dist * dist, abs(cos_l) * 0.5f * area2);
 }
 
-// A point uniformly on emissive triangle l (radiance l.color, two-sided) seen from s: the
-// shadow ray ends just short of it, moved off the triangle towards s.
+// A point uniformly on emissive triangle l (radiance l.color; one-sided: cos_inner 1) seen from
+// s: the shadow ray ends just short of it, moved off the triangle towards s.
 HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1, float u2) {
   const float r = ieee_sqrt(u1);
   const vec3 q = l.position + r * (1.0f - u2) * l.dir + r * u2 * l.edge2;
@@ -55,6 +55,7 @@ HRPP_INLINE LightSample sample_triangle_light(GpuLight l, SurfaceHit s, float u1
   ls.wi = ieee_div(to, ieee_sqrt(d2));
   const float cos_l = ieee_div(ieee_dot(c, ls.wi), area2);  // > 0: s sees the side c points away from
   ls.li = l.color * ieee_div(abs(cos_l) * 0.5f * area2, d2);
+  if (l.cos_inner > 0.5f && !(cos_l < 0.0f)) ls.li = vec3(0.0f);  // one-sided, seen from behind
   ls.shadow = shadow_ray_to(s.p, s.ng, q, ieee_div(cos_l > 0.0f ? -c : c, area2));
   // The pdf as a BSDF ray would see q: from the offset origin that ray leaves (hit_light_pdf).
   const vec3 from_origin = q - ls.shadow.origin;

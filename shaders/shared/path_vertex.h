@@ -158,6 +158,15 @@ HRPP_INLINE float hit_light_pdf(ShadeTriangle t, float pick, vec3 dir, float dis
   return pick * triangle_solid_angle_pdf(area2, ieee_div(ieee_dot(c, dir), area2), dist);
 }
 
+// The emission a ray along dir finds on triangle t of material m: a one-sided material emits
+// only from its front, the side cross(v1 - v0, v2 - v0) points to.
+HRPP_INLINE vec3 emission_toward(GpuMaterial m, ShadeTriangle t, vec3 dir) {
+  if ((m.flags & HRPP_MATERIAL_ONE_SIDED) != 0u &&
+      !(ieee_dot(ieee_cross(t.v1 - t.v0, t.v2 - t.v0), dir) < 0.0f))
+    return vec3(0.0f);
+  return m.emission;
+}
+
 const uint kLobeDiffuse = 0u;
 const uint kLobeMetal = 1u;
 const uint kLobeGlass = 2u;

@@ -200,6 +200,10 @@ struct ShadeAttributes {
   vec4 uv;
 };
 
+// GpuMaterial::flags: only the front emits (pbrt's one-sided area lights), the side that
+// cross(v1 - v0, v2 - v0) points to.
+#define HRPP_MATERIAL_ONE_SIDED 1u
+
 struct GpuMaterial {
   vec3 base_color;
   int texture;  // index into the GpuTexture array, -1: none
@@ -208,11 +212,12 @@ struct GpuMaterial {
   float roughness;
   float transmission;
   float ior;
-  uint pad;
+  uint flags;  // HRPP_MATERIAL_*
 };
 
 // Light for next-event estimation, chosen with probability cdf - previous cdf (by power).
-//   triangle:    position = v0, dir = v1 - v0, edge2 = v2 - v0, color = radiance (two-sided)
+//   triangle:    position = v0, dir = v1 - v0, edge2 = v2 - v0, color = radiance; cos_inner 1:
+//                one-sided (only the side dir × edge2 points to emits), 0: two-sided
 //   point:       position, color = intensity
 //   spot:        position, dir = the direction light travels, color = intensity, cones
 //   directional: dir = the direction light travels, color = irradiance
