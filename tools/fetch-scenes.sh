@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Makes the large scene meshes that are not committed: scenes/fetched/stanford_dragon.glb.
+# Makes the scenes that are not committed: scenes/fetched/stanford_dragon.glb and the paper's
+# Killeroos (scenes/fetched/killeroos/, from pbrt-v4's scene collection in ../shared/scenes).
 # See scenes/README.md ("Meshes") and scenes/meshes/CREDITS.md ("Fetched") for origin and credit.
 set -euo pipefail
 
@@ -17,7 +18,8 @@ usage() {
 Usage: tools/fetch-scenes.sh [--out DIR] [--shared DIR] [--build] [--force] [--help]
 
 Makes scenes/fetched/stanford_dragon.glb ($DRAGON_TRIANGLES triangles), which the
-dragon.scene.json manifest needs. Does nothing when the file is already there.
+dragon.scene.json manifest needs, and copies the paper's Killeroo scenes (pbrt-v4 files)
+to scenes/fetched/killeroos/ from the shared folder. Does nothing for what is already there.
 
 Route 1: copy it from a shared/scenes folder beside the clone (default:
          \$REPO/../shared/scenes), when that folder holds one.
@@ -184,27 +186,74 @@ build_dragon() {
     trap - EXIT
 }
 
-mkdir -p "$OUT_DIR"
-dest="$OUT_DIR/stanford_dragon.glb"
+fetch_dragon() {
+    local dest
+    dest="$OUT_DIR/stanford_dragon.glb"
 
-if [[ -s "$dest" && "$FORCE" == 0 ]]; then
-    log "$dest already exists, nothing to do (--force remakes it)"
-    exit 0
-fi
-
-if [[ "$BUILD_ONLY" == 0 && -f "$SHARED_DIR/stanford_dragon.glb" ]]; then
-    SHARED_DIR="$(cd "$SHARED_DIR" && pwd)"
-    log "copying $SHARED_DIR/stanford_dragon.glb"
-    cp "$SHARED_DIR/stanford_dragon.glb" "$dest.part"
-    mv "$dest.part" "$dest"
-    chmod u+w "$dest"
-    check_dragon "$dest"
-else
-    if [[ "$BUILD_ONLY" == 1 ]]; then
-        log "--build given: building from $DRAGON_PKG"
-    else
-        log "no $SHARED_DIR/stanford_dragon.glb: building from $DRAGON_PKG"
+    if [[ -s "$dest" && "$FORCE" == 0 ]]; then
+        log "$dest already exists, nothing to do (--force remakes it)"
+        return 0
     fi
-    build_dragon "$dest"
-fi
-log "done: $dest"
+
+    if [[ "$BUILD_ONLY" == 0 && -f "$SHARED_DIR/stanford_dragon.glb" ]]; then
+        SHARED_DIR="$(cd "$SHARED_DIR" && pwd)"
+        log "copying $SHARED_DIR/stanford_dragon.glb"
+        cp "$SHARED_DIR/stanford_dragon.glb" "$dest.part"
+        mv "$dest.part" "$dest"
+        chmod u+w "$dest"
+        check_dragon "$dest"
+    else
+        if [[ "$BUILD_ONLY" == 1 ]]; then
+            log "--build given: building from $DRAGON_PKG"
+        else
+            log "no $SHARED_DIR/stanford_dragon.glb: building from $DRAGON_PKG"
+        fi
+        build_dragon "$dest"
+    fi
+    log "done: $dest"
+}
+
+# The paper's Killeroo scenes (pbrt-v4 files; their terms are a credit line, so they are copied,
+# never committed): scenes/fetched/killeroos/, where `hrpp render killeroo-simple` finds them.
+# The collection's gold scenes name two spectrum files and a texture it does not ship; the copy
+# of killeroo-gold.pbrt uses pbrt-v4's named gold spectra and a plain floor reflectance instead.
+fetch_killeroos() {
+    local src="$SHARED_DIR/pbrt/killeroos" out="$OUT_DIR/killeroos"
+    if [[ -s "$out/killeroo-simple.pbrt" && -s "$out/killeroo-gold.pbrt" && "$FORCE" == 0 ]]; then
+        log "$out already holds the Killeroos"
+        return 0
+    fi
+    if [[ ! -f "$src/killeroo-simple.pbrt" ]]; then
+        log "warning: no $src: the Killeroos are not fetched (they come from pbrt-v4's scene" \
+            "collection, mmp/pbrt-v4-scenes, folder killeroos/)"
+        return 0
+    fi
+    mkdir -p "$out.part/geometry"
+    cp "$src/killeroo-simple.pbrt" "$src/killeroo-coated-gold.pbrt" "$out.part/"
+    cp "$src/geometry/killeroo.pbrt" "$src/geometry/killeroo3.pbrt" "$out.part/geometry/"
+    {
+        echo "# hrpp's copy of pbrt-v4-scenes/killeroos/killeroo-gold.pbrt: the collection's"
+        echo "# spds/Au.*.spd and textures/lines.png are not in its text files, so gold is"
+        echo "# pbrt-v4's named spectra metal-Au-eta / metal-Au-k and the floor a plain"
+        echo "# reflectance of 0.25 (the grid texture's 0.5 scale over a mid-grey)."
+        sed -e 's|"spectrum k" \[ "spds/Au.k.spd" \]|"spectrum k" "metal-Au-k"|' \
+            -e 's|"spectrum eta" \[ "spds/Au.eta.spd" \]|"spectrum eta" "metal-Au-eta"|' \
+            -e '/Texture "grid" "spectrum" "imagemap"/,/"texture tex" \[ "grid" \]/d' \
+            -e 's|"texture reflectance" \[ "sgrid" \]|"rgb reflectance" [ 0.25 0.25 0.25 ]|' \
+            "$src/killeroo-gold.pbrt"
+    } >"$out.part/killeroo-gold.pbrt"
+    grep -q '"metal-Au-eta"' "$out.part/killeroo-gold.pbrt" && ! grep -q '"imagemap"' "$out.part/killeroo-gold.pbrt" ||
+        die "killeroo-gold.pbrt: the substitutions did not apply"
+    cat >"$out.part/CREDITS.md" <<'CREDITS'
+# The Killeroo scenes
+From pbrt-v4's scene collection (repository mmp/pbrt-v4-scenes, folder killeroos/):
+"thanks to headus/Rezard for the model". Copied by tools/fetch-scenes.sh; not committed.
+killeroo-gold.pbrt is changed as its first lines say.
+CREDITS
+    rm -rf "$out"
+    mv "$out.part" "$out"
+    log "copied the Killeroos to $out"
+}
+mkdir -p "$OUT_DIR"
+fetch_dragon
+fetch_killeroos
