@@ -3,9 +3,12 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -189,6 +192,64 @@ TEST_F(Cli, BenchRunsHrppInlineOnTheCpu) {
     for (const nlohmann::json& t : kind["tracers"])
       EXPECT_EQ(t["validation"]["mismatches"], 0) << t["tracer"];
   }
+}
+
+// The commit --version names: git's short hash (with "-dirty"), or "unknown" outside a checkout.
+std::string version_commit(const Result& r) {
+  const std::string prefix = "hrpp commit ";
+  if (r.out.rfind(prefix, 0) != 0 || r.out.empty() || r.out.back() != '\n') return "";
+  return r.out.substr(prefix.size(), r.out.size() - prefix.size() - 1);
+}
+
+// The value of a string attribute in an EXR header (OpenEXR keeps the header uncompressed);
+// "(absent)" without one.
+std::string exr_string(const std::string& exr, const std::string& name) {
+  const std::string key = name + std::string("\0string\0", 8);
+  const std::size_t at = exr.find(key);
+  if (at == std::string::npos || at + key.size() + 4 > exr.size()) return "(absent)";
+  std::uint32_t length = 0;
+  std::memcpy(&length, exr.data() + at + key.size(), sizeof length);
+  return exr.substr(at + key.size() + 4, length);
+}
+
+TEST_F(Cli, VersionNamesTheCommit) {
+  const Result r = run("--version");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string commit = version_commit(r);
+  EXPECT_TRUE(std::regex_match(commit, std::regex("[0-9a-f]{7,40}(-dirty)?|unknown"))) << r.out;
+}
+
+// The stats and the image record the command line, the commit and the device; so does bench's
+// JSON (its device: "machine"'s "vulkan_device", null with --no-gpu).
+TEST_F(Cli, ReportsAndImagesRecordTheCommandLineCommitAndDevice) {
+  const std::string commit = version_commit(run("--version"));
+  ASSERT_FALSE(commit.empty());
+  const fs::path exr = dir_ / "x.exr", stats = dir_ / "s.json", bench = dir_ / "b c.json";
+  const std::string args = "render --backend cpu --size 8x6 --spp 1 --out " + exr.string() +
+                           " --stats " + stats.string();
+  const Result r = run(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(stats));
+  EXPECT_EQ(j.at("commit"), commit);
+  const std::string line = j.at("command_line").get<std::string>();
+  EXPECT_EQ(line, std::string(HRPP_BINARY) + " " + args);
+  EXPECT_EQ(j.at("device").at("name"), "CPU reference renderer");
+  const std::string image = read_file(exr);
+  EXPECT_EQ(exr_string(image, "hrpp:commit"), commit);
+  EXPECT_EQ(exr_string(image, "hrpp:command_line"), line);
+  EXPECT_EQ(exr_string(image, "hrpp:device"), "CPU reference renderer");
+#ifdef HRPP_HAVE_OIIO  // PNG: text chunks, keyword then value
+  const fs::path png = dir_ / "x.png";
+  ASSERT_EQ(run("render --backend cpu --size 8x6 --spp 1 --out " + png.string()).status, 0);
+  EXPECT_NE(read_file(png).find("tEXthrpp:commit" + std::string(1, '\0') + commit),
+            std::string::npos);
+#endif
+  ASSERT_EQ(run("bench --no-gpu --rays 64 --repeat 1 --kinds primary --json '" + bench.string() +
+                "'").status, 0);
+  const nlohmann::json b = nlohmann::json::parse(read_file(bench));
+  EXPECT_EQ(b.at("commit"), commit);
+  EXPECT_NE(b.at("command_line").get<std::string>().find(" --json '" + bench.string() + "'"),
+            std::string::npos) << b.at("command_line");  // quoted again: the path holds a space
 }
 
 // The GPU stage's deterministic order has no meaning for HRPP inline in the CPU renderer.

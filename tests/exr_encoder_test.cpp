@@ -1,5 +1,5 @@
 // The built-in EXR encoder (render/exr_encoder.h), read back by OpenImageIO: the size, the
-// channels and every float bit for bit, extreme values included.
+// channels and every float bit for bit, extreme values included, and string attributes.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -10,7 +10,9 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <unistd.h>
 #include <vector>
 
@@ -72,6 +74,28 @@ TEST(ExrEncoder, ExtremeValuesKeepTheirBits) {
   const std::vector<float> rgb = {-0.0f, -1.5f, 3.4e38f, 1e-45f, 1.17e-38f, inf,
                                   -inf, std::numeric_limits<float>::quiet_NaN(), 65504.0f};
   expect_same_bits(round_trip(3, 1, rgb), rgb);
+}
+
+// The provenance hrpp writes into an image (host/app/provenance.h) as OpenImageIO reads it.
+TEST(ExrEncoder, StringAttributesReadBack) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("hrpp_exr_attr_test_" + std::to_string(getpid()) + ".exr");
+  const std::vector<std::pair<std::string, std::string>> strings = {
+      {"hrpp:commit", "0123abc-dirty"}, {"hrpp:command_line", "hrpp render --out 'a b.exr'"},
+      {"Software", "hrpp 0123abc-dirty"}};
+  {
+    const std::string bytes = encode_exr(2, 1, {1, 2, 3, 4, 5, 6}, strings);
+    std::ofstream(file, std::ios::binary)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  for (const auto& [name, value] : strings)
+    EXPECT_EQ(in->spec().get_string_attribute(name), value) << name;
+  in->close();
+  std::filesystem::remove(file);
+  EXPECT_THROW(encode_exr(1, 1, {0, 0, 0}, {{std::string(32, 'n'), "too long a name"}}),
+               std::invalid_argument);
 }
 
 }  // namespace

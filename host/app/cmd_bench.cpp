@@ -24,6 +24,7 @@
 #include "app/cli_names.h"
 #include "app/commands.h"
 #include "app/output_path.h"
+#include "app/provenance.h"
 #include "app/hrpp_options.h"
 #include "app/shared_options.h"
 #include "harness/time_tracer.h"
@@ -488,6 +489,7 @@ void run_bench(const BenchOptions& o) {
     std::fprintf(stderr, "hrpp bench: %zu mismatches against the CPU reference\n",
                  total_mismatches);
   }
+  add_provenance(report);
   if (!o.json.empty()) write_file_atomically(o.json, report.dump(2) + "\n", "cannot write --json");
   if (!o.warn_mismatches && total_mismatches > 0)
     throw Error(std::to_string(total_mismatches) +

@@ -16,6 +16,7 @@
 #include "app/cli_names.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/provenance.h"
 #include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
@@ -138,13 +139,13 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   }
   const CpuRenderer renderer(scene, bvh, o.render, outside);
   const RenderResult result = renderer.render(render_progress(o.render.spp));
-  write_image(o.out, result.width, result.height, result.rgb);
   DeviceInfo cpu;
   cpu.name = "CPU reference renderer";
   cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
   cpu.driver = std::to_string(CpuRenderer::threads()) + " threads, " +
                name_in(kCpuTracerNames, o.cpu_tracer) +
                (embree ? " (" + embree_version() + ")" : std::string());
+  write_image(o.out, result.width, result.height, result.rgb, image_provenance(cpu.name));
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
   if (o.render.predictor.enabled)
@@ -155,6 +156,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kCpu);
     j["cpu_tracer"] = name_in(kCpuTracerNames, o.cpu_tracer);
     j["hrpp_predictor"] = hrpp_json;
+    add_provenance(j);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
   std::printf("scene       %s, %zu triangles\n", scene.name.c_str(), scene.triangles.size());
@@ -209,7 +211,7 @@ void run_render(RenderOptions& o) {
 
   const RenderResult result = renderer.render(render_progress(o.render.spp));
   check_validation_messages(ctx);
-  write_image(o.out, result.width, result.height, result.rgb);
+  write_image(o.out, result.width, result.height, result.rgb, image_provenance(ctx.info().name));
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
@@ -220,6 +222,7 @@ void run_render(RenderOptions& o) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kGpu);
     j["hrpp_predictor"] = hrpp_json;
+    add_provenance(j);
     j["memory"] = memory_json(ctx.memory().report(), triangles);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }

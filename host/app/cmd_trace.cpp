@@ -16,6 +16,7 @@
 #include "app/cli_names.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/provenance.h"
 #include "app/shared_options.h"
 #include "harness/tracer.h"
 #include "bvh/binned_sah_builder.h"
@@ -230,6 +231,7 @@ void run_trace(const TraceOptions& o) {
       j["interior_steps"] = c.interior_steps;
       j["lane_use"] = lane_use(c, ctx.info().subgroup_size);
     }
+    add_provenance(j);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write --stats");
   }
 }

@@ -6,12 +6,14 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/provenance.h"
 #include "common/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"hrpp: GPU path tracer with Hash-Based Ray Path Prediction (HRPP)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "hrpp 0.1.0");
+  hrpp::app::set_command_line(argc, argv);
+  app.set_version_flag("--version", "hrpp commit " + std::string(hrpp::app::build_commit()));
   hrpp::app::add_scene_command(app);
   hrpp::app::add_trace_command(app);
   hrpp::app::add_bench_command(app);

@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cstring>
+#include <stdexcept>
 #include <string_view>
 
 namespace hrpp {
@@ -39,7 +40,8 @@ std::string channel_list() {
   return list;
 }
 
-std::string header(std::uint32_t width, std::uint32_t height) {
+std::string header(std::uint32_t width, std::uint32_t height,
+                   const std::vector<std::pair<std::string, std::string>>& strings) {
   std::string box;
   for (const std::uint32_t v : {0u, 0u, width - 1, height - 1})
     put<std::int32_t>(box, static_cast<std::int32_t>(v));
@@ -58,14 +60,20 @@ std::string header(std::uint32_t width, std::uint32_t height) {
   put_attribute(out, "pixelAspectRatio", "float", one);
   put_attribute(out, "screenWindowCenter", "v2f", centre);
   put_attribute(out, "screenWindowWidth", "float", one);
+  for (const auto& [name, value] : strings) {
+    if (name.empty() || name.size() > 31 || name.find('\0') != std::string::npos)
+      throw std::invalid_argument("EXR attribute name \"" + name + "\": 1 to 31 bytes, no NUL");
+    put_attribute(out, name, "string", value);
+  }
   out.push_back('\0');
   return out;
 }
 
 }  // namespace
 
-std::string encode_exr(std::uint32_t width, std::uint32_t height, const std::vector<float>& rgb) {
-  std::string out = header(width, height);
+std::string encode_exr(std::uint32_t width, std::uint32_t height, const std::vector<float>& rgb,
+                       const std::vector<std::pair<std::string, std::string>>& strings) {
+  std::string out = header(width, height, strings);
   const std::size_t line_bytes = std::size_t{width} * 3 * sizeof(float);
   const std::size_t block_bytes = 2 * sizeof(std::int32_t) + line_bytes;
   std::uint64_t offset = out.size() + std::size_t{height} * sizeof(std::uint64_t);

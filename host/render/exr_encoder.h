@@ -7,11 +7,15 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hrpp {
 
-// rgb: width × height × 3 linear floats, rows top down (width, height ≥ 1). The file's bytes.
-std::string encode_exr(std::uint32_t width, std::uint32_t height, const std::vector<float>& rgb);
+// rgb: width × height × 3 linear floats, rows top down (width, height ≥ 1); `strings`: header
+// attributes of type string, name and value (a name of at most 31 bytes, as OpenEXR 1 readers
+// expect). The file's bytes.
+std::string encode_exr(std::uint32_t width, std::uint32_t height, const std::vector<float>& rgb,
+                       const std::vector<std::pair<std::string, std::string>>& strings = {});
 
 }  // namespace hrpp

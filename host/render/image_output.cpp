@@ -74,12 +74,13 @@ class TempImage {
 
 #ifdef HRPP_HAVE_OIIO
 void write_oiio(const TempImage& tmp, bool exr, std::uint32_t width, std::uint32_t height,
-                const std::vector<float>& rgb) {
+                const std::vector<float>& rgb, const ImageAttributes& attributes) {
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.path().string());
   if (!out) throw tmp.fail(OIIO::geterror());
   OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 3,
                        exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!exr) spec.attribute("oiio:ColorSpace", "sRGB");
+  for (const auto& [name, value] : attributes) spec.attribute(name, value);
   if (!out->open(tmp.path().string(), spec)) throw tmp.fail(out->geterror());
   bool ok;
   if (exr) {
@@ -99,8 +100,8 @@ void write_oiio(const TempImage& tmp, bool exr, std::uint32_t width, std::uint32
 }
 #else
 void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
-               const std::vector<float>& rgb) {
-  const std::string bytes = encode_exr(width, height, rgb);
+               const std::vector<float>& rgb, const ImageAttributes& attributes) {
+  const std::string bytes = encode_exr(width, height, rgb, attributes);
   std::ofstream out(tmp.path(), std::ios::binary);
   if (!out) throw tmp.fail("cannot create " + tmp.path().string());
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -112,16 +113,16 @@ void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
 }  // namespace
 
 void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
-                 const std::vector<float>& rgb) {
+                 const std::vector<float>& rgb, const ImageAttributes& attributes) {
   check_image_format(file);
   if (rgb.size() != std::size_t{width} * height * 3)
     throw Error(file.string() + ": image data does not match " + std::to_string(width) + "x" +
                 std::to_string(height));
   TempImage tmp(file);
 #ifdef HRPP_HAVE_OIIO
-  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb);
+  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb, attributes);
 #else
-  write_exr(tmp, width, height, rgb);  // check_image_format refused the rest
+  write_exr(tmp, width, height, rgb, attributes);  // check_image_format refused the rest
 #endif
   tmp.commit();
 }

@@ -7,13 +7,19 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace hrpp {
 
+// String metadata, name and value: EXR string attributes, PNG text chunks (tEXt, the name its
+// keyword; OpenImageIO maps a few names, ImageDescription to Description, say).
+using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
+
 // rgb: width × height × 3 linear floats, rows top down. Throws hrpp::Error naming the file.
 void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
-                 const std::vector<float>& rgb);
+                 const std::vector<float>& rgb, const ImageAttributes& attributes = {});
 
 // Throws hrpp::Error naming the file when its extension is neither .exr nor .png.
 void check_image_format(const std::filesystem::path& file);
