@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_gltf fuzz_manifest)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_gltf fuzz_manifest fuzz_pbrt fuzz_mesh)
 build=build/asan
 [ -x "$build/fuzz/fuzz_gltf" ] || tools/build.sh asan
 mkdir -p "$build/fuzz-findings"
@@ -21,6 +21,8 @@ for t in "${targets[@]}"; do
   case $t in
     fuzz_gltf) seeds=(fuzz/corpus/gltf tests/data/bad/gltf tests/data/gltf_encodings) ;;
     fuzz_manifest) seeds=(fuzz/corpus/manifest tests/data/bad/manifest) ;;
+    fuzz_pbrt) seeds=(fuzz/corpus/pbrt) ;;
+    fuzz_mesh) seeds=(fuzz/corpus/mesh) ;;
     *) echo "fuzz: unknown target $t" >&2; exit 1 ;;
   esac
   echo "fuzz: $t for ${seconds}s"

@@ -172,6 +172,75 @@ def main():
     put("manifest", "quad.scene.json",
         '{"objects": [{"quad": {"corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0]}}]}')
     put("manifest", "gltf_only.scene.json", '{"objects": [{"gltf": "tri.glb"}]}')
+    pbrt_seeds()
+    mesh_seeds()
+
+
+TRI = 'Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]\n'
+
+
+def pbrt_seeds():
+    """pbrt-v4 files: every directive family, shape and light kind the reader takes."""
+    put("pbrt", "camera.pbrt",
+        'LookAt 0 1 5  0 0 0  0 1 0\nCamera "perspective" "float fov" [ 45 ]\n'
+        'Film "rgb" "integer xresolution" [ 64 ] "integer yresolution" [ 48 ]\n'
+        'Sampler "halton" "integer pixelsamples" 4\nWorldBegin\n'
+        'LightSource "infinite" "rgb L" [ 0.2 0.2 0.2 ]\n'
+        'AttributeBegin\n  AreaLightSource "diffuse" "rgb L" [ 5 5 5 ] "bool twosided" false\n'
+        '  Translate 0 3 0\n  ReverseOrientation\n  Shape "disk" "float radius" 1\nAttributeEnd\n'
+        'Material "coateddiffuse" "rgb reflectance" [ 0.4 0.2 0.2 ] "float roughness" 0.1\n'
+        'Shape "sphere" "float radius" 0.5 "float zmin" -0.2 "float phimax" 270\n' + TRI)
+    put("pbrt", "transforms.pbrt",
+        'WorldBegin\nAttributeBegin\n Translate 1 2 3 Scale 2 2 2 Rotate 30 0 1 0\n' + TRI +
+        'AttributeEnd\nTransform [ 1 0 0 0 0 1 0 0 0 0 1 0 5 6 7 1 ]\nConcatTransform [ 2 0 0 0 0 2 0 0 '
+        '0 0 2 0 0 0 0 1 ]\nCoordinateSystem "here"\nIdentity\nCoordSysTransform "here"\n' + TRI +
+        'Include "inc.pbrt"\nImport "inc.pbrt"\n')
+    put("pbrt", "instances.pbrt",
+        'WorldBegin\nObjectBegin "o"\n Translate 1 0 0\n' + TRI +
+        ' Shape "bilinearmesh" "point3 P" [ 0 0 0 1 0 0 0 1 0 1 1 0 ]\nObjectEnd\n'
+        'ObjectInstance "o"\nScale -1 1 1\nObjectInstance "o"\n')
+    put("pbrt", "materials.pbrt",
+        'WorldBegin\nLightSource "point" "point3 from" [ 0 4 0 ] "rgb I" [ 3 3 3 ] "float power" 10\n'
+        'LightSource "spot" "point3 from" [ 0 4 0 ] "point3 to" [ 0 0 0 ] "float coneangle" 25\n'
+        'LightSource "distant" "point3 to" [ 0 -1 0 ] "blackbody L" [ 5500 ]\n'
+        'MakeNamedMaterial "gold" "string type" "conductor" "spectrum eta" "metal-Au-eta" '
+        '"spectrum k" "metal-Au-k" "float roughness" 0.01\nNamedMaterial "gold"\n' + TRI +
+        'Material "dielectric" "spectrum eta" "glass-BK7"\n' + TRI +
+        'Texture "c" "spectrum" "constant" "rgb value" [ 0.3 0.6 0.9 ]\n'
+        'Texture "s" "spectrum" "scale" "texture tex" "c" "float scale" 0.5\n'
+        'Material "diffuse" "texture reflectance" "s"\n'
+        'Shape "plymesh" "string filename" "tri.ply"\n'
+        'Shape "loopsubdiv" "integer levels" 2 "point3 P" [ 0 0 0 1 0 0 0 1 0 0 0 1 ] '
+        '"integer indices" [ 0 2 1 0 1 3 0 3 2 1 2 3 ]\n')
+
+
+def ply(fmt, body):
+    head = ("ply\nformat %s 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+            "property float s\nproperty float t\nelement face 2\n"
+            "property list uchar int vertex_indices\nend_header\n" % fmt).encode()
+    return head + body
+
+
+def mesh_seeds():
+    """OBJ and PLY (the first byte picks: odd .obj, even .ply): faces of every form, MTL, and
+    PLY in each encoding."""
+    obj = ("mtllib m.mtl\no a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+           "vn 0 0 1\nusemtl a\nf 1 2 3\nf 1/1 2/2 3/3\nf 1//1 2//1 3//1\nf -4/-3/-1 -3/-2/-1 -2/-1/-1\n"
+           "g b\nusemtl g\nf 1 2 3 4\n")
+    put("mesh", "faces.obj", b"\x01" + obj.encode())
+    verts = [(0, 0, 0, 0, 0, 1, 0, 0), (1, 0, 0, 0, 0, 1, 1, 0), (1, 1, 0, 0, 0, 1, 1, 1),
+             (0, 1, 0, 0, 0, 1, 0, 1)]
+    faces = [(0, 1, 2), (0, 1, 2, 3)]
+    text = "".join(" ".join(str(x) for x in v) + "\n" for v in verts)
+    text += "".join(f"{len(f)} " + " ".join(map(str, f)) + "\n" for f in faces)
+    put("mesh", "ascii.ply", b"\x00" + ply("ascii", text.encode()))
+    for name, e in (("le.ply", "<"), ("be.ply", ">")):
+        body = b"".join(struct.pack(e + "8f", *v) for v in verts)
+        body += b"".join(struct.pack(e + "B", len(f)) + struct.pack(e + "%di" % len(f), *f)
+                         for f in faces)
+        fmt = "binary_little_endian" if e == "<" else "binary_big_endian"
+        put("mesh", name, b"\x00" + ply(fmt, body))
 
 
 if __name__ == "__main__":

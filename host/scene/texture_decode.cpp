@@ -30,6 +30,10 @@ Texture decode_texture(std::span<const std::uint8_t> bytes, const std::string& n
   std::string err, warn;
   if (!tinygltf::LoadImageData(&decoded, 0, &err, &warn, 0, 0, bytes.data(),
                                static_cast<int>(bytes.size()), nullptr)) {
+    for (char& c : err) {
+      if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // stb's messages end in a newline
+    }
+    while (!err.empty() && err.back() == ' ') err.pop_back();
     throw Error(where + ": " + err);
   }
   Texture tex;
