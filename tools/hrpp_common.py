@@ -3,6 +3,7 @@ an hrpp command, one `hrpp render` wrapper, reading EXR images and the image err
 that every script computes them the same way. The commands import it (sys.path holds tools/).
 """
 import datetime
+import glob
 import json
 import os
 import platform
@@ -51,10 +52,16 @@ def need_binary(path, who, flag="--hrpp"):
 
 
 def scene_arg(name):
-    """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json."""
-    if name.startswith("builtin:") or "/" in name or name.endswith((".glb", ".gltf", ".json")):
+    """builtin:cornell and file paths as they are; any other name: scenes/NAME.scene.json, or
+    the pbrt scene of that name that tools/fetch-scenes.sh fetched (scenes/fetched/*/NAME.pbrt)."""
+    if name.startswith("builtin:") or name.endswith((".glb", ".gltf", ".json", ".obj", ".ply",
+                                                     ".pbrt")):
         return name
-    return os.path.join(REPO, "scenes", f"{name}.scene.json")
+    manifest = os.path.join(REPO, "scenes", f"{name}.scene.json")
+    if "/" in name or os.path.exists(manifest):
+        return manifest if os.path.exists(manifest) else name
+    fetched = sorted(glob.glob(os.path.join(REPO, "scenes", "fetched", "*", f"{name}.pbrt")))
+    return fetched[0] if fetched else manifest
 
 
 def run(cmd, who, echo=False):

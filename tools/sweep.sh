@@ -142,10 +142,8 @@ for m in matplotlib OpenImageIO numpy; do
     "$PY" -c "import $m" 2>/dev/null || { echo "sweep: $PY lacks $m (run tools/setup.sh)" >&2; exit 1; }
 done
 command -v parallel >/dev/null || { echo "sweep: GNU parallel missing (run tools/setup.sh)" >&2; exit 1; }
-if [[ "$MODE" == full && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
-    "$REPO/tools/fetch-scenes.sh"
-fi
-if [[ "$MODE" == quick && ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ]]; then
+if [[ ( "$MODE" == full || "$MODE" == quick ) && ( ! -f "$REPO/scenes/fetched/stanford_dragon.glb" ||
+      ! -f "$REPO/scenes/fetched/killeroos/killeroo-gold.pbrt" ) ]]; then
     "$REPO/tools/fetch-scenes.sh"
 fi
 # The paperscale grid's 52M-triangle scene (--full): written from the fetched meshes.

@@ -12,6 +12,8 @@ import argparse
 import csv
 import json
 import os
+import shlex
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -21,7 +23,7 @@ from sweep_common import run_line  # noqa: E402
 META = ["id", "grid", "scene", "size", "spp", "seed", "variant", "bits", "goup", "hash", "kib",
         "policy", "ways", "ok"]
 CONFIG = ["hrpp", "mode", "count_baseline", "hash_bits", "go_up", "hash_fn", "table_sets",
-          "table_ways", "table_nodes", "table_policy", "triangles"]
+          "table_ways", "table_nodes", "table_policy", "triangles", "bvh_depth"]
 CLASS_KEYS = ["probes", "predictor_hits", "hit_rate", "true_positives", "false_positives",
               "negatives", "true_positive_rate", "savings", "net_savings", "skipped_interior",
               "baseline_interior", "interior_visited", "leaves_visited", "verify_leaves",
@@ -98,6 +100,21 @@ def kept_rows(path, grids):
         return [r for r in csv.DictReader(f) if r.get("grid") not in grids]
 
 
+def bvh_depths(rows):
+    """The BVH's maximum depth of each Table 1 scene (`hrpp scene SCENE --json`, the binary and
+    scene argument of the row's own render command); the other grids' rows have none."""
+    depth = {}
+    for r in rows:
+        if r.get("grid") != "table1" or not r.get("cmd"):
+            continue
+        hrpp, _, scene = shlex.split(r["cmd"])[:3]
+        if scene not in depth:
+            out = subprocess.run([hrpp, "scene", scene, "--json"], capture_output=True, text=True)
+            depth[scene] = (json.loads(out.stdout)["bvh"]["max_depth"] if out.returncode == 0
+                            else "")
+        r["bvh_depth"] = depth[scene]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--jobs", required=True, help="jobs.jsonl from sweep_jobs.py")
@@ -124,6 +141,7 @@ def main():
             rows.append(r)
             print(f"sweep_collect: {m['id']}: no stats ({e})", file=sys.stderr)
 
+    bvh_depths(rows)
     if not a.no_images:
         cache = {}
 

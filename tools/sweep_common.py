@@ -20,10 +20,19 @@ PAPER_TABLE1 = {
     "bunny-complex": ("Killeroo metal", "500k", 0.5, 31, 30, 47),
     "dragon": ("Buddha", "1M", 23, 18, 41, 18),
     "lamborghini": ("Sportscar", "53M", 0.5, 21, 32, 18),
+    # the paper's own scenes (pbrt-v4's scene collection, tools/fetch-scenes.sh)
+    "killeroo-simple": ("Killeroo simple", "60k", 48, 10.8, 52, 84),
+    "killeroo-gold": ("Killeroo metal", "500k", 0.5, 31, 30, 47),
     # the paperscale grid's scene: the Sportscar's triangle count, not its model
     "fetched/big_random": ("Sportscar", "53M", 0.5, 21, 32, 18),
 }
-PAPER_LT1 = {("bunny-complex", "any"), ("lamborghini", "any"), ("fetched/big_random", "any")}
+# The paper's own scenes among ours (the others are stand-ins).
+PAPER_OWN = {"killeroo-simple", "killeroo-gold"}
+# The paper's Table 1 "max BVH depth" row, by our scene.
+PAPER_DEPTH = {"teapot": 16, "bunny": 24, "killeroo-simple": 24, "bunny-complex": 27,
+               "killeroo-gold": 27, "dragon": 30, "lamborghini": 32, "fetched/big_random": 32}
+PAPER_LT1 = {("bunny-complex", "any"), ("lamborghini", "any"), ("fetched/big_random", "any"),
+             ("killeroo-gold", "any")}
 
 
 def num(v):

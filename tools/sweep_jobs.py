@@ -29,7 +29,11 @@ import os
 import shlex
 import sys
 
-TABLE1_SCENES = ["teapot", "bunny", "bunny-complex", "dragon", "lamborghini", "cornell"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hrpp_common import scene_arg  # noqa: E402
+
+TABLE1_SCENES = ["teapot", "bunny", "bunny-complex", "dragon", "lamborghini", "cornell",
+                 "killeroo-simple", "killeroo-gold"]
 ERRTIME_SCENES = ["bunny", "lamborghini"]
 # The paper-scale scene: tools/make_big_scene.py --layout random at its defaults (sweep.sh writes
 # it when missing; not committed).
@@ -85,10 +89,8 @@ class Jobs:
         if jid in self.ids:
             return
         self.ids.add(jid)
-        scene_arg = "builtin:cornell" if scene == "builtin:cornell" else \
-            os.path.join(self.args.repo, "scenes", f"{scene}.scene.json")
         out = os.path.join(self.args.runs, jid)
-        cmd = [self.args.hrpp, "render", scene_arg, "--size", f"{size}x{size}", "--spp", str(spp),
+        cmd = [self.args.hrpp, "render", scene_arg(scene), "--size", f"{size}x{size}", "--spp", str(spp),
                "--seed", str(seed), "--out", out + ".exr", "--stats", out + ".json"] + \
             (ESTIMATOR if estimator is None else estimator) + flags
         line = " ".join(shlex.quote(c) for c in cmd) + " > " + shlex.quote(out + ".log") + " 2>&1"
