@@ -1,9 +1,10 @@
-// libFuzzer target: OBJ and PLY through hrpp's code around assimp (host/scene/mesh_file.cpp,
-// ply_check.cpp, mtl_material.cpp, scene_builder.cpp), through load_scene(). The first byte
-// picks the format (even: .ply, odd: .obj), the rest is the file; an .obj's directory holds a
-// small MTL file, m.mtl. assimp itself is Debian's library, not instrumented: a crash inside it
-// is still a finding (a file hrpp hands it that it cannot read), but its own code coverage does
-// not guide the fuzzer. The only acceptable outcomes are a Scene or an hrpp::Error.
+// libFuzzer target: OBJ and PLY through hrpp's code around the libraries (obj_file.cpp,
+// ply_file.cpp, ply_check.cpp, polygon.cpp, mtl_material.cpp, scene_builder.cpp), through
+// load_scene(). The first byte picks the format (even: .ply, odd: .obj), the rest is the file;
+// an .obj's directory holds a small MTL file, m.mtl. tinyobjloader and assimp are Debian's
+// libraries, not instrumented: a crash inside them is still a finding (a file hrpp hands them
+// that they cannot read), but their code coverage does not guide the fuzzer. The only
+// acceptable outcomes are a Scene or an hrpp::Error.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "scene/load_scene.h"
 #include "scene/mtl_material.h"
+#include "scene/polygon.h"
 
 namespace hrpp {
 namespace {
@@ -89,6 +90,26 @@ TEST(Obj, EveryFaceFormNegativeIndicesAndPolygons) {
   EXPECT_EQ(s.materials[s.shading[0].material].name, "red");
   EXPECT_EQ(s.materials[s.shading[0].material].base_color, glm::vec3(0.8f, 0.1f, 0.1f));
   EXPECT_TRUE(s.default_camera);  // no camera in an OBJ: load_scene frames the bounds
+}
+
+// An L of six corners (area 3) is concave at (1, 1): a fan from corner 0 would cover the
+// notch; ear clipping tiles the L exactly.
+TEST(Obj, ConcavePolygonsAreEarClipped) {
+  const std::vector<glm::vec3> l = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0},
+                                    {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+  const std::vector<std::uint32_t> t = triangulate_polygon(l);
+  ASSERT_EQ(t.size(), 12u);
+  float area = 0.0f;
+  for (std::size_t i = 0; i < t.size(); i += 3) {
+    const glm::vec3 c = glm::cross(l[t[i + 1]] - l[t[i]], l[t[i + 2]] - l[t[i]]);
+    EXPECT_GT(c.z, 0.0f);  // wound as the polygon
+    area += 0.5f * c.z;
+  }
+  EXPECT_FLOAT_EQ(area, 3.0f);
+  // A convex pentagon is a fan from corner 0.
+  const std::vector<std::uint32_t> f =
+      triangulate_polygon({{0, 0, 0}, {1, 0, 0}, {1.5f, 1, 0}, {0.5f, 2, 0}, {-0.5f, 1, 0}});
+  EXPECT_EQ(f, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
 }
 
 TEST(Obj, MtlMapping) {
@@ -233,9 +254,12 @@ TEST(BadMeshFiles, OneLineNamingTheFile) {
   expect_refused(write("two.ply", ascii_head + "0 0 0\n2 0 0\n2 3 0\n0 3 0\n3 0 1 2\n2 0 1\n0 1\n"),
                  "fewer than three vertices");
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  expect_refused(write("out_of_range.obj", tri + "f 1 2 9\n"), "out of range");
-  expect_refused(write("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n"), "non-finite");
-  expect_refused(write("two.obj", tri + "f 1 2 3\nf 1 2\n"), "fewer than three vertices");
+  expect_refused(write("out_of_range.obj", tri + "f 1 2 9\n"),
+                 "out_of_range.obj:4: vertex index 9");
+  expect_refused(write("inf.obj", "v 0 0 0\nv 1 0 0\n# c\nv 0 inf 0\nf 1 2 3\n"),
+                 "inf.obj:4: a coordinate that is not a finite number");
+  expect_refused(write("two.obj", tri + "f 1 2 3\n\nf 1 2\n"),
+                 "two.obj:6: a face of fewer than three");
   expect_refused(write("none.obj", tri), "no triangles");
 }
 

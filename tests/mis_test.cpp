@@ -110,6 +110,40 @@ TEST(Mis, HitLightPdfEqualsTheSamplePdf) {
   EXPECT_NEAR(ls.pdf, dist * dist / (to.y / dist * 0.5f), 1e-4f * ls.pdf);
 }
 
+// A one-sided emitter (pbrt's area lights) lights only the side its winding faces, and a ray
+// sees its emission only from there; a two-sided one both ways, with the same radiance.
+TEST(Mis, OneSidedLightsEmitFromTheirFrontAlone) {
+  gpu::GpuLight l{};
+  l.type = HRPP_LIGHT_TRIANGLE;
+  l.position = vec3(0, 2, 0);
+  l.dir = vec3(1, 0, 0);
+  l.edge2 = vec3(0, 0, 1);  // dir × edge2 = -y: the front faces down
+  l.color = vec3(3.0f);
+  gpu::SurfaceHit below{}, above{};
+  below.p = vec3(0.3f, 0.0f, 0.2f);
+  below.ng = below.ns = vec3(0, 1, 0);
+  above.p = vec3(0.3f, 4.0f, 0.2f);
+  above.ng = above.ns = vec3(0, -1, 0);
+  const vec3 two_below = gpu::sample_light(l, below, 0.4f, 0.3f).li;
+  const vec3 two_above = gpu::sample_light(l, above, 0.4f, 0.3f).li;
+  l.cos_inner = 1.0f;  // one-sided
+  EXPECT_EQ(gpu::sample_light(l, below, 0.4f, 0.3f).li, two_below);
+  EXPECT_GT(two_below.x, 0.0f);
+  EXPECT_GT(two_above.x, 0.0f);
+  EXPECT_EQ(gpu::sample_light(l, above, 0.4f, 0.3f).li, vec3(0.0f));
+  gpu::GpuMaterial m{};
+  m.emission = vec3(3.0f);
+  gpu::ShadeTriangle t{};
+  t.v0 = l.position;
+  t.v1 = l.position + l.dir;
+  t.v2 = l.position + l.edge2;
+  EXPECT_EQ(gpu::emission_toward(m, t, vec3(0, 1, 0)), vec3(3.0f));  // two-sided: from below
+  EXPECT_EQ(gpu::emission_toward(m, t, vec3(0, -1, 0)), vec3(3.0f));  // and from above
+  m.flags = HRPP_MATERIAL_ONE_SIDED;
+  EXPECT_EQ(gpu::emission_toward(m, t, vec3(0, 1, 0)), vec3(3.0f));   // a ray going up: front
+  EXPECT_EQ(gpu::emission_toward(m, t, vec3(0, -1, 0)), vec3(0.0f));  // from above: its back
+}
+
 // Each lobe's pdf is the density its sampling draws: a sampled direction's Bounce.pdf equals
 // lobe_pdf, and ∫ pdf over the directions above the surface equals the share of samples there
 // (GGX's visible-normal sampling sends some below the horizon; the diffuse lobe none).

@@ -15,7 +15,7 @@ packages=(
   glslang-tools glslang-dev spirv-tools
   libglm-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev libstb-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libembree-dev
-  libassimp-dev assimp-testmodels assimp-utils
+  libassimp-dev libtinyobjloader-dev assimp-testmodels assimp-utils
   python3 python3-numpy python3-matplotlib python3-openimageio parallel openssh-server
   clang llvm libclang-rt-dev
 )

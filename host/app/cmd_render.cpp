@@ -56,7 +56,26 @@ struct RenderOptions {
   std::string default_sun = "1.5";
   RenderConfig render;
   HrppOptions hrpp;
+  const CLI::Option* size_option = nullptr;  // given: --size and --spp beat the scene file's
+  const CLI::Option* spp_option = nullptr;
 };
+
+// A scene file's own image size and samples (pbrt's Film and Sampler) where the command line
+// gives none.
+void apply_scene_film(RenderOptions& o, const Scene& scene) {
+  std::string from;
+  if (scene.film_width > 0 && o.size_option->count() == 0) {
+    o.render.width = scene.film_width;
+    o.render.height = scene.film_height;
+    from = std::to_string(scene.film_width) + "x" + std::to_string(scene.film_height);
+  }
+  if (scene.film_spp > 0 && o.spp_option->count() == 0) {
+    o.render.spp = scene.film_spp;
+    from += (from.empty() ? "" : ", ") + std::to_string(scene.film_spp) + " spp";
+  }
+  if (!from.empty())
+    std::printf("film        %s from the scene file (--size, --spp override)\n", from.c_str());
+}
 
 // "WxH" → width, height; one-line error naming the flag otherwise.
 void parse_size(const std::string& s, RenderConfig& c) {
@@ -193,6 +212,8 @@ void run_render(RenderOptions& o) {
   o.render.predictor = o.hrpp.config(o.shared.device_tracer);
   check_compute_only(o.shared, {{"--reorder", o.render.reorder != RayOrder::kOff}});
   Scene scene = load_scene(o.shared.scene);
+  apply_scene_film(o, scene);
+  check_range("--spp", o.render.spp, 1, 1u << 20);
   if (o.backend == RenderBackend::kCpu)
     return run_cpu_render(
         o, scene,
@@ -256,9 +277,14 @@ void add_render_command(CLI::App& app) {
                   "rtcIntersect1/rtcOccluded1; with --hrpp on, HRPP in front of it)")
       ->transform(one_of(kCpuTracerNames))
       ->default_str(name_in(kCpuTracerNames, o->cpu_tracer));
-  cmd->add_option("--spp", o->render.spp, "Samples per pixel (one wavefront pass each)")
-      ->capture_default_str();
-  cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
+  o->spp_option = cmd->add_option("--spp", o->render.spp,
+                                  "Samples per pixel (one wavefront pass each; default: the "
+                                  "scene file's own where it has one, pbrt's Sampler)")
+                       ->capture_default_str();
+  o->size_option = cmd->add_option("--size", o->size,
+                                   "Image size WxH (default: the scene file's own where it has "
+                                   "one, pbrt's Film)")
+                       ->capture_default_str();
   cmd->add_option("--max-depth", o->render.max_depth,
                   "Surface interactions per path (1: direct light only)")
       ->capture_default_str();

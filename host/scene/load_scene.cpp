@@ -11,7 +11,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "scene/mesh_file.h"
+#include "scene/obj_file.h"
+#include "scene/ply_file.h"
 #include "scene/pbrt_loader.h"
 
 namespace hrpp {
@@ -66,7 +67,8 @@ Scene dispatch(const std::string& spec) {
   }
   if (ends_with(spec, ".gltf") || ends_with(spec, ".glb")) return load_gltf(spec);
   if (ends_with(spec, ".json")) return load_manifest(spec);
-  if (ends_with(spec, ".obj") || ends_with(spec, ".ply")) return load_mesh_file(spec);
+  if (ends_with(spec, ".obj")) return load_obj_file(spec);
+  if (ends_with(spec, ".ply")) return load_ply_file(spec);
   if (ends_with(spec, ".pbrt")) return load_pbrt(spec);
   const std::filesystem::path p(spec);
   if (!spec.empty() && !p.has_parent_path() && !p.has_extension()) {

@@ -4,8 +4,8 @@
 // Rules, as pbrt applies them at each of `levels` refinements (no crease or corner rules):
 //   - boundary and valence come from walking the faces around a vertex from its start face (the
 //     last control triangle that names it), so a vertex where two fans meet sees only one fan;
-//   - even (old) vertex: interior p(1 - n·beta) + beta·(each neighbour), beta = 3/16 for valence 3
-//     and 3/(8n) otherwise; boundary 3/4 p + 1/8 each of its two boundary neighbours;
+//   - even (old) vertex: interior p(1 - n·beta) + beta·(each neighbour), beta = 3/16 for
+//     valence 3 and 3/(8n) otherwise; boundary 3/4 p + 1/8 each of its two boundary neighbours;
 //   - odd (edge) vertex: 3/8, 3/8 for the ends and 1/8, 1/8 for the two opposite corners, or the
 //     midpoint on a boundary edge;
 //   - then, also at levels 0, every vertex goes to the limit surface: interior weight

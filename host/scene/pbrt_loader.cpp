@@ -19,7 +19,7 @@
 #include "common/error.h"
 #include "scene/indexed_mesh.h"
 #include "scene/loop_subdiv.h"
-#include "scene/mesh_file.h"
+#include "scene/ply_file.h"
 #include "scene/pbrt_materials.h"
 #include "scene/pbrt_params.h"
 #include "scene/pbrt_tokenizer.h"
