@@ -60,8 +60,10 @@ def section_table1(data, out, figdir, results):
         pall = f"{p[4]}" if p else ""
         pany = ("<1" if (s, "any") in PAPER_LT1 else f"{p[2]}") if p else ""
         name = s + (" (tuned 512 KiB table)" if r["variant"] == "count-tuned" else "")
-        depth = f"{r.get('bvh_depth', '')}" + (f" / {PAPER_DEPTH[s]}" if s in PAPER_DEPTH else "")
-        body.append([name, p[0] if p else "(not in the paper)", f"{r.get('triangles', '')}"
+        ours = "" if r.get("bvh_depth") is None else f"{r['bvh_depth']}"
+        depth = ours + (f" / {PAPER_DEPTH[s]}" if s in PAPER_DEPTH else "")
+        paper = (p[0] + (" (its own)" if s in PAPER_OWN else "")) if p else "(not in the paper)"
+        body.append([name, paper, f"{r.get('triangles', '')}"
                      + (f" / {p[1]}" if p else ""), depth,
                      pc(r.get("all_savings")), pall, pc(r.get("any_savings")), pany,
                      mb(r.get("all_compact_bytes")), p[5] if p else "",
