@@ -44,6 +44,9 @@ struct ObjReader {
   std::size_t faces = 0;
   std::vector<std::string> warnings;
   ObjFault fault;
+  std::vector<glm::vec3> p_, nr_;  // the face being read (kept: no allocation per face)
+  std::vector<glm::vec2> uv_;
+  std::vector<std::uint32_t> polygon_;
 
   bool failed() const { return fault.statement != 0; }
 
@@ -62,8 +65,12 @@ struct ObjReader {
     ++faces;
     if (failed()) return;
     if (n < 3) return fail('f', faces, "a face of fewer than three vertices");
-    std::vector<glm::vec3> p(static_cast<std::size_t>(n)), nr(p.size());
-    std::vector<glm::vec2> uv(p.size());
+    p_.resize(static_cast<std::size_t>(n));
+    nr_.resize(p_.size());
+    uv_.resize(p_.size());
+    std::vector<glm::vec3>& p = p_;
+    std::vector<glm::vec3>& nr = nr_;
+    std::vector<glm::vec2>& uv = uv_;
     for (std::size_t k = 0; k < p.size(); ++k) {
       const long v = resolve(idx[k].vertex_index, positions.size());
       if (v < 0) {
@@ -79,7 +86,9 @@ struct ObjReader {
       nr[k] = vn >= 0 ? normals[static_cast<std::size_t>(vn)] : glm::vec3(0.0f);
       uv[k] = vt >= 0 ? uvs[static_cast<std::size_t>(vt)] : glm::vec2(0.0f);
     }
-    const std::vector<std::uint32_t> tri = triangulate_polygon(p);
+    static const std::vector<std::uint32_t> kTriangle = {0, 1, 2};
+    if (n != 3) polygon_ = triangulate_polygon(p);
+    const std::vector<std::uint32_t>& tri = n == 3 ? kTriangle : polygon_;
     if (tri.size() / 3 > kMaxSceneTriangles - scene.triangles.size()) {
       return fail('f', faces, "more than " + std::to_string(kMaxSceneTriangles) + " triangles");
     }
@@ -174,26 +183,67 @@ int line_of(const std::filesystem::path& file, char statement, std::size_t ordin
 
 // tinyobjloader reads a number it cannot parse (nan, inf, a word) as 0 without a word: refuse
 // such a `v`, `vn` or `vt` line first. A letter other than an exponent's e in one of their
-// numbers is the sign; the scan looks at characters only, so it costs a fraction of the parse.
-void check_vertex_numbers(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const std::size_t at = line.find_first_not_of(" \t");
-    if (at == std::string::npos || line[at] != 'v') continue;
-    std::size_t k = at + 1;
-    if (k < line.size() && (line[k] == 'n' || line[k] == 't')) ++k;
-    if (k < line.size() && line[k] != ' ' && line[k] != '\t') continue;  // not v, vn or vt
-    for (; k < line.size(); ++k) {
-      const char c = line[k];
-      if (c == '#') break;
-      if (std::isalpha(static_cast<unsigned char>(c)) && c != 'e' && c != 'E') {
-        throw Error(file.string() + ":" + std::to_string(number) +
-                    ": a coordinate that is not a finite number (NaN, Inf or a word)");
-      }
+// numbers is the sign; the scan looks at characters only, a megabyte at a time, so it costs a
+// fraction of the parse.
+class VertexNumberScan {
+ public:
+  explicit VertexNumberScan(const std::filesystem::path& file) : file_(file) {}
+
+  void run() {
+    std::ifstream in(file_, std::ios::binary);
+    std::vector<char> buf(std::size_t{1} << 20);
+    while (in) {
+      in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+      const auto n = static_cast<std::size_t>(in.gcount());
+      for (std::size_t i = 0; i < n; ++i) step(buf[i]);
     }
   }
-}
+
+ private:
+  enum State { kLineStart, kV, kVn, kNumbers, kSkip };
+
+  void step(char c) {
+    if (c == '\n') {
+      ++line_;
+      state_ = kLineStart;
+      return;
+    }
+    switch (state_) {
+      case kLineStart:
+        if (c == 'v')
+          state_ = kV;
+        else if (c != ' ' && c != '\t')
+          state_ = kSkip;
+        return;
+      case kV:  // "v", "vn" or "vt" must be followed by a blank
+        if (c == 'n' || c == 't')
+          state_ = kVn;
+        else
+          state_ = c == ' ' || c == '\t' ? kNumbers : kSkip;
+        return;
+      case kVn:
+        state_ = c == ' ' || c == '\t' ? kNumbers : kSkip;
+        return;
+      case kNumbers:
+        if (c == '#')
+          state_ = kSkip;
+        else if (((c | 0x20) >= 'a' && (c | 0x20) <= 'z') && (c | 0x20) != 'e')
+          refuse();
+        return;
+      case kSkip:
+        return;
+    }
+  }
+
+  [[noreturn]] void refuse() const {
+    throw Error(file_.string() + ":" + std::to_string(line_) +
+                ": a coordinate that is not a finite number (NaN, Inf or a word)");
+  }
+
+  std::filesystem::path file_;
+  int line_ = 1;
+  State state_ = kLineStart;
+};
 
 }  // namespace
 
@@ -206,7 +256,7 @@ Scene load_obj_file(const std::filesystem::path& file) {
   ObjReader r;
   r.file = file;
   r.scene.name = file.filename().string();
-  check_vertex_numbers(file);
+  VertexNumberScan(file).run();
   const std::string dir = file.parent_path().empty() ? "." : file.parent_path().string();
   tinyobj::MaterialFileReader mtl(dir + "/");
   std::string warn, err;

@@ -2,6 +2,7 @@
 // order, as ASCII lines or binary records).
 #include "scene/ply_check.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
@@ -193,9 +194,11 @@ class PlyChecker {
 }  // namespace
 
 void check_ply_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) throw Error(file.string() + ": cannot open for reading");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes(static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0);
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   PlyChecker(file.string(), std::move(bytes)).check();
 }
 
