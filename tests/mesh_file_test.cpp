@@ -231,6 +231,24 @@ TEST(Ply, NormalsAndUvs) {
   EXPECT_EQ(s.shading[0].uv2, glm::vec2(0, 0));  // (0, 1): top left
 }
 
+// A manifest places OBJ and PLY files as it places glTF ones ("mesh"), fit and material too.
+TEST(MeshManifest, ObjAndPlyObjects) {
+  write("unit.obj", "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n");
+  write("unit.ply", ply("ascii", "float", "uchar", "int",
+                        "0 0 0\n2 0 0\n2 3 0\n0 3 0\n3 0 1 2\n3 0 2 3\n0 1\n"));
+  const fs::path m = write("meshes.scene.json",
+                           R"({"objects": [{"mesh": "unit.obj", "transform": {"translate": [0, 0, 5]}},
+                               {"mesh": "unit.ply", "fit": {"base": [0, 0, 0], "size": 1},
+                                "material": {"type": "metal", "color": [0.9, 0.9, 0.9]}}]})");
+  const Scene s = load_scene(m.string());
+  ASSERT_EQ(s.triangles.size(), 3u);
+  expect_triangle(s.triangles[0], {0, 0, 5}, {2, 0, 5}, {0, 2, 5});
+  // fit: the largest extent (3, y) to 1, the bottom centre of the box to the origin
+  EXPECT_NEAR(s.triangles[1].v2.y, 1.0f, 1e-6f);
+  EXPECT_NEAR(s.triangles[1].v0.x, -1.0f / 3.0f, 1e-6f);
+  EXPECT_EQ(s.materials[s.shading[1].material].metallic, 1.0f);
+}
+
 void expect_refused(const fs::path& f, const std::string& what) {
   const std::string e = error_of(f);
   EXPECT_NE(e.find(f.string()), std::string::npos) << e;

@@ -17,6 +17,8 @@
 
 #include "common/error.h"
 #include "scene/load_scene.h"
+#include "scene/obj_file.h"
+#include "scene/ply_file.h"
 
 namespace hrpp {
 namespace {
@@ -155,13 +157,13 @@ class ManifestLoader {
   // ---- objects -------------------------------------------------------------------------------
   void load_object(Scene& scene, const json& j, const std::string& path) {
     object(j, path);
-    check_keys(j, path, {"gltf", "quad", "fit", "transform", "material"});
-    const bool has_gltf = j.contains("gltf"), has_quad = j.contains("quad");
-    if (has_gltf == has_quad) fail(path, "needs exactly one of \"gltf\" or \"quad\"");
+    check_keys(j, path, {"gltf", "mesh", "quad", "fit", "transform", "material"});
+    const int sources = int(j.contains("gltf")) + int(j.contains("mesh")) + int(j.contains("quad"));
+    if (sources != 1) fail(path, "needs exactly one of \"gltf\", \"mesh\" or \"quad\"");
 
     Scene part;
-    if (has_gltf) {
-      part = take_mesh(string(j["gltf"], path + ".gltf"));
+    if (const char* key = mesh_key(j)) {
+      part = take_mesh(string(j[key], path + "." + key));
     } else {
       const std::string qp = path + ".quad";
       const json& q = object(j["quad"], qp);
@@ -207,9 +209,10 @@ class ManifestLoader {
       const json& j = objects[i];
       if (!j.is_object()) continue;
       if (j.contains("quad")) triangles += 2;
-      if (!j.contains("gltf")) continue;
-      const std::string path = "objects[" + std::to_string(i) + "].gltf";
-      const std::string rel = string(j["gltf"], path);
+      const char* key = mesh_key(j);
+      if (key == nullptr) continue;
+      const std::string path = "objects[" + std::to_string(i) + "]." + key;
+      const std::string rel = string(j[key], path);
       auto [it, added] = meshes_.try_emplace(rel);
       if (added) it->second.scene = read_mesh(rel, path);
       ++it->second.uses;
@@ -218,7 +221,13 @@ class ManifestLoader {
     return triangles;
   }
 
-  // The mesh of an object's "gltf": a copy, or the mesh itself at its last use (freed then).
+  // An object's mesh file key: "gltf" (a glTF file) or "mesh" (glTF, OBJ or PLY); none: null.
+  static const char* mesh_key(const json& j) {
+    if (j.contains("gltf")) return "gltf";
+    return j.contains("mesh") ? "mesh" : nullptr;
+  }
+
+  // The mesh of an object's "gltf" or "mesh": a copy, or the mesh itself at its last use (freed then).
   Scene take_mesh(const std::string& rel) {
     auto it = meshes_.find(rel);
     if (--it->second.uses > 0) return it->second.scene;
@@ -241,6 +250,9 @@ class ManifestLoader {
       fail(path, msg);
     }
     try {
+      const std::string ext = mesh.extension().string();
+      if (ext == ".obj" || ext == ".OBJ") return load_obj_file(mesh);
+      if (ext == ".ply" || ext == ".PLY") return load_ply_file(mesh);
       return load_gltf(mesh);
     } catch (const Error& e) {
       fail(path, e.what());
