@@ -81,7 +81,10 @@ def render(hrpp, scene, out, size, spp, seed, flags=(), who="hrpp", reuse=False,
         run([hrpp, "render", scene_arg(scene), "--size", size, "--spp", str(spp), "--seed",
              str(seed), "--out", exr, "--stats", stats] + list(flags), who, echo)
     with open(stats) as f:
-        return json.load(f), exr
+        j = json.load(f)
+    if j.get("session", {}).get("interrupted"):  # a stopped render's passes are not the job's
+        sys.exit(f"{who}: {stats}: the render was interrupted; render it again")
+    return j, exr
 
 
 def read_exr(path):

@@ -134,7 +134,10 @@ def main():
         js = os.path.join(a.runs, m["id"] + ".json")
         try:
             with open(js) as f:
-                rows.append(flatten(m, json.load(f), note))
+                stats = json.load(f)
+            if stats.get("session", {}).get("interrupted"):
+                raise ValueError("the render was interrupted: its passes are not the job's")
+            rows.append(flatten(m, stats, note))
         except (OSError, ValueError) as e:
             r = {k: m.get(k, "") for k in META}
             r.update(ok=0, flags=m.get("flags", ""), cmd=m.get("cmd", ""))

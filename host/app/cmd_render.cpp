@@ -5,6 +5,7 @@
 // optionally the stats JSON.
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -16,6 +17,7 @@
 #include "app/cli_names.h"
 #include "app/hrpp_options.h"
 #include "app/output_path.h"
+#include "app/render_session.h"
 #include "app/provenance.h"
 #include "app/shared_options.h"
 #include "bvh/binned_sah_builder.h"
@@ -56,9 +58,30 @@ struct RenderOptions {
   std::string default_sun = "1.5";
   RenderConfig render;
   HrppOptions hrpp;
+  RenderLimits limits;
   const CLI::Option* size_option = nullptr;  // given: --size and --spp beat the scene file's
   const CLI::Option* spp_option = nullptr;
 };
+
+// The image's metadata: provenance and the samples per pixel it holds.
+ImageAttributes image_attributes(const std::string& device, const RenderResult& r) {
+  ImageAttributes a = image_provenance(device);
+  a.emplace_back("hrpp:samples", std::to_string(r.stats.frames.size()));
+  return a;
+}
+
+// A render's end: a line on stderr when it stopped early; after a signal, Interrupted (main
+// returns 128 + the signal) once every output is written.
+void finish_session(const RenderSession& session, const RenderOptions& o, const RenderResult& r) {
+  const std::size_t passes = r.stats.frames.size();
+  if (session.stopped_by().empty()) return;
+  std::fprintf(stderr, "hrpp: %s: stopped after %zu of %u passes; %s holds their mean\n",
+               session.stopped_by() == "signal"
+                   ? (session.signal() == SIGINT ? "SIGINT" : "SIGTERM")
+                   : "--time-limit",
+               passes, o.render.spp, o.out.c_str());
+  if (session.signal() != 0) throw Interrupted{session.signal()};
+}
 
 // A scene file's own image size and samples (pbrt's Film and Sampler) where the command line
 // gives none.
@@ -157,14 +180,17 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
     outside.occluded = [e = embree.get()](const gpu::Ray& r) { return e->occluded(r); };
   }
   const CpuRenderer renderer(scene, bvh, o.render, outside);
-  const RenderResult result = renderer.render(render_progress(o.render.spp));
   DeviceInfo cpu;
   cpu.name = "CPU reference renderer";
   cpu.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
   cpu.driver = std::to_string(CpuRenderer::threads()) + " threads, " +
                name_in(kCpuTracerNames, o.cpu_tracer) +
                (embree ? " (" + embree_version() + ")" : std::string());
-  write_image(o.out, result.width, result.height, result.rgb, image_provenance(cpu.name));
+  RenderSession session(o.render.spp, o.limits, [&](const RenderResult& r) {
+    write_image(o.out, r.width, r.height, r.rgb, image_attributes(cpu.name, r));
+  });
+  const RenderResult result = renderer.render(&session);
+  write_image(o.out, result.width, result.height, result.rgb, image_attributes(cpu.name, result));
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
   if (o.render.predictor.enabled)
@@ -175,6 +201,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kCpu);
     j["cpu_tracer"] = name_in(kCpuTracerNames, o.cpu_tracer);
     j["hrpp_predictor"] = hrpp_json;
+    j["session"] = session.json(static_cast<std::uint32_t>(result.stats.frames.size()));
     add_provenance(j);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
   }
@@ -186,6 +213,7 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
               hrpp_text.c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
+  finish_session(session, o, result);
 }
 
 void run_render(RenderOptions& o) {
@@ -230,9 +258,13 @@ void run_render(RenderOptions& o) {
   const std::size_t triangles = scene.triangles.size();
   WavefrontRenderer renderer(ctx, scene, std::move(rs), bvh, o.render);
 
-  const RenderResult result = renderer.render(render_progress(o.render.spp));
+  RenderSession session(o.render.spp, o.limits, [&](const RenderResult& r) {
+    write_image(o.out, r.width, r.height, r.rgb, image_attributes(ctx.info().name, r));
+  });
+  const RenderResult result = renderer.render(&session);
   check_validation_messages(ctx);
-  write_image(o.out, result.width, result.height, result.rgb, image_provenance(ctx.info().name));
+  write_image(o.out, result.width, result.height, result.rgb,
+              image_attributes(ctx.info().name, result));
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
@@ -243,6 +275,7 @@ void run_render(RenderOptions& o) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kGpu);
     j["hrpp_predictor"] = hrpp_json;
+    j["session"] = session.json(static_cast<std::uint32_t>(result.stats.frames.size()));
     add_provenance(j);
     j["memory"] = memory_json(ctx.memory().report(), triangles);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
@@ -257,6 +290,7 @@ void run_render(RenderOptions& o) {
   std::printf("memory      %s\n", memory_text(ctx.memory().report(), triangles).c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
+  finish_session(session, o, result);
 }
 
 }  // namespace
@@ -281,6 +315,13 @@ void add_render_command(CLI::App& app) {
                                   "Samples per pixel (one wavefront pass each; default: the "
                                   "scene file's own where it has one, pbrt's Sampler)")
                        ->capture_default_str();
+  cmd->add_option("--time-limit", o->limits.time_limit_s,
+                  "Stop before a pass that would end more than SECONDS after the first pass began "
+                  "(at most --spp passes; loading and set-up do not count)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--save-every", o->limits.save_every_s,
+                  "Write the image of the passes so far at most every SECONDS (atomically)")
+      ->check(CLI::NonNegativeNumber);
   o->size_option = cmd->add_option("--size", o->size,
                                    "Image size WxH (default: the scene file's own where it has "
                                    "one, pbrt's Film)")

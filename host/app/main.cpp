@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/provenance.h"
 #include "common/error.h"
+#include "common/interrupt.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"hrpp: GPU path tracer with Hash-Based Ray Path Prediction (HRPP)"};
@@ -42,6 +43,8 @@ int main(int argc, char** argv) {
   } catch (const hrpp::Error& e) {
     std::fprintf(stderr, "hrpp: error: %s\n", e.what());
     return 1;
+  } catch (const hrpp::Interrupted& i) {  // the outputs of the passes done are written
+    return 128 + i.signal;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "hrpp: error: out of host memory (the scene or the image is too big for "
                          "this machine)\n");

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "common/interrupt.h"
 
 namespace hrpp::app {
 
@@ -31,8 +32,13 @@ void check_output_path(const std::string& path, const std::string& flag) {
 
 void write_file_atomically(const std::string& path, std::string_view bytes,
                            const std::string& what) {
-  const std::string tmp = path + ".partial";
+  // The process id in the name: two processes writing one path never share a temporary.
+  const std::string tmp = path + ".partial-" + std::to_string(::getpid());
   std::error_code ec;
+  set_file_being_written(tmp.c_str());
+  struct Clear {
+    ~Clear() { set_file_being_written(nullptr); }
+  } clear;
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw Error(path + ": " + what + ": " + std::strerror(errno));

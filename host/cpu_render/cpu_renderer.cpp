@@ -133,7 +133,7 @@ CpuRenderer::CpuRenderer(const Scene& scene, const GpuBvh& bvh, const RenderConf
 
 int CpuRenderer::threads() { return resolve_threads(0); }
 
-RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progress) const {
+RenderResult CpuRenderer::render(PassObserver* observer) const {
   const auto start = std::chrono::steady_clock::now();
   RenderResult out = make_render_result(cfg_, rs_);
   const std::uint32_t pixels = cfg_.width * cfg_.height;
@@ -147,6 +147,12 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
       tables.emplace_back(bvh_, cfg_.predictor);
       if (outside_.closest) tables.back().set_full_trace(outside_.closest);
     }
+  const auto first_pass = std::chrono::steady_clock::now();
+  auto mean_so_far = [&] {
+    RenderResult r = out;
+    set_mean_image(r, sum, static_cast<std::uint32_t>(out.stats.frames.size()));
+    return r;
+  };
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     std::vector<PerClass<RayClassStats>> stats(static_cast<std::size_t>(pool.size()));
@@ -165,9 +171,11 @@ RenderResult CpuRenderer::render(const std::function<void(std::uint32_t)>& progr
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
     out.stats += frame;
     out.stats.frames.push_back(std::move(frame));
-    if (progress) progress(sample + 1);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - first_pass).count();
+    if (observer && !observer->after_pass(sample + 1, elapsed, mean_so_far)) break;
   }
-  set_mean_image(out, sum, cfg_.spp);
+  set_mean_image(out, sum, static_cast<std::uint32_t>(out.stats.frames.size()));
   out.stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -12,6 +12,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "render/render_scene.h"
+#include "render/pass_observer.h"
 #include "render/render_config.h"
 #include "scene/scene.h"
 
@@ -41,7 +42,8 @@ class CpuRenderer {
   // render). `progress(samples_done)` is called after each sample pass. The stats hold the
   // traversal counters per ray class (camera, bounce, shadow) and wall times; no kernel times.
   // An exception thrown while tracing, on any thread, reaches the caller.
-  RenderResult render(const std::function<void(std::uint32_t)>& progress = {}) const;
+  // As WavefrontRenderer::render: up to spp passes, an observer may stop it after any.
+  RenderResult render(PassObserver* observer = nullptr) const;
   // The threads render() uses: every hardware thread (resolve_threads(0), common/task_pool.h).
   static int threads();
 

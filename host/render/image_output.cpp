@@ -1,5 +1,7 @@
 #include "render/image_output.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -12,6 +14,7 @@
 #endif
 
 #include "common/error.h"
+#include "common/interrupt.h"
 #include "render/exr_encoder.h"
 
 namespace hrpp {
@@ -46,13 +49,19 @@ void check_image_format(const std::filesystem::path& file) {
 namespace {
 
 // Writes through a temporary that keeps the extension (OpenImageIO picks the format from it) and
-// renames it to the target: an error never leaves a partial file.
+// renames it to the target: an error never leaves a partial file. The temporary's name holds
+// the process id, so two processes writing one target never share it (the last rename wins, a
+// whole file either way); a second signal removes it (common/interrupt.h).
 class TempImage {
  public:
   explicit TempImage(const std::filesystem::path& file)
       : file_(file),
-        tmp_(file.parent_path() / (file.stem().string() + ".partial" + file.extension().string())) {}
+        tmp_(file.parent_path() / (file.stem().string() + ".partial-" + std::to_string(::getpid()) +
+                                   file.extension().string())) {
+    set_file_being_written(tmp_.c_str());
+  }
   ~TempImage() {
+    set_file_being_written(nullptr);
     std::error_code ec;
     if (!done_) std::filesystem::remove(tmp_, ec);
   }

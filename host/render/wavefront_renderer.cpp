@@ -428,7 +428,7 @@ WavefrontRenderer::~WavefrontRenderer() = default;
 
 const RenderScene& WavefrontRenderer::render_scene() const { return s_->rs; }
 
-RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>& progress) {
+RenderResult WavefrontRenderer::render(PassObserver* observer) {
   const auto start = std::chrono::steady_clock::now();
   RenderResult out = make_render_result(s_->cfg, s_->rs);
   RenderStats& stats = out.stats;
@@ -440,6 +440,14 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
     if (s_->hrpp) s_->hrpp->clear();  // the warm-up paths leave nothing behind
   }
   s_->image.fill(0);
+  const auto first_pass = std::chrono::steady_clock::now();
+  auto mean_so_far = [&] {
+    RenderResult r = out;
+    std::vector<glm::vec4> sum(pixels);
+    s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
+    set_mean_image(r, sum, static_cast<std::uint32_t>(stats.frames.size()));
+    return r;
+  };
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
     const auto frame_start = std::chrono::steady_clock::now();
     FrameStats frame;
@@ -460,11 +468,13 @@ RenderResult WavefrontRenderer::render(const std::function<void(std::uint32_t)>&
       frame.decisions[c] = s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
     stats += frame;
     stats.frames.push_back(std::move(frame));
-    if (progress) progress(sample + 1);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - first_pass).count();
+    if (observer && !observer->after_pass(sample + 1, elapsed, mean_so_far)) break;
   }
   std::vector<glm::vec4> sum(pixels);
   s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
-  set_mean_image(out, sum, s_->cfg.spp);
+  set_mean_image(out, sum, static_cast<std::uint32_t>(stats.frames.size()));
   stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

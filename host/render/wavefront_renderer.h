@@ -19,6 +19,7 @@
 #include "bvh/gpu_layout.h"
 #include "hrpp/predictor_stats.h"
 #include "trace/ray_class.h"
+#include "render/pass_observer.h"
 #include "render/render_config.h"
 #include "render/render_scene.h"
 #include "scene/scene.h"
@@ -45,7 +46,9 @@ class WavefrontRenderer {
   WavefrontRenderer& operator=(const WavefrontRenderer&) = delete;
 
   // Renders config.spp sample passes. `progress(samples_done)` is called after each pass.
-  RenderResult render(const std::function<void(std::uint32_t)>& progress = {});
+  // Up to the config's spp passes; an observer may stop it after any pass (pass_observer.h),
+  // and the image is then the mean of the passes done (stats.frames: one per pass).
+  RenderResult render(PassObserver* observer = nullptr);
 
   const RenderScene& render_scene() const;
   // HRPP on: what a ray class's predictor table holds (it persists across samples).
