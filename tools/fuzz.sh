@@ -29,6 +29,7 @@ for t in "${targets[@]}"; do
   # -timeout: an input that takes more than 10 s is a hang; -rss_limit_mb: 2 GiB is a leak or
   # an unchecked allocation (the loaders must refuse absurd sizes first).
   if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      LSAN_OPTIONS=suppressions=tests/sanitizers/lsan.supp:print_suppressions=0 \
       ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer \
       "$build/fuzz/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \

@@ -19,8 +19,9 @@ namespace hrpp {
 namespace {
 
 struct PlyProperty {
-  int size = 0;        // bytes of a scalar, or of each list item
-  int count_size = 0;  // a list: bytes of its count; 0: a scalar
+  int size = 0;            // bytes of a scalar, or of each list item
+  int count_size = 0;      // a list: bytes of its count; 0: a scalar
+  bool is_signed = false;  // an integer item type with a sign (char, short, int)
   std::string name;
 };
 
@@ -49,6 +50,13 @@ class PlyChecker {
 
   void check() {
     read_header();
+    for (const PlyElement& e : elements_) {
+      if (e.name == "vertex") {
+        vertices_ = static_cast<long long>(std::min<std::uint64_t>(e.count, 1ULL << 62));
+        break;
+      }
+      if (e.name == "face") break;  // faces before vertices: left to assimp
+    }
     for (const PlyElement& e : elements_) {
       for (std::uint64_t i = 0; i < e.count; ++i) {
         for (const PlyProperty& p : e.properties) property(e, p, i);
@@ -114,6 +122,8 @@ class PlyChecker {
       w >> count_type >> item_type >> p.name;
       p.count_size = type_size(count_type);
       p.size = type_size(item_type);
+      p.is_signed = item_type == "char" || item_type == "short" || item_type == "int" ||
+                    item_type == "int8" || item_type == "int16" || item_type == "int32";
       if (p.count_size == 0 || p.size == 0 || p.count_size == 8)
         fail(at + "bad list property types");
     } else {
@@ -138,14 +148,42 @@ class PlyChecker {
              std::to_string(items) + ")");
       }
     }
+    // A face's vertex indices are checked here: assimp leaks its half-built mesh when it
+    // meets one out of range.
+    const bool indices = e.name == "face" && p.count_size > 0 &&
+                         (p.name == "vertex_indices" || p.name == "vertex_index");
     if (format_ == PlyFormat::kAscii) {
       for (std::uint64_t k = 0; k < items; ++k) {
-        if (ascii_token().empty()) truncated(e, i);
+        const std::string_view t = ascii_token();
+        if (t.empty()) truncated(e, i);
+        if (indices) check_index(std::strtoll(std::string(t).c_str(), nullptr, 10), i);
       }
     } else {
       const std::uint64_t bytes = items * static_cast<std::uint64_t>(p.size);
       if (bytes > b_.size() - pos_) truncated(e, i);
+      if (indices && p.size <= 4) {
+        for (std::uint64_t k = 0; k < items; ++k) check_index(binary_int(p, pos_ + k * p.size), i);
+      }
       pos_ += bytes;
+    }
+  }
+
+  long long binary_int(const PlyProperty& p, std::size_t at) const {
+    std::uint64_t v = 0;
+    for (int k = 0; k < p.size; ++k) {
+      const int byte = format_ == PlyFormat::kLittle ? k : p.size - 1 - k;
+      v |= static_cast<std::uint64_t>(static_cast<unsigned char>(b_[at + byte])) << (8 * k);
+    }
+    const int bits = 8 * p.size;
+    if (p.is_signed && bits < 64 && (v >> (bits - 1)) != 0)
+      return static_cast<long long>(v) - (1LL << bits);
+    return static_cast<long long>(v);
+  }
+
+  void check_index(long long v, std::uint64_t face) const {
+    if (vertices_ >= 0 && (v < 0 || v >= vertices_)) {
+      fail("face " + std::to_string(face) + ": vertex index " + std::to_string(v) +
+           " is out of range (" + std::to_string(vertices_) + " vertices)");
     }
   }
 
@@ -189,6 +227,7 @@ class PlyChecker {
   PlyFormat format_ = PlyFormat::kAscii;
   bool has_format_ = false;
   std::vector<PlyElement> elements_;
+  long long vertices_ = -1;  // the vertex element's count, when it comes before the faces
 };
 
 }  // namespace
