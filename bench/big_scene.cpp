@@ -46,7 +46,7 @@ void print_limits(const hrpp::DeviceInfo& d) {
 // Each array the tracer needs, with the limit of its binding, and the sum against the heap.
 void print_plan(const hrpp::GpuBvh& bvh, std::size_t rays, const hrpp::DeviceInfo& d) {
   const hrpp::MemoryLimits m = hrpp::memory_limits(d);
-  const std::vector<hrpp::BufferNeed> needs = hrpp::GpuTracer::buffer_needs(bvh, {}, rays);
+  const std::vector<hrpp::BufferNeed> needs = hrpp::GpuTracer::buffer_needs(bvh, rays);
   for (const hrpp::BufferNeed& n : needs) {
     std::string limit;
     const std::uint64_t most = hrpp::max_buffer_bytes(n.binding, m, &limit);

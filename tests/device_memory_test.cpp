@@ -80,7 +80,7 @@ TEST(DeviceMemory, TheLedgerFollowsEveryBufferOfARender) {
     EXPECT_GE(r.heap, ctx.info().heap_bytes);
     // Every buffer the tracer plans for the wavefront is there, at least as big as planned.
     const std::size_t wave = std::size_t{config.width} * config.height;
-    for (const BufferNeed& n : GpuTracer::buffer_needs(bvh, {}, wave)) {
+    for (const BufferNeed& n : GpuTracer::buffer_needs(bvh, wave)) {
       ASSERT_TRUE(r.buffers.count(n.name)) << n.name;
       EXPECT_GE(r.buffers.at(n.name), n.bytes) << n.name;
     }

@@ -19,6 +19,7 @@
 #include "bvh/gpu_layout.h"
 #include "cli_runner.h"
 #include "extreme_cases.h"
+#include "front/make_device_tracer.h"
 #include "gpu/gpu_tracer.h"
 #include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
@@ -165,10 +166,10 @@ TEST(ExtremeRaysGpuHrpp, InvalidRaysMissWithThePredictorOn) {
   PredictorConfig p;
   p.enabled = true;
   p.mode = PredictorMode::kExact;
-  GpuTracer tracer(context(), bvh, {}, p);
+  const auto tracer = make_device_tracer(context(), DeviceTracerKind::kCompute, bvh, {}, p);
   for (int pass = 0; pass < 2; ++pass) {  // the second pass probes a filled table
-    const GpuTraceResult c = tracer.trace(rays, QueryKind::kClosest);
-    const GpuTraceResult a = tracer.trace(rays, QueryKind::kAny);
+    const GpuTraceResult c = tracer->trace(rays, QueryKind::kClosest);
+    const GpuTraceResult a = tracer->trace(rays, QueryKind::kAny);
     for (std::size_t k = 0; k < rays.size(); ++k) {
       const bool bad = k >= x.groups[0].rays.size();
       EXPECT_EQ(c.hits[k].prim, bad ? -1 : trace_closest(bvh, rays[k]).prim) << k;

@@ -20,6 +20,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
+#include "front/make_device_tracer.h"
 #include "hrpp/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
 #include "vk/vulkan_context.h"
@@ -98,13 +99,13 @@ PredictorConfig config(PredictorMode mode, TableConfig table) {
 }
 
 GpuTraceResult trace_gpu(const PredictorConfig& p, const std::vector<gpu::Ray>& rays,
-                         QueryKind kind, GpuTracer** keep = nullptr) {
+                         QueryKind kind, DeviceTracer** keep = nullptr) {
   GpuTracerConfig tc;
   tc.rays_per_invocation = 8;
   // Never destroyed, like the context they use (gpu_test_context.h): at exit the driver may
   // already be torn down (Debian 13's build crashed destroying them there).
-  static auto* tracers = new std::vector<std::unique_ptr<GpuTracer>>;
-  tracers->push_back(std::make_unique<GpuTracer>(context(), bunny().bvh, tc, p));
+  static auto* tracers = new std::vector<std::unique_ptr<DeviceTracer>>;
+  tracers->push_back(make_device_tracer(context(), DeviceTracerKind::kCompute, bunny().bvh, tc, p));
   if (keep) *keep = tracers->back().get();
   return tracers->back()->trace(rays, kind);
 }
@@ -156,7 +157,7 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
       const std::string what = std::string(c.name) + " table " + std::to_string(t.sets) + "x" +
                                std::to_string(t.ways) + "x" + std::to_string(t.nodes) + " " +
                                table_policy_name(t.policy);
-      GpuTracer* tracer = nullptr;
+      DeviceTracer* tracer = nullptr;
       PredictorConfig p = config(PredictorMode::kExact, t);
       p.set_hash({HashKind::kIeee, c.bits});
       trace_gpu(p, *c.rays, c.kind, &tracer);  // a trace's inserts serve the next traces
@@ -202,7 +203,7 @@ void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& 
                            std::to_string(p.go_up[RayClass::kCamera]) + " table " +
                            std::to_string(table.sets) + "x" + std::to_string(table.ways) + "x" +
                            std::to_string(table.nodes) + " " + table_policy_name(table.policy);
-  GpuTracer* tracer = nullptr;
+  DeviceTracer* tracer = nullptr;
   const GpuTraceResult gpu = trace_gpu(p, *c.rays, c.kind, &tracer);
   ReferencePredictor cpu_predictor(bunny().bvh, p);
   const PredictorTraceResult cpu = cpu_predictor.trace(*c.rays, ray_file_class(c.kind));
@@ -323,7 +324,7 @@ TEST(HrppPredictor, ShadowKeysKeepAnswersAndMatchTheReference) {
       p.hash[RayClass::kShadow] = {kind.value, 4};
       p.go_up[RayClass::kShadow] = go_up;
       const std::string what = std::string(kind.name) + " go-up " + std::to_string(go_up);
-      GpuTracer* tracer = nullptr;
+      DeviceTracer* tracer = nullptr;
       trace_gpu(p, rays, QueryKind::kAny, &tracer);
       const GpuTraceResult warm = tracer->trace(rays, QueryKind::kAny);
       expect_same_hits(warm.hits, reference.hits, what + " (inserts during the trace)");
@@ -370,9 +371,9 @@ TEST(HrppPredictor, QueueAnswersEveryRayOnce) {
                                  " table " + std::to_string(t.entries());
         PredictorConfig p = config(mode, t);
         p.set_hash({HashKind::kIeee, 4});  // coarse: many predictor hits even among a few rays
-        GpuTracer on(context(), bunny().bvh, tc, p);
-        on.trace(rays, QueryKind::kClosest);  // fills the table
-        const GpuTraceResult r = on.trace(rays, QueryKind::kClosest);
+        const auto on = make_device_tracer(context(), DeviceTracerKind::kCompute, bunny().bvh, tc, p);
+        on->trace(rays, QueryKind::kClosest);  // fills the table
+        const GpuTraceResult r = on->trace(rays, QueryKind::kClosest);
         ASSERT_EQ(r.hits.size(), n) << what;
         EXPECT_TRUE(r.predicted) << what;
         EXPECT_EQ(r.counters.rays, n) << what;
@@ -404,10 +405,10 @@ TEST(HrppPredictor, SampleAnswersAreHrppOffs) {
       const std::string what = std::string(k.name) + " " + std::to_string(n) + " rays";
       PredictorConfig p = config(PredictorMode::kSpeculative, table_preset("small"));
       p.set_hash({HashKind::kIeee, 3});  // coarse: predictor hits, wrong ones among them
-      GpuTracer on(context(), bunny().bvh, tc, p);
-      on.trace(rays, k.kind);  // every ray predicted: fills the table
-      on.predictor()->set_probing(ray_file_class(k.kind), Probe::kSample);
-      const GpuTraceResult r = on.trace(rays, k.kind);
+      const auto on = make_device_tracer(context(), DeviceTracerKind::kCompute, bunny().bvh, tc, p);
+      on->trace(rays, k.kind);  // every ray predicted: fills the table
+      on->predictor()->set_probing(ray_file_class(k.kind), Probe::kSample);
+      const GpuTraceResult r = on->trace(rays, k.kind);
       const GpuTraceResult plain = off.trace(rays, k.kind);
       EXPECT_FALSE(r.predicted) << what;
       EXPECT_EQ(r.sampled, gpu::hrpp_pass_ray_count(static_cast<std::uint32_t>(n),

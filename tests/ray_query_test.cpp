@@ -26,6 +26,7 @@
 #include "cli_runner.h"
 #include "common/error.h"
 #include "extreme_cases.h"
+#include "front/make_device_tracer.h"
 #include "hrpp/gpu_predictor.h"
 #include "gpu/ray_query_tracer.h"
 #include "gpu_test_context.h"
@@ -233,13 +234,13 @@ TEST(RayQueryHrpp, ExactModeKeepsTheAnswersAndAnswersRaysWithoutAQuery) {
   predictor.mode = PredictorMode::kExact;
   predictor.fallback = Fallback::kRoot;
   RayQueryTracer off(*ray_query_context(), bvh);
-  RayQueryTracer on(*ray_query_context(), bvh, {}, predictor);
-  ASSERT_NE(on.predictor(), nullptr);
+  const auto on = make_device_tracer(*ray_query_context(), DeviceTracerKind::kRayQuery, bvh, {}, predictor);
+  ASSERT_NE(on->predictor(), nullptr);
   for (const auto& [rays, kind] : {std::pair{std::span<const gpu::Ray>(b.primary), QueryKind::kClosest},
                                    std::pair{std::span<const gpu::Ray>(b.ao.rays), QueryKind::kAny}}) {
     const std::string what = std::string("bunny ") + query_kind_name(kind) + " with HRPP";
-    on.trace(rays, kind);  // fills the table
-    const GpuTraceResult predicted = on.trace(rays, kind);
+    on->trace(rays, kind);  // fills the table
+    const GpuTraceResult predicted = on->trace(rays, kind);
     const GpuTraceResult plain = off.trace(rays, kind);
     ASSERT_TRUE(predicted.predicted) << what;
     const Tally t = compare(rays, predicted.hits, plain.hits, kind, what, b.scene_diagonal);

@@ -15,6 +15,7 @@
 #include "bvh/gpu_layout.h"
 #include "cli_runner.h"
 #include "extreme_cases.h"
+#include "front/make_device_tracer.h"
 #include "gpu/gpu_tracer.h"
 #include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
@@ -139,8 +140,8 @@ TEST(SbvhHrpp, ReferencePredictorAgreesAndExactEqualsOff) {
         p.count_baseline = true;
         const std::string what = std::string(predictor_mode_name(mode)) + " go-up " +
                                  std::to_string(go_up) + (any ? " any" : " closest");
-        GpuTracer tracer(context(), bvh, tc, p);
-        const GpuTraceResult gpu = tracer.trace(rays, kind);
+        const auto tracer = make_device_tracer(context(), DeviceTracerKind::kCompute, bvh, tc, p);
+        const GpuTraceResult gpu = tracer->trace(rays, kind);
         ReferencePredictor cpu_predictor(bvh, p);
         const PredictorTraceResult cpu = cpu_predictor.trace(rays, ray_file_class(kind));
         int differ = 0;

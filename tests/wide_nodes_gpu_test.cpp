@@ -16,6 +16,7 @@
 #include "cli_runner.h"
 #include "common/error.h"
 #include "extreme_cases.h"
+#include "front/make_device_tracer.h"
 #include "gpu/gpu_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "vk/vulkan_context.h"
@@ -149,7 +150,7 @@ TEST(WideNodesHrpp, HrppOnRefusesTheFormats) {
     PredictorConfig p;
     p.enabled = true;
     try {
-      GpuTracer tracer(context(), bvh, {}, p);
+      make_device_tracer(context(), DeviceTracerKind::kCompute, bvh, {}, p);
       ADD_FAILURE() << "no error";
     } catch (const Error& e) {
       const std::string flag = std::string("--bvh-nodes ") + node_format_name(f);

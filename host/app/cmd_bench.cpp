@@ -38,7 +38,9 @@
 #include "common/free_array.h"
 #include "common/median.h"
 #include "common/task_pool.h"
+#include "front/make_device_tracer.h"
 #include "gpu/gpu_tracer.h"
+#include "gpu/ray_query_tracer.h"
 #include "vk/vulkan_context.h"
 #include "render/render_stats.h"
 #include "reference/embree_tracer.h"
@@ -173,9 +175,9 @@ nlohmann::json describe_scene(const BenchOptions& o, const Scene& scene, const B
 struct Backends {
   std::unique_ptr<EmbreeTracer> embree;
   std::unique_ptr<GpuTracer> gpu;
-  std::unique_ptr<GpuTracer> hrpp;  // HRPP on: a second GPU tracer that probes the predictor
+  std::unique_ptr<DeviceTracer> hrpp;  // HRPP on: the stage in front of a second GPU tracer
   std::unique_ptr<RayQueryTracer> ray_query;  // --tracer rayquery: the driver's traversal too
-  std::unique_ptr<RayQueryTracer> ray_query_hrpp;  // and with HRPP on, the stage in front of it
+  std::unique_ptr<DeviceTracer> ray_query_hrpp;  // and with HRPP on, the stage in front of it
   PredictorConfig predictor;
   std::vector<std::unique_ptr<Tracer>> tracers;
 };
@@ -222,14 +224,16 @@ Backends make_backends(const BenchOptions& o, const Scene& scene, const GpuBvh& 
                           {"bvh_bytes", bvh.bytes()}};
     b.tracers.push_back(std::make_unique<RayQueryBackend>(*b.ray_query));
     if (b.predictor.enabled) {
-      b.ray_query_hrpp = std::make_unique<RayQueryTracer>(
-          *ctx, bvh, o.shared.tracer, o.hrpp.config(DeviceTracerKind::kRayQuery));
+      b.ray_query_hrpp =
+          make_device_tracer(*ctx, DeviceTracerKind::kRayQuery, bvh, o.shared.tracer,
+                             o.hrpp.config(DeviceTracerKind::kRayQuery));
       b.ray_query_hrpp->warm_up();
       b.tracers.push_back(std::make_unique<RayQueryBackend>(*b.ray_query_hrpp));
     }
   }
   if (ctx && b.predictor.enabled) {
-    b.hrpp = std::make_unique<GpuTracer>(*ctx, bvh, o.shared.tracer, b.predictor);
+    b.hrpp = make_device_tracer(*ctx, DeviceTracerKind::kCompute, bvh, o.shared.tracer,
+                                b.predictor);
     b.hrpp->warm_up();
     std::printf("hrpp        %s; ray classes: %s\n", describe(b.predictor).c_str(),
                 ray_class_list(b.predictor.classes).c_str());
@@ -325,7 +329,7 @@ std::vector<TracerResult> time_tracers(const BenchOptions& o, Backends& b,
 std::optional<PredictorSummary> count_hrpp(Backends& b, std::span<const gpu::Ray> rays,
                                            QueryKind kind) {
   if (!b.hrpp) return std::nullopt;
-  return count_savings(*b.hrpp, b.predictor, rays, kind);
+  return count_savings(*b.hrpp, true, rays, kind);
 }
 
 const TracerResult* find(const std::vector<TracerResult>& results, TracerKind kind) {

@@ -49,7 +49,7 @@ nlohmann::json bytes_per_triangle(const Scene& scene, const GpuBvh& layout) {
       {IndexedShading::kVertexBuffer, per(rs.shading.vertices.size() * sizeof(gpu::ShadeVertex))},
       {IndexedShading::kAttributeBuffer,
        per(rs.shading.attributes.size() * sizeof(gpu::ShadeAttributes))}};
-  for (const BufferNeed& b : GpuTracer::buffer_needs(layout, PredictorConfig{}, 0))
+  for (const BufferNeed& b : GpuTracer::buffer_needs(layout, 0))
     if (b.bytes > 0) j[b.name] = per(b.bytes);
   return j;
 }

@@ -23,7 +23,8 @@
 #include "bvh/gpu_layout.h"
 #include "common/bytes.h"
 #include "common/error.h"
-#include "gpu/gpu_tracer.h"
+#include "front/make_device_tracer.h"
+#include "front/predicting_tracer.h"
 #include "gpu/ray_query_tracer.h"
 #include "gpu/ray_sorter.h"
 #include "vk/vulkan_context.h"
@@ -134,8 +135,8 @@ std::string hrpp_figures(const TraceOptions& o, const PredictorConfig& predictor
 
 // The device tracer --tracer names (--repeat > 1: warmed up), and what it needs kept alive.
 struct TraceBackend {
-  std::unique_ptr<GpuTracer> tracer;
-  std::unique_ptr<RayQueryTracer> ray_query;
+  std::unique_ptr<DeviceTracer> tracer;
+  const RayQueryTracer* ray_query = nullptr;  // the driver's, behind HRPP's stage or not
   std::unique_ptr<RaySorter> sorter;
   std::unique_ptr<Tracer> backend;
 };
@@ -143,13 +144,14 @@ struct TraceBackend {
 TraceBackend make_backend(const TraceOptions& o, VulkanContext& ctx, const GpuBvh& bvh,
                           const PredictorConfig& predictor, std::span<const gpu::Ray> rays) {
   TraceBackend b;
-  if (o.shared.device_tracer == DeviceTracerKind::kRayQuery) {
-    b.ray_query = std::make_unique<RayQueryTracer>(ctx, bvh, o.shared.tracer, predictor);
-    if (o.repeat > 1) b.ray_query->warm_up();
-    b.backend = std::make_unique<RayQueryBackend>(*b.ray_query);
+  b.tracer = make_device_tracer(ctx, o.shared.device_tracer, bvh, o.shared.tracer, predictor);
+  const auto* front = dynamic_cast<const PredictingTracer*>(b.tracer.get());
+  b.ray_query = dynamic_cast<const RayQueryTracer*>(front ? &front->inner() : b.tracer.get());
+  if (b.ray_query) {
+    if (o.repeat > 1) b.tracer->warm_up();
+    b.backend = std::make_unique<RayQueryBackend>(*b.tracer);
     return b;
   }
-  b.tracer = std::make_unique<GpuTracer>(ctx, bvh, o.shared.tracer, predictor);
   b.sorter = make_sorter(ctx, bvh, o.reorder, rays.size());
   if (o.repeat > 1) {
     b.tracer->warm_up();
@@ -180,7 +182,7 @@ void run_trace(const TraceOptions& o) {
   const TraceBackend b = make_backend(o, ctx, bvh, predictor, rays);
   const std::unique_ptr<Tracer>& backend = b.backend;
   const std::unique_ptr<RaySorter>& sorter = b.sorter;
-  const std::unique_ptr<RayQueryTracer>& ray_query = b.ray_query;
+  const RayQueryTracer* ray_query = b.ray_query;
 
   TracerRun result;
   std::vector<double> ms;
@@ -191,8 +193,7 @@ void run_trace(const TraceOptions& o) {
   // HRPP's figures come from one more run that also counts what full traversals would visit
   // (outside the timings).
   nlohmann::json hrpp_json = predictor_config_json(predictor);
-  const auto savings = b.tracer ? count_savings(*b.tracer, predictor, rays, o.query)
-                                : count_savings(*ray_query, predictor, rays, o.query);
+  const auto savings = count_savings(*b.tracer, ray_query == nullptr, rays, o.query);
   const std::string hrpp_text = hrpp_figures(o, predictor, savings, ray_query != nullptr,
                                              hrpp_json);
   check_validation_messages(ctx);

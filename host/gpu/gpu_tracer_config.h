@@ -1,5 +1,6 @@
-// How the GPU tracer runs its trace kernels (rays per invocation, step counting): a plain
-// configuration, free of Vulkan, so render configurations can hold it (render/render_config.h).
+// How the GPU tracer runs its trace kernels (rays per invocation, step counting, serial mode):
+// a plain configuration, free of Vulkan, so render configurations can hold it
+// (render/render_config.h).
 #pragma once
 
 #include <cstdint>
@@ -24,6 +25,10 @@ struct GpuTracerConfig {
   // (TraversalCounters::interior_steps), from which lane_use() follows; off, the count is
   // compiled out (a specialization constant). The HRPP stage's trace never counts them.
   bool count_steps = false;
+  // One ray per subgroup: the trace kernels visit nodes in the CPU reference's order (HRPP's
+  // deterministic runs, --hrpp-serial, set by make_device_tracer from the predictor's
+  // configuration, whose stage dispatches the same way). Not for the driver's ray queries.
+  bool serial = false;
 
   // This configuration with the device's default rays per invocation where it asks for one.
   GpuTracerConfig resolved_for(const DeviceInfo& device) const;

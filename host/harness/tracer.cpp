@@ -64,6 +64,18 @@ TracerRun GpuBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   return TracerRun{std::move(g.hits), g.kernel_ms, g.counters, std::nullopt};
 }
 
+std::optional<PredictorSummary> count_savings(DeviceTracer& tracer, bool visible,
+                                              std::span<const gpu::Ray> rays, QueryKind kind) {
+  const RayClass c = ray_file_class(kind);
+  GpuPredictor* hrpp = tracer.predictor();
+  if (!hrpp || !hrpp->config().predicts(c)) return std::nullopt;
+  hrpp->clear();
+  hrpp->set_count_baseline(visible);
+  const GpuTraceResult counted = tracer.trace(rays, kind);
+  hrpp->set_count_baseline(false);
+  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), visible);
+}
+
 TracerRun RayQueryBackend::trace(std::span<const gpu::Ray> rays, QueryKind kind) {
   if (hrpp_) tracer_.predictor()->clear();
   GpuTraceResult g = tracer_.trace(rays, kind);

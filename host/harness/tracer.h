@@ -5,13 +5,12 @@
 #pragma once
 
 #include <optional>
-#include <type_traits>
 #include <span>
 #include <vector>
 
 #include "bvh/gpu_layout.h"
-#include "gpu/gpu_tracer.h"
-#include "gpu/ray_query_tracer.h"
+#include "gpu/device_tracer.h"
+#include "hrpp/gpu_predictor.h"
 #include "gpu/ray_sorter.h"
 #include "gpu_types.h"
 #include "hrpp/inline_predictor.h"
@@ -96,12 +95,13 @@ class EmbreeBackend final : public Tracer {
   int threads_;
 };
 
-// kGpu, or kGpuHrpp when the GpuTracer has a predictor.
+// kGpu: the BVH kernels (a GpuTracer), or kGpuHrpp: HRPP's stage in front of them (a
+// PredictingTracer, front/make_device_tracer.h).
 class GpuBackend final : public Tracer {
  public:
   // `sorter`: sort the rays on the device before each trace and trace them through the order
-  // (its time counted; the hits are in the rays' order; GpuTracer::trace).
-  explicit GpuBackend(GpuTracer& tracer, RaySorter* sorter = nullptr)
+  // (its time counted; the hits are in the rays' order; DeviceTracer::trace).
+  explicit GpuBackend(DeviceTracer& tracer, RaySorter* sorter = nullptr)
       : tracer_(tracer),
         hrpp_(tracer.predictor() != nullptr),
         batched_(hrpp_ && tracer.predictor()->config().batch > 0),
@@ -112,16 +112,17 @@ class GpuBackend final : public Tracer {
   TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
-  GpuTracer& tracer_;
+  DeviceTracer& tracer_;
   bool hrpp_;
   bool batched_;  // HRPP batches: not timed
   RaySorter* sorter_;
 };
 
-// kRayQuery, or kRayQueryHrpp when the RayQueryTracer has a predictor.
+// kRayQuery: the driver's traversal (a RayQueryTracer), or kRayQueryHrpp: HRPP's stage in
+// front of it.
 class RayQueryBackend final : public Tracer {
  public:
-  explicit RayQueryBackend(RayQueryTracer& tracer)
+  explicit RayQueryBackend(DeviceTracer& tracer)
       : tracer_(tracer), hrpp_(tracer.predictor() != nullptr) {}
   TracerKind kind() const override {
     return hrpp_ ? TracerKind::kRayQueryHrpp : TracerKind::kRayQuery;
@@ -131,27 +132,16 @@ class RayQueryBackend final : public Tracer {
   TracerRun trace(std::span<const gpu::Ray> rays, QueryKind kind) override;
 
  private:
-  RayQueryTracer& tracer_;
+  DeviceTracer& tracer_;
   bool hrpp_;
 };
 
 // HRPP: one more run from empty tables that also counts what full traversals of the project's
-// BVH would visit (outside the timings); nothing when `predictor` does not predict the query's
-// ray class. `tracer`: a GpuTracer, or a RayQueryTracer, whose driver hides its node visits:
-// there the run counts no baseline and the summary has no savings.
-template <class DeviceTracerT>
-std::optional<PredictorSummary> count_savings(DeviceTracerT& tracer,
-                                              const PredictorConfig& predictor,
-                                              std::span<const gpu::Ray> rays, QueryKind kind) {
-  constexpr bool visible = !std::is_same_v<DeviceTracerT, RayQueryTracer>;
-  const RayClass c = ray_file_class(kind);
-  GpuPredictor* hrpp = tracer.predictor();
-  if (!hrpp || !predictor.predicts(c)) return std::nullopt;
-  hrpp->clear();
-  hrpp->set_count_baseline(visible);
-  const GpuTraceResult counted = tracer.trace(rays, kind);
-  hrpp->set_count_baseline(false);
-  return summarize(counted.predictor, counted.counters, hrpp->occupancy(c), visible);
-}
+// BVH would visit (outside the timings); nothing when `tracer` has no predictor or it does not
+// predict the query's ray class. `visible`: the tracer behind the stage shows its node visits
+// (the BVH kernels); the driver's ray queries hide them: there the run counts no baseline and
+// the summary has no savings.
+std::optional<PredictorSummary> count_savings(DeviceTracer& tracer, bool visible,
+                                              std::span<const gpu::Ray> rays, QueryKind kind);
 
 }  // namespace hrpp

@@ -17,6 +17,7 @@
 #include "vk/texel_view.h"
 #include "kernels/trace_counters.h"
 #include "vk/vulkan_context.h"
+#include "kernels/trace_lanes.h"
 #include "hrpp/prediction_node.h"
 
 namespace hrpp {
@@ -148,37 +149,6 @@ struct Table {
   }
 };
 
-// The queue's trace kernel: the plain one (--hrpp-fallback root), the skipping one, or with
-// `scene` the driver's ray queries over that acceleration structure.
-ComputePipeline make_queue_trace(VulkanContext& ctx, QueryKind kind, Fallback fallback,
-                                 VkAccelerationStructureKHR scene) {
-  if (scene) {
-    if (fallback != Fallback::kRoot)
-      throw Error("--hrpp-fallback skip: skip lists are the BVH kernels'; in front of the "
-                  "driver's ray queries use --hrpp-fallback root");
-    ComputePipeline p(ctx, ray_query_kernel(kind), embedded_spirv(ray_query_kernel(kind)),
-                      kRayQueryBindingTypes, sizeof(gpu::TracePushConstants));
-    p.bind(HRPP_RAY_QUERY_BINDING_SCENE, scene);
-    return p;
-  }
-  if (fallback == Fallback::kRoot)
-    return ComputePipeline(ctx, trace_kernel(kind), embedded_spirv(trace_kernel(kind)),
-                           kTraceBindingTypes, sizeof(gpu::TracePushConstants));
-  return ComputePipeline(ctx, trace_skipping_kernel(kind),
-                         embedded_spirv(trace_skipping_kernel(kind)), kTraceListBindingTypes,
-                         sizeof(gpu::TracePushConstants));
-}
-
-// Where the queue's trace kernel takes its rays, hits and counters.
-struct QueueTraceBindings {
-  std::uint32_t rays, hits, counters;
-};
-constexpr QueueTraceBindings kBvhQueueTrace{HRPP_TRACE_BINDING_RAYS, HRPP_TRACE_BINDING_HITS,
-                                            HRPP_TRACE_BINDING_COUNTERS};
-constexpr QueueTraceBindings kRayQueryQueueTrace{HRPP_RAY_QUERY_BINDING_RAYS,
-                                                 HRPP_RAY_QUERY_BINDING_HITS,
-                                                 HRPP_RAY_QUERY_BINDING_COUNTERS};
-
 // The queue of one query kind (hit-all: camera and bounce rays; hit-any: shadow rays) and the
 // trace kernel bound to it.
 struct Queue {
@@ -186,21 +156,19 @@ struct Queue {
   StorageBuffer trace_counters;  // gpu::TraceCounters of the trace over the queue
   StorageBuffer rays, entries, hits, skips;  // skips: the skip lists (--hrpp-fallback skip)
   TexelView ray_view, entry_view, hit_view, skip_view;
-  ComputePipeline trace;
-  QueueTraceBindings bindings;
+  QueueTraceKernel trace;     // the tracer's kernel for the queue (DeviceTracer::queue_kernel)
   ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
   std::size_t capacity = 0;
 
-  Queue(VulkanContext& ctx, QueryKind kind, Fallback fallback, VkAccelerationStructureKHR scene)
+  Queue(VulkanContext& ctx, QueueTraceKernel kernel)
       : state(ctx, sizeof(gpu::PredictQueue), "HRPP queue", BufferBinding::kStorage,
               MemoryRole::kHostShared),
         trace_counters(ctx, sizeof(gpu::TraceCounters), "HRPP queue trace counters",
                        BufferBinding::kStorage, MemoryRole::kHostShared),
-        trace(make_queue_trace(ctx, kind, fallback, scene)),
-        bindings(scene ? kRayQueryQueueTrace : kBvhQueueTrace),
+        trace(std::move(kernel)),
         pass_args(ctx, Kernel::hrpp_pass_args, embedded_spirv(Kernel::hrpp_pass_args), 1,
                   sizeof(gpu::StagePushConstants)) {
-    trace.bind(bindings.counters, trace_counters);
+    trace.pipeline.bind(trace.counters, trace_counters);
     pass_args.bind(0, state);
   }
 };
@@ -348,10 +316,7 @@ struct GpuPredictor::State {
   }
 
   std::uint32_t rays_per_workgroup(std::uint32_t rays_per_invocation) const {
-    const std::uint32_t sub = std::max(ctx->info().subgroup_size, 1u);
-    const std::uint32_t lanes =
-        config.serial ? std::max(HRPP_TRACE_WORKGROUP_SIZE / sub, 1u) : HRPP_TRACE_WORKGROUP_SIZE;
-    return lanes * rays_per_invocation;
+    return trace_lanes(config.serial, ctx->info().subgroup_size) * rays_per_invocation;
   }
 
   // The trace over the queue and the resolve pass, after hrpp_predict: the trace's ray count
@@ -363,9 +328,9 @@ struct GpuPredictor::State {
     record_copy(cmd, q.state, offsetof(gpu::PredictQueue, queued), q.trace_counters,
                 offsetof(gpu::TraceCounters, ray_count), sizeof(std::uint32_t));
     transfer_compute_barrier(cmd);
-    record_dispatch_indirect(cmd, q.trace, &trace_pc, q.state,
+    record_dispatch_indirect(cmd, q.trace.pipeline, &trace_pc, q.state,
                              offsetof(gpu::PredictQueue, trace_groups), timer,
-                             TimerLabel{q.trace.kernel(), phase, c});
+                             TimerLabel{q.trace.pipeline.kernel(), phase, c});
     const gpu::StagePushConstants spc = stage_push(trace_pc);
     record_dispatch_indirect(cmd, table(c).resolve, &spc, q.state,
                              offsetof(gpu::PredictQueue, resolve_groups), timer,
@@ -394,8 +359,7 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   return needs;
 }
 
-GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-                           const DeviceBvh& device_bvh, VkAccelerationStructureKHR scene)
+GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config)
     : s_(std::make_unique<State>()) {
   if (!ctx.info().int64 || !ctx.info().int64_atomics)
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
@@ -419,20 +383,26 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     TexelView view(ctx, b);
     s_->node_of_prim.push_back({level, std::move(b), std::move(view)});
   }
-  for (QueryKind kind : kQueryKinds) {
-    s_->queues[index_of(kind)] = std::make_unique<Queue>(ctx, kind, config.fallback, scene);
-    if (!scene) device_bvh.bind(s_->queue(kind).trace);
-  }
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     gpu::PredictorParams params = make_predictor_params(config, c, bvh.bounds);
     params.serial = config.serial ? 1u : 0u;
     s_->tables[c] = std::make_unique<Table>(ctx, params, c, config.fallback);
     s_->probing[c] = Probe::kAll;
+  }
+}
+
+void GpuPredictor::connect(const DeviceBvh& device_bvh,
+                           const std::function<QueueTraceKernel(QueryKind, bool)>& queue_kernel) {
+  const bool skip_lists = s_->config.fallback == Fallback::kSkip;
+  for (QueryKind kind : kQueryKinds)
+    s_->queues[index_of(kind)] = std::make_unique<Queue>(*s_->ctx, queue_kernel(kind, skip_lists));
+  for (RayClass c : kRayClasses) {
+    if (!s_->tables[c]) continue;
     for (ComputePipeline* k : s_->tables[c]->stage_kernels()) {
       device_bvh.bind(*k);
       k->bind(HRPP_STAGE_BINDING_QUEUE, s_->queue(c).state);
-      k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim_at(go_up_of(config, c)));
+      k->bind(HRPP_STAGE_BINDING_NODE_OF_PRIM, s_->node_of_prim_at(go_up_of(s_->config, c)));
     }
   }
 }
@@ -465,10 +435,10 @@ void GpuPredictor::bind_rays(QueryKind kind, const TexelView& rays, const TexelV
     q.hit_view = TexelView(*s_->ctx, q.hits);
     q.skip_view = TexelView(*s_->ctx, q.skips);
     q.capacity = capacity;
-    q.trace.bind(q.bindings.rays, q.ray_view);
-    q.trace.bind(q.bindings.hits, q.hit_view);
-    if (s_->config.fallback == Fallback::kSkip)
-      q.trace.bind(HRPP_TRACE_BINDING_SKIP_NODES, q.skip_view);
+    q.trace.pipeline.bind(q.trace.rays, q.ray_view);
+    q.trace.pipeline.bind(q.trace.hits, q.hit_view);
+    if (q.trace.skips != QueueTraceKernel::kNoBinding)
+      q.trace.pipeline.bind(q.trace.skips, q.skip_view);
   }
   for (RayClass c : kRayClasses) {
     if (query_kind(c) != kind || !s_->tables[c]) continue;
@@ -610,7 +580,7 @@ PredictedTrace GpuPredictor::finish(RayClass c) const {
   const std::uint32_t pass = sampled ? HRPP_PASS_SAMPLE : HRPP_PASS_ALL;
   if (answered != gpu::hrpp_pass_ray_count(state.ray_count, pass, s_->stride_of(c)) ||
       state.resolve_done != out.queued || state.aborted != 0 || traced.aborted != 0)
-    throw Error(std::string("hrpp_predict / ") + q.trace.name() + " / hrpp_resolve: only " +
+    throw Error(std::string("hrpp_predict / ") + q.trace.pipeline.name() + " / hrpp_resolve: only " +
                 std::to_string(answered) + " of " + std::to_string(state.ray_count) +
                 " rays answered (" + std::to_string(state.aborted + traced.aborted) +
                 " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
@@ -661,40 +631,6 @@ void GpuPredictor::clear() {
     if (s_->tables[c]) s_->table(c).clear();
     s_->clock[c] = 0;
   }
-}
-
-GpuTraceResult finish_trace(GpuPredictor* predictor, RayClass c,
-                            const std::function<GpuTraceResult()>& plain) {
-  const Probe ran = predictor ? predictor->recorded(c) : Probe::kOff;
-  GpuTraceResult out;
-  if (ran == Probe::kAll) {
-    const PredictedTrace p = predictor->finish(c);
-    out.counters = p.counters;
-    out.predictor = p.predictor;
-    out.traced = p.queued;
-    out.predicted = true;
-  } else {
-    out = plain();
-  }
-  if (ran == Probe::kSample) {
-    const PredictedTrace p = predictor->finish(c);
-    out.predictor = p.predictor;
-    out.sampled = p.counters.rays;
-  }
-  if (predictor) predictor->advance_clock(c, out.counters.rays);
-  return out;
-}
-
-void warm_up_stage(GpuPredictor* predictor, const std::function<void(RayClass)>& trace) {
-  for (RayClass c : kRayClasses) {
-    trace(c);
-    if (!predictor || predictor->probing(c) != Probe::kAll) continue;
-    for (Probe p : {Probe::kOff, Probe::kSample, Probe::kAll}) {
-      predictor->set_probing(c, p);
-      if (p != Probe::kAll) trace(c);
-    }
-  }
-  if (predictor) predictor->clear();  // the warm-up rays leave nothing behind
 }
 
 }  // namespace hrpp

@@ -2,13 +2,15 @@
 // in one command buffer:
 //   hrpp_predict   hash, probe the class's table, verify the predicted nodes; a true positive
 //                  writes its answer, every other ray is appended to a compacted queue
-//   trace kernel   the very kernel HRPP off runs (trace_closest / trace_any, or the driver's
-//                  trace_rayquery_*), over the queue, dispatched indirectly from the queue's size
+//   trace kernel   the kernel of the tracer the stage stands in front of (its queue_kernel:
+//                  trace_closest / trace_any, or the driver's trace_rayquery_*), over the
+//                  queue, dispatched indirectly from the queue's size
 //   hrpp_resolve   the queued rays' answers into the class's hit array; inserts for those
 //                  that hit (or, in the deterministic batches, requests that hrpp_insert
 //                  applies in ray order)
 // The three ray classes' tables lie in one set of buffers (a slice each); camera and bounce
-// rays (hit-all) share a queue, shadow rays (hit-any) have their own.
+// rays (hit-all) share a queue, shadow rays (hit-any) have their own. PredictingTracer
+// (host/front/predicting_tracer.h) owns the stage and routes a tracer's traces through it.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +21,7 @@
 #include <vulkan/vulkan.h>
 
 #include "bvh/gpu_layout.h"
+#include "kernels/queue_trace_kernel.h"
 #include "kernels/trace_result.h"
 #include "vk/memory_plan.h"
 #include "hrpp/adaptive_predictor.h"
@@ -68,13 +71,16 @@ class GpuPredictor {
   static std::vector<BufferNeed> buffer_needs(const GpuBvh& bvh, const PredictorConfig& config,
                                               std::size_t capacity);
 
-  // Throws hrpp::Error when the device lacks 64-bit integer atomics or the table exceeds a
-  // storage buffer (naming the table and the limit), or the configuration is invalid. The
-  // prediction is verified on `device_bvh`; the queue is traced by the BVH kernels on it, or
-  // with `scene` by the driver's ray queries on that acceleration structure (RayQueryTracer:
-  // HRPP in front of the driver's traversal).
-  GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config,
-               const DeviceBvh& device_bvh, VkAccelerationStructureKHR scene = VK_NULL_HANDLE);
+  // The tables and the node-of-triangle arrays, read from `bvh`'s host arrays (which may be
+  // freed afterwards). Throws hrpp::Error when the device lacks 64-bit integer atomics or the
+  // table exceeds a storage buffer (naming the table and the limit), or the configuration is
+  // invalid. connect() before the first trace.
+  GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const PredictorConfig& config);
+  // The prediction is verified on `device_bvh` (the same BVH's arrays on the device); each
+  // query kind's queue is traced by queue_kernel(kind, skip lists wanted), a kernel of the
+  // tracer behind the stage (DeviceTracer::queue_kernel).
+  void connect(const DeviceBvh& device_bvh,
+               const std::function<QueueTraceKernel(QueryKind, bool)>& queue_kernel);
   ~GpuPredictor();
   GpuPredictor(GpuPredictor&&) noexcept;
   GpuPredictor& operator=(GpuPredictor&&) noexcept;
@@ -99,7 +105,7 @@ class GpuPredictor {
   // False when the class's next trace needs its ray count on the host (batched mode).
   bool records_indirect(RayClass c) const;
 
-  // The tracer's side of a trace of class `c` (host/gpu/gpu_tracer.cpp):
+  // The tracer's side of a trace of class `c` (host/front/predicting_tracer.cpp):
   //   begin(c)          before recording: zeroes the class's counters (host write) when it probes;
   //   record_trace(...) records the stage as probing(c) says, its use stamps (LRU) continuing
   //                     the class's clock, its kernels timed under {kernel, phase, class}
@@ -140,15 +146,5 @@ class GpuPredictor {
   struct State;
   std::unique_ptr<State> s_;
 };
-
-// A device tracer's finish (gpu/device_tracer.h) with `predictor` in front (nullptr: HRPP off):
-// the stage's result when it traced class `c` (Probe::kAll), else plain()'s, the tracer's own
-// trace, with a sample's predictor counters beside it; then the class's clock advances.
-GpuTraceResult finish_trace(GpuPredictor* predictor, RayClass c,
-                            const std::function<GpuTraceResult()>& plain);
-
-// A device tracer's warm-up: trace(c) for every class and, for a class that probes, with every
-// way the adaptive switch may run it (its first dispatches JIT-compile); then empties the tables.
-void warm_up_stage(GpuPredictor* predictor, const std::function<void(RayClass)>& trace);
 
 }  // namespace hrpp

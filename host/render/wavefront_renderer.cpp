@@ -15,8 +15,7 @@
 #include "vk/compute_pipeline.h"
 #include "gpu/device_tracer.h"
 #include "hrpp/gpu_predictor.h"
-#include "gpu/gpu_tracer.h"
-#include "gpu/ray_query_tracer.h"
+#include "front/make_device_tracer.h"
 #include "vk/embedded_shaders.h"
 #include "gpu/ray_sorter.h"
 #include "vk/memory_plan.h"
@@ -71,7 +70,7 @@ StorageBuffer upload_then_free(VulkanContext& ctx, const BufferNeed& need, std::
   return b;
 }
 
-// The render's own buffers (the tracer's are GpuTracer::buffer_needs): the scene's shading data
+// The render's own buffers (the tracer's are device_tracer_needs): the scene's shading data
 // (triangles, materials and lights read through texel views only), the image and the wavefront's
 // arrays.
 struct RenderBufferNeeds {
@@ -110,9 +109,7 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
   return static_cast<std::uint32_t>(std::min<std::size_t>(
       {config.wavefront_paths, std::size_t{config.width} * config.height,
        std::size_t{c.info().max_workgroup_count_x} * HRPP_RENDER_WORKGROUP_SIZE,
-       config.device_tracer == DeviceTracerKind::kRayQuery
-           ? RayQueryTracer::max_dispatch_rays(c.info(), config.tracer)
-           : GpuTracer::max_dispatch_rays(c.info(), config.tracer)}));
+       device_tracer_dispatch_rays(config.device_tracer, c.info(), config.tracer)}));
 }
 
 // Before anything is allocated: every buffer of the render against the device's limits and
@@ -120,9 +117,8 @@ std::uint32_t wavefront_paths(const VulkanContext& c, const RenderConfig& config
 const RenderBufferNeeds& check_render_fits(const VulkanContext& c, const Scene& scene,
                                            const GpuBvh& bvh, const RenderConfig& config,
                                            std::uint32_t wave, const RenderBufferNeeds& needs) {
-  std::vector<BufferNeed> all = config.device_tracer == DeviceTracerKind::kRayQuery
-                                    ? RayQueryTracer::buffer_needs(bvh, config.predictor, wave)
-                                    : GpuTracer::buffer_needs(bvh, config.predictor, wave);
+  std::vector<BufferNeed> all =
+      device_tracer_needs(config.device_tracer, bvh, config.predictor, wave);
   for (BufferNeed& n : needs.all()) all.push_back(std::move(n));
   check_fits("scene '" + scene.name + "' (" + std::to_string(scene.triangles.size()) +
                  " triangles)",
@@ -144,24 +140,18 @@ constexpr gpu::RenderQueues kRenderQueuesStart = [] {
   return q;
 }();
 
-// The device tracer: the one place that names its backend (with the sizes above:
-// wavefront_paths, check_render_fits).
-// With `host` set, the scene's triangles and shading are freed before the upload and each of the
-// BVH's arrays once uploaded.
+// The device tracer (front/make_device_tracer.h). With `host` set, the scene's triangles and
+// shading are freed before the upload and (the BVH kernels) each of the BVH's arrays once
+// uploaded.
 std::unique_ptr<DeviceTracer> make_tracer(VulkanContext& c, const GpuBvh& bvh,
                                           const RenderConfig& config, HostCopies host) {
-  if (config.device_tracer == DeviceTracerKind::kRayQuery) {
-    if (host.scene) {
-      free_array(host.scene->triangles);
-      free_array(host.scene->shading);
-    }
-    return std::make_unique<RayQueryTracer>(c, bvh, config.tracer, config.predictor);
+  if (host.scene) {
+    free_array(host.scene->triangles);
+    free_array(host.scene->shading);
   }
-  if (!host.bvh) return std::make_unique<GpuTracer>(c, bvh, config.tracer, config.predictor);
-  free_array(host.scene->triangles);
-  free_array(host.scene->shading);
-  return std::make_unique<GpuTracer>(c, *host.bvh, config.tracer, config.predictor,
-                                     GpuTracer::FreeHostArrays{});
+  GpuBvh* release = config.device_tracer == DeviceTracerKind::kCompute ? host.bvh : nullptr;
+  return make_device_tracer(c, config.device_tracer, bvh, config.tracer, config.predictor,
+                            release);
 }
 
 // The tracer's hit array of a ray class, sized for `rays` resident rays.
