@@ -175,6 +175,76 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
   }
 }
 
+// --hrpp-config: a run's --stats JSON re-runs its predictor (the same configuration in the new
+// stats, the same hits and counters in the deterministic mode); a file setting one key equals
+// the flag that sets it; flags given beside the file override it.
+TEST_F(HrppCli, SettingsFileReRunsAStatsConfiguration) {
+  const fs::path first = dir_ / "first.json", again = dir_ / "again.json";
+  const std::string flags = "--hrpp on --hash camera=grid-spherical --hash-bits 5 --go-up 1 "
+                            "--table-preset small --hrpp-batch 64 --hrpp-serial --hrpp-mode exact";
+  const std::string hits = trace(flags + " --stats " + first.string(), "first");
+  EXPECT_EQ(trace("--hrpp-config " + first.string() + " --stats " + again.string(), "again"),
+            hits);
+  nlohmann::json a = nlohmann::json::parse(read_file(first)).at("hrpp");
+  nlohmann::json b = nlohmann::json::parse(read_file(again)).at("hrpp");
+  EXPECT_EQ(a, b);  // the configuration and, in batches, the counters too
+  // One key in a file of its own against the flag.
+  const fs::path one = dir_ / "one.json", by_flag = dir_ / "by_flag.json",
+                 by_file = dir_ / "by_file.json";
+  std::ofstream(one) << R"({"enabled": true, "keys": {"camera": {"hash_bits": 4}}})";
+  trace("--hrpp on --hash-bits camera=4 --stats " + by_flag.string(), "by_flag");
+  trace("--hrpp-config " + one.string() + " --stats " + by_file.string(), "by_file");
+  a = nlohmann::json::parse(read_file(by_flag)).at("hrpp");
+  b = nlohmann::json::parse(read_file(by_file)).at("hrpp");
+  a.erase("summary");
+  b.erase("summary");
+  for (const char* k : {"answered_without_trace", "traced_with_shorter_tmax"}) {
+    a.erase(k);
+    b.erase(k);
+  }
+  EXPECT_EQ(a, b);
+  // A flag beside the file wins.
+  const fs::path over = dir_ / "over.json";
+  trace("--hrpp-config " + one.string() + " --hash-bits 3 --hrpp-mode exact --stats " +
+            over.string(),
+        "over");
+  const nlohmann::json o = nlohmann::json::parse(read_file(over)).at("hrpp");
+  EXPECT_EQ(o.at("keys").at("camera").at("hash_bits"), 3u);
+  EXPECT_EQ(o.at("mode"), "exact");
+}
+
+// Bad settings files end in one line naming the file and the key.
+TEST_F(HrppCli, SettingsFileErrorsNameTheKey) {
+  const std::string base = "trace --rays " + rays_.string() + " --hits " + (dir_ / "h.bin").string();
+  const fs::path file = dir_ / "bad.json";
+  for (const auto& [text, needle] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"enabled": true, "hash_bitz": 4})", "hash_bitz: unknown key"},
+           {R"({"keys": {"camera": {"hash_bitz": 4}}})", "keys.camera.hash_bitz: unknown key"},
+           {R"({"keys": {"sky": {"hash_bits": 4}}})", "keys.sky"},
+           {R"({"keys": {"camera": {"hash_bits": 9}}})", "hash_bits"},
+           {R"({"keys": {"camera": {"hash_bits": -1}}})", "keys.camera.hash_bits"},
+           {R"({"keys": {"camera": {"hash": "md5"}}})", "keys.camera.hash"},
+           {R"({"keys": {"camera": {"table_sets": 3}}})", "table_sets"},
+           {R"({"mode": "fast"})", "mode"},
+           {R"({"enabled": "yes"})", "enabled: must be true or false"},
+           {R"({"ray_classes": ["sky"]})", "ray_classes"},
+           {R"({"keys": {"shadow": {"gate": 0.5}}})", "keys.shadow.gate is 0.5"},  // no effect
+           {R"({"hash_bits": 4})", "hash_bits is 4"},  // a summary that disagrees with "keys"
+           {R"({"batch": 64, "pilot": 4})", "pilot is 4"},
+           {"[1", "not JSON"},
+           {"42", "must be a JSON object"}}) {
+    std::ofstream(file) << text;
+    const Result r = run(base + " --hrpp on --hrpp-config " + file.string());
+    EXPECT_EQ(r.status, 1) << text;
+    EXPECT_NE(r.err.find(file.string() + ": "), std::string::npos) << text << ": " << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << text << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << text << ": " << r.err;
+  }
+  const Result r = run(base + " --hrpp-config " + (dir_ / "none.json").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("none.json: cannot open"), std::string::npos) << r.err;
+}
+
 TEST_F(HrppCli, BenchPrintsPredictorFigures) {
   const fs::path json = dir_ / "bench.json";
   const Result r = run("bench teapot --rays 4096 --no-embree --repeat 1 --hrpp on --hrpp-mode exact "

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/cli_names.h"
+#include "app/hrpp_config_file.h"
 #include "common/error.h"
 
 namespace hrpp::app {
@@ -86,6 +87,45 @@ std::string ray_class_list(const PerClass<bool>& classes) {
 }
 
 PredictorConfig HrppOptions::config(DeviceTracerKind tracer) const {
+  return config_file.empty() ? build(tracer) : config_with_file(*this, tracer);
+}
+
+HrppOptions HrppOptions::overridden_by(const HrppOptions& cli) const {
+  HrppOptions o = *this;
+  for (const std::string& f : cli.given) {
+    if (f == "--hrpp") o.enabled = cli.enabled;
+    if (f == "--hrpp-rays") o.classes = cli.classes;
+    if (f == "--hrpp-adaptive") o.adaptive = cli.adaptive;
+    if (f == "--hrpp-mode") o.mode = cli.mode;
+    if (f == "--hrpp-fallback") o.fallback = cli.fallback;
+    if (f == "--hrpp-gate") o.gate = cli.gate;
+    if (f == "--hash") o.hash = cli.hash;
+    if (f == "--hash-bits") o.hash_bits = cli.hash_bits;
+    if (f == "--hash-dir-bits") o.hash_dir_bits = cli.hash_dir_bits;
+    if (f == "--go-up") o.go_up = cli.go_up;
+    if (f == "--go-up-size") o.go_up_size = cli.go_up_size;
+    if (f == "--table-preset") {  // the whole table
+      o.preset = cli.preset;
+      o.sets = cli.sets;
+      o.ways = cli.ways;
+      o.nodes = cli.nodes;
+      o.policy = cli.policy;
+    }
+    if (f == "--table-sets") o.sets = cli.sets;
+    if (f == "--table-ways") o.ways = cli.ways;
+    if (f == "--table-nodes") o.nodes = cli.nodes;
+    if (f == "--table-policy") o.policy = cli.policy;
+    if (f == "--hrpp-batch") o.batch = cli.batch;
+    if (f == "--hrpp-pilot") o.pilot = cli.pilot;
+    if (f == "--hrpp-serial") o.serial = cli.serial;
+    if (f == "--hrpp-count") o.count_baseline = cli.count_baseline;
+  }
+  o.config_file.clear();
+  o.given.clear();
+  return o;
+}
+
+PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
   PredictorConfig c;
   c.enabled = enabled;
   c.mode = mode;
@@ -300,6 +340,14 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
                 "render: also count what full traversals would visit (savings %); adds a "
                 "counting traversal to the timed work (trace and bench count in a separate run)")
       ->group(g);
+  cmd->add_option("--hrpp-config", o.config_file,
+                  "HRPP's settings from FILE.json: the \"hrpp\" object of a --stats JSON (or "
+                  "that JSON itself) or any part of it (docs/HRPP.md, \"Settings file\"); "
+                  "flags given here override it")
+      ->group(g);
+  for (CLI::Option* opt : cmd->get_options())  // which flags the command line gives
+    if (opt->get_group() == g && opt->get_name() != "--hrpp-config")
+      opt->each([&o, name = opt->get_name()](const std::string&) { o.given.push_back(name); });
 }
 
 nlohmann::json class_names(const PredictorConfig& c) {

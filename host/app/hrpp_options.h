@@ -1,12 +1,13 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
 // --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hrpp-gate, --hash,
-// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial; and the JSON
-// form of the configuration and of a run's predictor figures.
+// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial, --hrpp-config;
+// and the JSON form of the configuration and of a run's predictor figures.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -47,10 +48,18 @@ struct HrppOptions {
   std::uint32_t pilot = PredictorConfig{}.pilot;
   bool serial = false;
   bool count_baseline = false;
+  std::string config_file;         // --hrpp-config FILE.json (app/hrpp_config_file.h)
+  std::vector<std::string> given;  // the HRPP flags given on the command line
 
-  // The predictor configuration (enabled = --hrpp on) in front of `tracer`. Throws hrpp::Error
-  // naming the flag.
+  // The predictor configuration (enabled = --hrpp on) in front of `tracer`: with --hrpp-config,
+  // the file's, each flag given on the command line overriding what it sets (--table-preset the
+  // whole table). Throws hrpp::Error naming the flag, or the file and the key.
   PredictorConfig config(DeviceTracerKind tracer = DeviceTracerKind::kCompute) const;
+
+  // The configuration these options set, the file aside.
+  PredictorConfig build(DeviceTracerKind tracer) const;
+  // These options with the fields of the flags `cli` was given replaced by its own.
+  HrppOptions overridden_by(const HrppOptions& cli) const;
 };
 
 // --hrpp-rays: a comma-separated subset of camera, bounce, shadow; the older names all (camera,
