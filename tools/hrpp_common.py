@@ -84,6 +84,8 @@ def render(hrpp, scene, out, size, spp, seed, flags=(), who="hrpp", reuse=False,
         j = json.load(f)
     if j.get("session", {}).get("interrupted"):  # a stopped render's passes are not the job's
         sys.exit(f"{who}: {stats}: the render was interrupted; render it again")
+    if j.get("session", {}).get("failed"):  # nor are a failed one's
+        sys.exit(f"{who}: {stats}: the render failed ({j['session'].get('error')}); render it again")
     return j, exr
 
 

@@ -137,6 +137,8 @@ def main():
                 stats = json.load(f)
             if stats.get("session", {}).get("interrupted"):
                 raise ValueError("the render was interrupted: its passes are not the job's")
+            if stats.get("session", {}).get("failed"):
+                raise ValueError("the render failed: " + str(stats["session"].get("error")))
             rows.append(flatten(m, stats, note))
         except (OSError, ValueError) as e:
             r = {k: m.get(k, "") for k in META}

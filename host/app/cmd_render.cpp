@@ -70,6 +70,15 @@ ImageAttributes image_attributes(const std::string& device, const RenderResult& 
   return a;
 }
 
+// A device failure in the stats' "session": the error and the passes finished before it, of
+// which the image holds the first stats.frames.size().
+void add_failure(nlohmann::json& session, const RenderResult& r) {
+  session["failed"] = true;
+  session["error"] = r.failure;
+  session["stopped_by"] = "device failure";
+  session["passes_before_failure"] = r.passes_before_failure;
+}
+
 // A render's end: a line on stderr when it stopped early; after a signal, Interrupted (main
 // returns 128 + the signal) once every output is written.
 void finish_session(const RenderSession& session, const RenderOptions& o, const RenderResult& r) {
@@ -216,7 +225,8 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
   finish_session(session, o, result);
 }
 
-void run_render(RenderOptions& o) {
+// The flags' values checked and turned into the render configuration (before any file is read).
+void check_render_options(RenderOptions& o) {
   parse_size(o.size, o.render);
   o.render.default_lighting.environment =
       parse_light(o.default_environment, "--default-environment", true);
@@ -239,6 +249,10 @@ void run_render(RenderOptions& o) {
   o.render.device_tracer = o.shared.device_tracer;
   o.render.predictor = o.hrpp.config(o.shared.device_tracer);
   check_compute_only(o.shared, {{"--reorder", o.render.reorder != RayOrder::kOff}});
+}
+
+void run_render(RenderOptions& o) {
+  check_render_options(o);
   Scene scene = load_scene(o.shared.scene);
   apply_scene_film(o, scene);
   check_range("--spp", o.render.spp, 1, 1u << 20);
@@ -262,20 +276,23 @@ void run_render(RenderOptions& o) {
     write_image(o.out, r.width, r.height, r.rgb, image_attributes(ctx.info().name, r));
   });
   const RenderResult result = renderer.render(&session);
-  check_validation_messages(ctx);
+  const bool failed = !result.failure.empty();  // the device: nothing more is read from it
+  if (!failed) check_validation_messages(ctx);
   write_image(o.out, result.width, result.height, result.rgb,
               image_attributes(ctx.info().name, result));
   // HRPP: the configuration and, per predicting ray class, the paper's figures.
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
   if (o.render.predictor.enabled)
-    add_class_summaries([&](RayClass c) { return renderer.predictor_occupancy(c); }, result.stats,
-                        o.render.predictor, hrpp_text, hrpp_json);
+    add_class_summaries(
+        [&](RayClass c) { return failed ? TableOccupancy{} : renderer.predictor_occupancy(c); },
+        result.stats, o.render.predictor, hrpp_text, hrpp_json);
   if (!o.stats.empty()) {
     nlohmann::json j = render_stats_json(scene.name, o.render, ctx.info(), result);
     j["backend"] = name_in(kRenderBackendNames, RenderBackend::kGpu);
     j["hrpp_predictor"] = hrpp_json;
     j["session"] = session.json(static_cast<std::uint32_t>(result.stats.frames.size()));
+    if (failed) add_failure(j["session"], result);
     add_provenance(j);
     j["memory"] = memory_json(ctx.memory().report(), triangles);
     write_file_atomically(o.stats, j.dump(2) + "\n", "cannot write stats");
@@ -290,6 +307,9 @@ void run_render(RenderOptions& o) {
   std::printf("memory      %s\n", memory_text(ctx.memory().report(), triangles).c_str());
   std::printf("image       %s\n", o.out.c_str());
   if (!o.stats.empty()) std::printf("stats       %s\n", o.stats.c_str());
+  if (failed)
+    throw Error(result.failure + "; " + o.out + " holds the mean of the " +
+                std::to_string(result.stats.frames.size()) + " passes kept");
   finish_session(session, o, result);
 }
 

@@ -35,7 +35,8 @@ namespace {
 std::unique_ptr<DeviceTracer> make_plain(VulkanContext& ctx, DeviceTracerKind kind,
                                          const GpuBvh& bvh, const GpuTracerConfig& tracer,
                                          GpuBvh* release) {
-  if (kind == DeviceTracerKind::kRayQuery) return std::make_unique<RayQueryTracer>(ctx, bvh, tracer);
+  if (kind == DeviceTracerKind::kRayQuery)
+    return std::make_unique<RayQueryTracer>(ctx, bvh, tracer);
   if (!release) return std::make_unique<GpuTracer>(ctx, bvh, tracer);
   return std::make_unique<GpuTracer>(ctx, *release, tracer, GpuTracer::FreeHostArrays{});
 }
@@ -43,8 +44,7 @@ std::unique_ptr<DeviceTracer> make_plain(VulkanContext& ctx, DeviceTracerKind ki
 }  // namespace
 
 std::unique_ptr<DeviceTracer> make_device_tracer(VulkanContext& ctx, DeviceTracerKind kind,
-                                                 const GpuBvh& bvh,
-                                                 const GpuTracerConfig& tracer,
+                                                 const GpuBvh& bvh, const GpuTracerConfig& tracer,
                                                  const PredictorConfig& predictor,
                                                  GpuBvh* release) {
   if (!predictor.enabled) return make_plain(ctx, kind, bvh, tracer, release);

@@ -35,8 +35,7 @@ std::size_t device_tracer_dispatch_rays(DeviceTracerKind kind, const DeviceInfo&
 // `release` (the same GpuBvh as `bvh`), frees each host array once the device holds it; in
 // serial mode (PredictorConfig::serial) its kernels take one ray per subgroup, as the stage's.
 std::unique_ptr<DeviceTracer> make_device_tracer(VulkanContext& ctx, DeviceTracerKind kind,
-                                                 const GpuBvh& bvh,
-                                                 const GpuTracerConfig& tracer,
+                                                 const GpuBvh& bvh, const GpuTracerConfig& tracer,
                                                  const PredictorConfig& predictor,
                                                  GpuBvh* release = nullptr);
 

@@ -11,8 +11,7 @@
 
 namespace hrpp {
 
-GpuTraceResult DeviceTracer::trace(std::span<const gpu::Ray> rays, RayClass c,
-                                   RaySorter* sorter) {
+GpuTraceResult DeviceTracer::trace(std::span<const gpu::Ray> rays, RayClass c, RaySorter* sorter) {
   check_rays(rays);
   return trace_in_chunks(
       rays, c, chunk_rays(),

@@ -18,9 +18,8 @@ namespace hrpp {
 GpuTracerConfig GpuTracerConfig::resolved_for(const DeviceInfo& device) const {
   GpuTracerConfig c = *this;
   if (c.rays_per_invocation == 0)
-    c.rays_per_invocation = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU
-                                ? kCpuDeviceRaysPerInvocation
-                                : kGpuRaysPerInvocation;
+    c.rays_per_invocation = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuDeviceRaysPerInvocation
+                                                                       : kGpuRaysPerInvocation;
   return c;
 }
 
@@ -37,8 +36,8 @@ struct QueryArrays : ResidentRays {
   QueryArrays(VulkanContext& c, QueryKind kind, const std::string& counters_name,
               QueueTraceKernel k, std::optional<ComputePipeline> ix)
       : counters(c, sizeof(gpu::TraceCounters),
-                 std::string(query_kind_label(kind)) + " " + counters_name,
-                 BufferBinding::kStorage, MemoryRole::kHostShared),
+                 std::string(query_kind_label(kind)) + " " + counters_name, BufferBinding::kStorage,
+                 MemoryRole::kHostShared),
         kernel(std::move(k)),
         indexed(std::move(ix)) {
     for (ComputePipeline* p : pipelines()) p->bind(kernel.counters, counters);
@@ -106,8 +105,8 @@ const ResidentRays& KernelTracer::resident(RayClass c) const { return s_->query(
 
 void KernelTracer::begin(RayClass) {}
 
-void KernelTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count,
-                          KernelTimer* timer, const TexelView* ray_indices) {
+void KernelTracer::record(VkCommandBuffer cmd, RayClass c, std::uint32_t count, KernelTimer* timer,
+                          const TexelView* ray_indices) {
   QueryArrays& a = s_->query(c);
   if (ray_indices && !a.indexed)
     throw Error(std::string("--reorder: ") + a.kernel.pipeline.name() +
@@ -141,9 +140,8 @@ GpuTraceResult KernelTracer::finish(RayClass c) {
   out.counters = traversal_counters(k);
   const std::uint64_t done = out.counters.rays;
   if (done != k.ray_count || k.aborted != 0)
-    throw Error(std::string(a.kernel.pipeline.name()) + ": only " + std::to_string(done) +
-                " of " + std::to_string(k.ray_count) + " rays finished (" +
-                std::to_string(k.aborted) +
+    throw Error(std::string(a.kernel.pipeline.name()) + ": only " + std::to_string(done) + " of " +
+                std::to_string(k.ray_count) + " rays finished (" + std::to_string(k.aborted) +
                 " cut short): the driver's loop limiter (lavapipe: 65,535 loop iterations per "
                 "subgroup) ended the kernel's loops at " +
                 std::to_string(s_->config.rays_per_invocation) +
@@ -165,10 +163,9 @@ std::uint32_t KernelTracer::rays_per_workgroup() const {
 // workgroups reach.
 std::size_t KernelTracer::max_dispatch_rays(const DeviceInfo& d, const GpuTracerConfig& requested) {
   const GpuTracerConfig config = requested.resolved_for(d);
-  const std::uint64_t by_range =
-      std::min<std::uint64_t>(d.max_storage_buffer_range / sizeof(gpu::Ray),
-                              std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes /
-                                  sizeof(gpu::Ray));
+  const std::uint64_t by_range = std::min<std::uint64_t>(
+      d.max_storage_buffer_range / sizeof(gpu::Ray),
+      std::uint64_t{d.max_texel_buffer_elements} * TexelView::kTexelBytes / sizeof(gpu::Ray));
   const std::uint64_t by_groups = static_cast<std::uint64_t>(d.max_workgroup_count_x) *
                                   HRPP_TRACE_WORKGROUP_SIZE * config.rays_per_invocation;
   return static_cast<std::size_t>(std::min<std::uint64_t>({by_range, by_groups, 0xFFFFFFFFu}));

@@ -152,6 +152,12 @@ struct RenderResult {
   std::uint32_t width = 0, height = 0;
   std::vector<float> rgb;  // linear radiance, mean over the samples, rows top down
   RenderStats stats;
+  // A render the device failed mid-way (lost, out of memory): the error's one line, and how many
+  // passes had finished when it came; rgb and stats are those of the last pass boundary the host
+  // kept (WavefrontRenderer: the first pass, then at most once a second), stats.frames.size()
+  // passes. Empty when the render ran to its end.
+  std::string failure;
+  std::uint32_t passes_before_failure = 0;
 };
 
 }  // namespace hrpp

@@ -438,35 +438,63 @@ RenderResult WavefrontRenderer::render(PassObserver* observer) {
     set_mean_image(r, sum, static_cast<std::uint32_t>(stats.frames.size()));
     return r;
   };
+  // The host's copy of the last pass boundary: what a device failure leaves (RenderResult).
+  struct Kept {
+    std::vector<glm::vec4> sum;
+    RenderStats stats;
+    std::chrono::steady_clock::time_point at;
+  } kept;
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
-    const auto frame_start = std::chrono::steady_clock::now();
     FrameStats frame;
-    const bool driver = s_->cfg.device_tracer == DeviceTracerKind::kRayQuery;
-    for (Kernel k : {Kernel::render_generate,
-                     driver ? Kernel::trace_rayquery_closest : Kernel::trace_closest,
-                     Kernel::render_shade, driver ? Kernel::trace_rayquery_any : Kernel::trace_any,
-                     Kernel::render_accumulate})
-      frame.kernels_ms[TimerLabel{k}] = 0.0;
-    if (s_->hrpp)
-      for (RayClass c : kRayClasses)
-        s_->hrpp->set_probing(c, s_->adaptive.mode(c), s_->adaptive.sample_stride(c));
-    for (std::uint32_t first = 0; first < pixels; first += s_->wave)
-      s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
-    frame.wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
-    for (RayClass c : kRayClasses)
-      frame.decisions[c] = s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
+    try {
+      run_pass(sample, frame);
+    } catch (const DeviceFailure& e) {
+      out.failure = e.what();
+      out.passes_before_failure = sample;
+      break;
+    }
     stats += frame;
     stats.frames.push_back(std::move(frame));
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - first_pass).count();
+    const auto now = std::chrono::steady_clock::now();
+    if (sample == 0 || now - kept.at >= kKeepInterval) {
+      kept.sum.resize(pixels);
+      s_->image.download(kept.sum.data(), kept.sum.size() * sizeof(glm::vec4));
+      kept.stats = stats;
+      kept.at = now;
+    }
+    const double elapsed = std::chrono::duration<double>(now - first_pass).count();
     if (observer && !observer->after_pass(sample + 1, elapsed, mean_so_far)) break;
   }
-  std::vector<glm::vec4> sum(pixels);
-  s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
-  set_mean_image(out, sum, static_cast<std::uint32_t>(stats.frames.size()));
+  if (!out.failure.empty()) {  // the device's arrays may be gone: only what the host kept
+    stats = kept.stats;
+    set_mean_image(out, kept.sum, static_cast<std::uint32_t>(stats.frames.size()));
+  } else {
+    std::vector<glm::vec4> sum(pixels);
+    s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
+    set_mean_image(out, sum, static_cast<std::uint32_t>(stats.frames.size()));
+  }
   stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+void WavefrontRenderer::run_pass(std::uint32_t sample, FrameStats& frame) {
+  const auto frame_start = std::chrono::steady_clock::now();
+  const std::uint32_t pixels = s_->cfg.width * s_->cfg.height;
+  const bool driver = s_->cfg.device_tracer == DeviceTracerKind::kRayQuery;
+  for (Kernel k : {Kernel::render_generate,
+                   driver ? Kernel::trace_rayquery_closest : Kernel::trace_closest,
+                   Kernel::render_shade, driver ? Kernel::trace_rayquery_any : Kernel::trace_any,
+                   Kernel::render_accumulate})
+    frame.kernels_ms[TimerLabel{k}] = 0.0;
+  if (s_->hrpp)
+    for (RayClass c : kRayClasses)
+      s_->hrpp->set_probing(c, s_->adaptive.mode(c), s_->adaptive.sample_stride(c));
+  for (std::uint32_t first = 0; first < pixels; first += s_->wave)
+    s_->trace_wavefront(first, std::min(s_->wave, pixels - first), sample, frame);
+  frame.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count();
+  for (RayClass c : kRayClasses)
+    frame.decisions[c] = s_->adaptive.end_frame(c, frame_cost(frame.classes[c], s_->probing(c)));
 }
 
 TableOccupancy WavefrontRenderer::predictor_occupancy(RayClass c) const {

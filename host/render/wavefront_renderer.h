@@ -12,6 +12,7 @@
 // command buffer; the host reads the queues (a few bytes) once per bounce.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -47,7 +48,9 @@ class WavefrontRenderer {
 
   // Renders config.spp sample passes. `progress(samples_done)` is called after each pass.
   // Up to the config's spp passes; an observer may stop it after any pass (pass_observer.h),
-  // and the image is then the mean of the passes done (stats.frames: one per pass).
+  // and the image is then the mean of the passes done (stats.frames: one per pass). A device
+  // failure (DeviceFailure: lost, out of memory) in a pass ends the render with the image and
+  // stats the host kept last (RenderResult::failure); other errors throw.
   RenderResult render(PassObserver* observer = nullptr);
 
   const RenderScene& render_scene() const;
@@ -55,6 +58,13 @@ class WavefrontRenderer {
   TableOccupancy predictor_occupancy(RayClass c) const;
 
  private:
+  // How often at most the host keeps a copy of the image at a pass boundary (besides after the
+  // first pass): what a lost device leaves. Its cost is one image download per interval.
+  static constexpr std::chrono::milliseconds kKeepInterval{1000};
+
+  // One sample pass over every pixel, its figures into `frame`.
+  void run_pass(std::uint32_t sample, FrameStats& frame);
+
   struct State;
   std::unique_ptr<State> s_;
 };

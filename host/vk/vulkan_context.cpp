@@ -41,12 +41,14 @@ const char* vk_result_name(VkResult r) {
 void check_vk(VkResult r, const std::string& what) {
   if (r == VK_SUCCESS) return;
   if (r == VK_ERROR_DEVICE_LOST)
-    throw Error("Vulkan device lost during " + what +
-                " (driver crash or a kernel that ran too long); results are unusable");
+    throw DeviceFailure("Vulkan device lost during " + what +
+                            " (VK_ERROR_DEVICE_LOST: driver crash or a kernel that ran too long)",
+                        r);
   if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY)
-    throw Error("out of device memory during " + what + " (VK_ERROR_OUT_OF_DEVICE_MEMORY)");
+    throw DeviceFailure(
+        "out of device memory during " + what + " (VK_ERROR_OUT_OF_DEVICE_MEMORY)", r);
   if (r == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw Error("out of host memory during " + what + " (VK_ERROR_OUT_OF_HOST_MEMORY)");
+    throw DeviceFailure("out of host memory during " + what + " (VK_ERROR_OUT_OF_HOST_MEMORY)", r);
   throw Error(what + " failed: " + vk_result_name(r));
 }
 
@@ -85,6 +87,39 @@ struct Handles {
   VkFence fence = VK_NULL_HANDLE;
 };
 
+// A test hook (docs/TESTING.md): HRPP_TEST_FAIL_SUBMIT=LABEL:N:lost|memory makes the N-th submit
+// named LABEL (counting from 1) return VK_ERROR_DEVICE_LOST or VK_ERROR_OUT_OF_DEVICE_MEMORY in
+// place of vkQueueSubmit's result, the command buffer not submitted: the failures a render
+// cannot provoke on lavapipe. Throws hrpp::Error on a malformed value.
+struct SubmitFailure {
+  std::string label;
+  std::uint64_t nth = 0;  // 0: no hook
+  VkResult result = VK_SUCCESS;
+  std::uint64_t seen = 0;
+
+  static SubmitFailure from_env() {
+    SubmitFailure f;
+    const char* env = std::getenv("HRPP_TEST_FAIL_SUBMIT");
+    if (env == nullptr || *env == '\0') return f;
+    const std::string v = env;
+    const std::size_t a = v.rfind(':'), b = a == std::string::npos ? a : v.rfind(':', a - 1);
+    const std::string n = b == std::string::npos ? "" : v.substr(b + 1, a - b - 1);
+    const std::string kind = a == std::string::npos ? "" : v.substr(a + 1);
+    if (b == std::string::npos || b == 0 || n.empty() ||
+        n.find_first_not_of("0123456789") != std::string::npos || (kind != "lost" && kind != "memory"))
+      throw Error("HRPP_TEST_FAIL_SUBMIT=" + v + ": not LABEL:N:lost or LABEL:N:memory");
+    f.label = v.substr(0, b);
+    f.nth = std::stoull(n);
+    f.result = kind == "lost" ? VK_ERROR_DEVICE_LOST : VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    return f;
+  }
+  // The result the submit named `what` is to get in place of the driver's; VK_SUCCESS: submit.
+  VkResult next(const std::string& what) {
+    if (nth == 0 || what != label || ++seen != nth) return VK_SUCCESS;
+    return result;
+  }
+};
+
 }  // namespace
 
 struct VulkanContext::State {
@@ -96,6 +131,7 @@ struct VulkanContext::State {
   std::unique_ptr<StagedTransfer> staging;  // staged mode
   bool recording = false;                   // inside submit_and_wait's `record`
   bool ray_queries = false;                 // VulkanOptions::ray_query
+  SubmitFailure injected;                   // HRPP_TEST_FAIL_SUBMIT
 
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record, const std::string& what);
 
@@ -551,6 +587,7 @@ VulkanContext::VulkanContext(const VulkanOptions& options) : s_(std::make_unique
   s.info = s.devices[chosen];
   s.info.timestamps = timestamp_bits(s.h.physical, s.h.family) > 0;
   apply_heap_cap(&s.info);
+  s.injected = SubmitFailure::from_env();
   s.ledger.set_heap(s.info.heap_bytes);
   if (options.ray_query && !s.info.ray_query)
     throw Error("--tracer rayquery: the Vulkan device '" + s.info.name + "' (" + s.info.driver +
@@ -620,7 +657,9 @@ void VulkanContext::State::submit_and_wait(const std::function<void(VkCommandBuf
   si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   si.commandBufferCount = 1;
   si.pCommandBuffers = &s.cmd;
-  check_vk(vkQueueSubmit(s.queue, 1, &si, s.fence), "vkQueueSubmit (" + what + ")");
+  const VkResult forced = injected.next(what);
+  check_vk(forced != VK_SUCCESS ? forced : vkQueueSubmit(s.queue, 1, &si, s.fence),
+           "vkQueueSubmit (" + what + ")");
   check_vk(vkWaitForFences(s.device, 1, &s.fence, VK_TRUE, UINT64_MAX),
            "vkWaitForFences (" + what + ")");
 }

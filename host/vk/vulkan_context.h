@@ -10,6 +10,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "common/error.h"
+
 #include "vk/memory_ledger.h"
 #include "vk/memory_placement.h"
 
@@ -121,8 +123,20 @@ class VulkanContext {
   std::unique_ptr<State> s_;
 };
 
+// A failure of the device itself, not of the input: the device lost, or out of device or host
+// memory. A render that meets one mid-way keeps the passes it had finished (render/).
+class DeviceFailure : public Error {
+ public:
+  DeviceFailure(const std::string& message, VkResult result) : Error(message), result_(result) {}
+  VkResult result() const { return result_; }
+
+ private:
+  VkResult result_;
+};
+
 // Throws hrpp::Error("<what> failed: <VkResult name>") when r is not VK_SUCCESS; a lost device
-// and running out of device or host memory get their own one-line messages naming `what`.
+// and running out of device or host memory throw a DeviceFailure with their own one-line
+// messages naming `what`.
 void check_vk(VkResult r, const std::string& what);
 
 const char* vk_result_name(VkResult r);
