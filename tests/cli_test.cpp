@@ -254,11 +254,14 @@ TEST_F(Cli, ReportsAndImagesRecordTheCommandLineCommitAndDevice) {
 
 // The GPU stage's deterministic order has no meaning for HRPP inline in the CPU renderer.
 TEST_F(Cli, CpuBackendRefusesTheStagesOrders) {
-  for (const char* flag : {"--hrpp-batch 64", "--hrpp-serial"}) {
+  for (const auto& [settings, key] : {std::pair{R"({"batch": 64})", "batch"},
+                                      std::pair{R"({"serial": true})", "serial"}}) {
+    const fs::path file = dir_ / "settings.json";
+    std::ofstream(file) << settings;
     const Result r = run(std::string("render --backend cpu --hrpp on --size 8x8 --out ") +
-                         (dir_ / "x.exr").string() + " " + flag);
-    expect_one_line_error(r, std::string(flag).substr(0, std::string(flag).find(' ')));
-    EXPECT_FALSE(fs::exists(dir_ / "x.exr")) << flag;
+                         (dir_ / "x.exr").string() + " --hrpp-config " + file.string());
+    expect_one_line_error(r, std::string("--hrpp-config: ") + key);
+    EXPECT_FALSE(fs::exists(dir_ / "x.exr")) << settings;
   }
 }
 

@@ -1,4 +1,4 @@
-// The HRPP flags of `hrpp trace` and `hrpp bench` as a user meets them: exact and hit-any
+// The HRPP flags and settings files of `hrpp trace` and `hrpp bench` as a user meets them: exact and hit-any
 // prediction write the same hits file as --hrpp off; speculative mode reports its wrong closest
 // hits; --stats JSON holds the configuration and counters that add up; bad values end in one
 // line naming the flag and exit status 1.
@@ -41,6 +41,12 @@ class HrppCli : public test::CliTest {
         .write(reinterpret_cast<const char*>(rays.data()),
                static_cast<std::streamsize>(rays.size() * sizeof(gpu::Ray)));
   }
+  // `json` in the file NAME.json of the test's folder: --hrpp-config and its path.
+  std::string settings(const std::string& json, const std::string& name) const {
+    const fs::path file = dir_ / (name + ".json");
+    std::ofstream(file) << json;
+    return "--hrpp-config " + file.string();
+  }
   // Traces the rays file; returns the hits file's bytes.
   std::string trace(const std::string& flags, const std::string& name) const {
     const fs::path hits = dir_ / (name + ".bin");
@@ -58,18 +64,29 @@ TEST_F(HrppCli, ExactAndAnyHitWriteTheHitsOfHrppOff) {
   ASSERT_EQ(off.size(), 2u * 64 * 64 * 16);
   EXPECT_EQ(trace("--hrpp on --hrpp-mode exact", "exact"), off);
   EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --table-preset tiny", "exact_tiny"), off);
-  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --hash grid-spherical --hash-bits 5 --go-up 2",
+  const std::string grid = R"({"hash": "grid-spherical", "hash_bits": 5, "go_up": 2})";
+  const std::string every_grid =
+      R"("keys": {"camera": )" + grid + R"(, "bounce": )" + grid + R"(, "shadow": )" + grid + "}";
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact " + settings("{" + every_grid + "}", "grid"),
                   "exact_grid"),
             off);
-  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact --hash grid-spherical --hash-bits 5 --go-up 2 "
-                  "--hrpp-fallback root",
+  EXPECT_EQ(trace("--hrpp on --hrpp-mode exact " +
+                      settings(R"({"fallback": "root", )" + every_grid + "}", "grid_root"),
                   "exact_grid_root"),
             off);
   const std::string any_off = trace("--any-hit", "any_off");
-  EXPECT_EQ(trace("--any-hit --hrpp on --hash two-point --hash-bits 4", "any_on"), any_off);
+  const std::string two = R"({"hash": "two-point", "hash_bits": 4})";
+  EXPECT_EQ(trace("--any-hit --hrpp on " +
+                      settings(R"({"keys": {"camera": )" + two + R"(, "bounce": )" + two +
+                                   R"(, "shadow": )" + two + "}}",
+                               "two"),
+                  "any_on"),
+            any_off);
   // Per-class keys: a light-space key with go-up subtrees for the shadow rays.
-  EXPECT_EQ(trace("--any-hit --hrpp on --hash camera=grid-spherical,shadow=light-depth "
-                  "--hash-bits shadow=4 --go-up shadow=3",
+  EXPECT_EQ(trace("--any-hit --hrpp on " +
+                      settings(R"({"keys": {"camera": {"hash": "grid-spherical"}, )"
+                               R"("shadow": {"hash": "light-depth", "hash_bits": 4, "go_up": 3}}})",
+                               "light"),
                   "any_light"),
             any_off);
   // --hrpp-rays any leaves closest-hit queries alone (no predictor line).
@@ -83,7 +100,11 @@ TEST_F(HrppCli, ExactAndAnyHitWriteTheHitsOfHrppOff) {
 TEST_F(HrppCli, StatsJsonCountersAddUp) {
   const fs::path stats = dir_ / "stats.json";
   // Precision 4: neighbouring camera rays share keys, so the pilot rays' entries serve the rest.
-  trace("--hrpp on --hash-bits 4 --stats " + stats.string(), "spec");
+  trace("--hrpp on --stats " + stats.string() + " " +
+            settings(R"({"keys": {"camera": {"hash_bits": 4}, "bounce": {"hash_bits": 4}, )"
+                     R"("shadow": {"hash_bits": 4}}})",
+                     "bits4"),
+        "spec");
   const nlohmann::json j = nlohmann::json::parse(read_file(stats));
   const nlohmann::json& h = j.at("hrpp");
   EXPECT_EQ(h.at("enabled"), true);
@@ -110,15 +131,17 @@ TEST_F(HrppCli, StatsJsonCountersAddUp) {
   EXPECT_FALSE(j.at("device").at("driver").get<std::string>().empty());
 }
 
-// --hash, --hash-bits and --go-up per ray class: "V" sets every class, "class=V" one, in order; the
-// stats JSON has every class's key, and the flat fields in --hash's form.
+// Keys per ray class (--hrpp-config's keys.<class>) and --table-preset's "V" for every class or
+// "class=V" for one, in order; the stats JSON has every class's key, and the flat fields in the
+// "class=V" form.
 TEST_F(HrppCli, KeysPerRayClass) {
   const fs::path stats = dir_ / "keys.json";
-  trace(
-      "--hrpp on --hash two-point,shadow=light --hash-bits 5,shadow=3 --go-up shadow=4 "
-      "--stats " +
-          stats.string(),
-      "keys");
+  trace("--hrpp on --table-preset tuned,shadow=beam --stats " + stats.string() + " " +
+            settings(R"({"keys": {"camera": {"hash": "two-point", "hash_bits": 5}, )"
+                     R"("bounce": {"hash": "two-point", "hash_bits": 5}, )"
+                     R"("shadow": {"hash": "light", "hash_bits": 3, "go_up": 4}}})",
+                     "per_class"),
+        "keys");
   const nlohmann::json h = nlohmann::json::parse(read_file(stats)).at("hrpp");
   const nlohmann::json& k = h.at("keys");
   EXPECT_EQ(k.at("camera").at("hash"), "two-point");
@@ -141,33 +164,11 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
   for (const auto& [flags, needle] : std::vector<std::pair<std::string, std::string>>{
            {"--hrpp maybe", "--hrpp"},
            {"--hrpp on --hrpp-mode fast", "--hrpp-mode"},
-           {"--hrpp on --hrpp-fallback leaf", "--hrpp-fallback"},
-           {"--hrpp on --hash md5", "--hash"},
-           {"--hrpp on --hash-bits 9", "--hash-bits"},
-           {"--hrpp on --hash shadow=md5", "--hash"},
-           {"--hrpp on --hash sky=light", "--hash"},
-           {"--hrpp on --hash shadow=light,bounce", "--hash"},
-           {"--hrpp on --hash light", "--hash"},  // light keys are for shadow rays only
-           {"--hrpp on --hash-bits shadow=x", "--hash-bits"},
-           {"--hrpp on --hash-bits shadow=0", "--hash-bits"},
-           {"--hrpp on --go-up bounce=-1", "--go-up"},
-           {"--hrpp on --go-up 65", "--go-up"},
-           {"--hrpp on --go-up-size shadow=2", "--go-up-size"},
-           {"--hrpp on --go-up-size shadow=big", "--go-up-size"},
-           {"--hrpp on --table-sets shadow=3", "--table-sets"},
            {"--hrpp on --table-preset shadow=huge", "--table-preset"},
-           {"--hrpp on --table-policy bounce=mru", "--table-policy"},
-           {"--hrpp on --table-sets 3", "--table-sets"},
-           {"--hrpp on --table-policy mru", "--table-policy"},
            {"--hrpp on --table-preset huge", "--table-preset"},
+           {"--hrpp on --table-preset sky=tuned", "--table-preset"},
            {"--hrpp on --hrpp-rays some", "--hrpp-rays"},
-           {"--hrpp on --hrpp-batch 100000", "--hrpp-batch"},
-           {"--hrpp on --hash-dir-bits 3", "--hash-dir-bits"},  // camera rays: the paper's key
-           {"--hrpp on --hash-dir-bits bounce=9", "--hash-dir-bits"},
-           {"--hrpp on --hrpp-gate bounce=-1", "--hrpp-gate"},
-           {"--hrpp on --hrpp-gate near", "--hrpp-gate"},
-           {"--hrpp on --hrpp-gate inf", "--hrpp-gate"},
-           {"--hrpp on --hrpp-mode exact --hrpp-gate 1.5", "--hrpp-gate"}}) {
+           {"--hrpp on --hash-bits 4", "--hash-bits"}}) {  // a setting of the file, not a flag
     const Result r = run(base + " " + flags);
     EXPECT_EQ(r.status, 1) << flags;
     EXPECT_NE(r.err.find(needle), std::string::npos) << flags << ": " << r.err;
@@ -180,8 +181,12 @@ TEST_F(HrppCli, BadValuesNameTheFlag) {
 // the flag that sets it; flags given beside the file override it.
 TEST_F(HrppCli, SettingsFileReRunsAStatsConfiguration) {
   const fs::path first = dir_ / "first.json", again = dir_ / "again.json";
-  const std::string flags = "--hrpp on --hash camera=grid-spherical --hash-bits 5 --go-up 1 "
-                            "--table-preset small --hrpp-batch 64 --hrpp-serial --hrpp-mode exact";
+  const std::string flags =
+      "--hrpp on --table-preset small --hrpp-mode exact " +
+      settings(R"({"batch": 64, "serial": true, "keys": {"camera": {"hash": "grid-spherical", )"
+               R"("hash_bits": 5, "go_up": 1}, "bounce": {"hash_bits": 5, "go_up": 1}, )"
+               R"("shadow": {"hash_bits": 5, "go_up": 1}}})",
+               "deterministic");
   const std::string hits = trace(flags + " --stats " + first.string(), "first");
   EXPECT_EQ(trace("--hrpp-config " + first.string() + " --stats " + again.string(), "again"),
             hits);
@@ -191,8 +196,8 @@ TEST_F(HrppCli, SettingsFileReRunsAStatsConfiguration) {
   // One key in a file of its own against the flag.
   const fs::path one = dir_ / "one.json", by_flag = dir_ / "by_flag.json",
                  by_file = dir_ / "by_file.json";
-  std::ofstream(one) << R"({"enabled": true, "keys": {"camera": {"hash_bits": 4}}})";
-  trace("--hrpp on --hash-bits camera=4 --stats " + by_flag.string(), "by_flag");
+  std::ofstream(one) << R"({"enabled": true, "keys": {"camera": {"table_preset": "small"}}})";
+  trace("--hrpp on --table-preset camera=small --stats " + by_flag.string(), "by_flag");
   trace("--hrpp-config " + one.string() + " --stats " + by_file.string(), "by_file");
   a = nlohmann::json::parse(read_file(by_flag)).at("hrpp");
   b = nlohmann::json::parse(read_file(by_file)).at("hrpp");
@@ -205,11 +210,11 @@ TEST_F(HrppCli, SettingsFileReRunsAStatsConfiguration) {
   EXPECT_EQ(a, b);
   // A flag beside the file wins.
   const fs::path over = dir_ / "over.json";
-  trace("--hrpp-config " + one.string() + " --hash-bits 3 --hrpp-mode exact --stats " +
+  trace("--hrpp-config " + one.string() + " --table-preset tiny --hrpp-mode exact --stats " +
             over.string(),
         "over");
   const nlohmann::json o = nlohmann::json::parse(read_file(over)).at("hrpp");
-  EXPECT_EQ(o.at("keys").at("camera").at("hash_bits"), 3u);
+  EXPECT_EQ(o.at("keys").at("camera").at("table_sets"), 4u);  // tiny: 4 x 2 x 2
   EXPECT_EQ(o.at("mode"), "exact");
 }
 
@@ -231,6 +236,19 @@ TEST_F(HrppCli, SettingsFileErrorsNameTheKey) {
            {R"({"keys": {"shadow": {"gate": 0.5}}})", "keys.shadow.gate is 0.5"},  // no effect
            {R"({"hash_bits": 4})", "hash_bits is 4"},  // a summary that disagrees with "keys"
            {R"({"batch": 64, "pilot": 4})", "pilot is 4"},
+           {R"({"keys": {"shadow": {"hash": "md5"}}})", "keys.shadow.hash"},
+           {R"({"keys": {"camera": {"hash": "light"}}})", "hash"},  // shadow rays' key only
+           {R"({"keys": {"shadow": {"hash_bits": 0}}})", "hash_bits"},
+           {R"({"keys": {"bounce": {"go_up": 65}}})", "go_up"},
+           {R"({"keys": {"shadow": {"go_up_size": 2}}})", "go_up_size"},
+           {R"({"keys": {"shadow": {"go_up_size": "big"}}})", "keys.shadow.go_up_size"},
+           {R"({"keys": {"bounce": {"table_policy": "mru"}}})", "keys.bounce.table_policy"},
+           {R"({"batch": 100000})", "batch"},
+           {R"({"keys": {"camera": {"hash_dir_bits": 3}}})", "hash_dir_bits"},  // the paper's key
+           {R"({"keys": {"bounce": {"hash_dir_bits": 9}}})", "hash_dir_bits"},
+           {R"({"keys": {"bounce": {"gate": -1}}})", "gate"},
+           {R"({"keys": {"bounce": {"gate": "near"}}})", "keys.bounce.gate"},
+           {R"({"mode": "exact", "keys": {"bounce": {"gate": 1.5}}})", "gate"},
            {"[1", "not JSON"},
            {"42", "must be a JSON object"}}) {
     std::ofstream(file) << text;

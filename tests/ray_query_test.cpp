@@ -311,12 +311,14 @@ TEST_F(RayQueryCli, BadCombinationsAreRefusedWithOneLine) {
   std::ofstream(rays, std::ios::binary).write(reinterpret_cast<const char*>(&ray), sizeof ray);
   const std::string trace = "trace builtin:cornell --rays " + rays.string() + " --hits " +
                             (dir_ / "hits.bin").string() + " --tracer ";
+  const std::filesystem::path skip = dir_ / "skip.json";
+  std::ofstream(skip) << R"({"fallback": "skip"})";
   const std::pair<std::string, std::string> cases[] = {
       {trace + "bogus", "--tracer"},
       {trace + "rayquery --reorder morton", "--reorder"},
       {trace + "rayquery --bvh-nodes wide4", "--bvh-nodes"},
       {trace + "rayquery --count-steps", "--count-steps"},
-      {trace + "rayquery --hrpp on --hrpp-fallback skip", "--hrpp-fallback skip"},
+      {trace + "rayquery --hrpp on --hrpp-config " + skip.string(), "fallback skip"},
       {"render --backend cpu --tracer rayquery --out " + (dir_ / "x.exr").string(), "--tracer"},
       {"render --tracer rayquery --reorder morton --out " + (dir_ / "x.exr").string(),
        "--reorder"}};

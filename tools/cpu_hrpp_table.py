@@ -2,7 +2,7 @@
 """HRPP inline on the CPU against the same traversal without it: the on/off table.
 
 For every round, scene and hash precision, one `hrpp bench SCENE --no-gpu --no-embree --hrpp on
---hash-bits N` process traces the scene's primary, AO and diffuse batches with the CPU
+--hrpp-config F` process (F: every class's hash_bits N) traces the scene's primary, AO and diffuse batches with the CPU
 reference (`cpu-ref`) and with HRPP inline in it (`cpu-hrpp`, per-thread tables emptied before
 each timed run; docs/HRPP.md, "HRPP inline on the CPU"), on the same rays and threads. Printed:
 cpu-hrpp / cpu-ref wall time per batch (each process's medians; one figure per round) and, for
@@ -22,7 +22,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import DEFAULT_BIN, REPO, cpu_model, need_binary, run, scene_arg  # noqa: E402
+from hrpp_common import (DEFAULT_BIN, REPO, cpu_model, hrpp_settings, need_binary, run,  # noqa: E402
+                         scene_arg, settings_args)
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = "cornell,teapot,bunny,lamborghini,dragon"
@@ -31,9 +32,9 @@ KINDS = ["primary", "ao", "diffuse"]
 
 def bench(a, scene, bits, out):
     """One process: {kind: (cpu-hrpp / cpu-ref, wrong share or None, true-positive share)}."""
-    run([a.hrpp, "bench", scene_arg(scene), "--no-gpu", "--no-embree", "--hrpp", "on",
-         "--hash-bits", str(bits), "--rays", str(a.rays), "--repeat", str(a.repeat),
-         "--json", out], "cpu_hrpp_table")
+    settings = settings_args([hrpp_settings({"hash_bits": bits})], out + ".hrpp.json")
+    run([a.hrpp, "bench", scene_arg(scene), "--no-gpu", "--no-embree", "--hrpp", "on", *settings,
+         "--rays", str(a.rays), "--repeat", str(a.repeat), "--json", out], "cpu_hrpp_table")
     with open(out) as f:
         report = json.load(f)
     figures = {}
@@ -85,7 +86,7 @@ def main():
         for r in range(a.rounds):  # rounds outermost: each scene's processes interleave
             for scene in a.scenes:
                 for bits in a.bits:
-                    print(f"cpu_hrpp_table: round {r + 1} {scene} --hash-bits {bits}",
+                    print(f"cpu_hrpp_table: round {r + 1} {scene} hash_bits {bits}",
                           file=sys.stderr, flush=True)
                     results[(r, scene, bits)] = bench(a, scene, bits, os.path.join(tmp, "b.json"))
     load.append(os.getloadavg()[0])

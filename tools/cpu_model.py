@@ -27,14 +27,14 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import model_common as cm  # noqa: E402
-from hrpp_common import DEFAULT_BIN, need_binary, render  # noqa: E402
+from hrpp_common import DEFAULT_BIN, hrpp_settings, need_binary, render  # noqa: E402
 
 CLASSES = ["camera", "bounce", "shadow"]
 SETTINGS = {
     "off": ["--hrpp", "off"],
     "keys": ["--hrpp", "on"],
     "camera": ["--hrpp", "on", "--hrpp-rays", "camera"],
-    "bits4": ["--hrpp", "on", "--hash-bits", "4"],
+    "bits4": ["--hrpp", "on", hrpp_settings({"hash_bits": 4})],
     "exact": ["--hrpp", "on", "--hrpp-mode", "exact"],
 }
 FEATURES = ["rays", "interior", "leaves", "triangles", "probes", "verify_leaves",

@@ -16,10 +16,10 @@
 #      twice, interleaved;
 #   5. tools/hrpp_bench.py at its defaults (the adaptive predictor): HRPP on against off;
 #   6. every GPU test binary (CTest label gpu), each alone;
-#   7. tools/hrpp_bench.py with every ray predicted (--hrpp-adaptive off);
+#   7. tools/hrpp_bench.py with every ray predicted (configs/hrpp/every-ray.json);
 #   8. tools/hrpp_model.py: this device's cost per operation fitted, its held-out error and where
 #      prediction would pay here (docs/EXPERIMENTS.md, "The cost model");
-#   9. step 7 again with the paper's fallback (--hrpp-fallback root): what the skip fallback
+#   9. step 7 again with the paper's fallback (configs/hrpp/every-ray-root.json): what the skip fallback
 #      (step 7, the default) saves in time on this device;
 #  10. where the device has VK_KHR_ray_query (step 1 says), the driver's ray queries beside the
 #      BVH kernels and Embree, with HRPP in front of them (hrpp bench --tracer rayquery --hrpp on
@@ -372,9 +372,9 @@ if [ -d "$tests" ] && want tests; then
 fi
 
 if want every_ray; then
-  step "hrpp_bench.py, every ray predicted (--hrpp-adaptive off)"
+  step "hrpp_bench.py, every ray predicted (configs/hrpp/every-ray.json)"
   limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
-    "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off" --json "$out/hrpp_bench_every_ray.json"
+    "${hb_args[@]}" --repeat 1 --flags "--hrpp-config configs/hrpp/every-ray.json" --json "$out/hrpp_bench_every_ray.json"
 fi
 
 if want model; then
@@ -384,9 +384,9 @@ if want model; then
 fi
 
 if want root; then
-  step "hrpp_bench.py, every ray predicted, the paper's fallback (--hrpp-fallback root)"
+  step "hrpp_bench.py, every ray predicted, the paper's fallback (configs/hrpp/every-ray-root.json)"
   limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
-    "${hb_args[@]}" --repeat 1 --flags "--hrpp-adaptive off --hrpp-fallback root" \
+    "${hb_args[@]}" --repeat 1 --flags "--hrpp-config configs/hrpp/every-ray-root.json" \
     --json "$out/hrpp_bench_every_ray_root.json"
 fi
 

@@ -15,8 +15,8 @@ It also prints each class's *floor*: hrpp_predict's device time per probed ray (
 first kernel, which every probed ray pays whatever the prediction finds) against the plain
 trace's time per ray with HRPP off. At 1 or above, the class cannot save time at any
 true-positive rate on this device: even a ray whose prediction answers it costs what its whole
-traversal did. `--flags "--hrpp-adaptive off"` measures it with every ray predicted; the
-default measures it on the adaptive predictor's samples.
+traversal did. `--flags "--hrpp-config configs/hrpp/every-ray.json"` measures it with every
+ray predicted; the default measures it on the adaptive predictor's samples.
 
 Runs with Debian's python3 (numpy, python3-openimageio: tools/setup.sh); without OpenImageIO it
 reads the uncompressed EXR files of a portable build with numpy alone.

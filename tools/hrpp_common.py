@@ -18,6 +18,43 @@ STAND_INS = ["cornell", "teapot", "bunny", "bunny-complex", "lamborghini", "drag
 # The estimator scripts' scenes: the Cornell boxes, two stand-ins, two lights near surfaces.
 ESTIMATOR_SCENES = "builtin:cornell,cornell,bunny,teapot,wall-lamp,floor-panel"
 EPS = 1e-2  # relMSE's guard: (x - ref)^2 / (ref^2 + EPS)
+RAY_CLASSES = ("camera", "bounce", "shadow")
+
+
+def hrpp_settings(every=None, top=None, **per_class):
+    """HRPP's settings as an --hrpp-config file holds them (host/app/hrpp_config_file.h; HRPP on):
+    `top`'s keys at the top level (adaptive, fallback, batch, count_baseline, ...) and, under
+    "keys", each ray class's keys from `every` and then from per_class[CLASS], e.g.
+    hrpp_settings({"hash_bits": 4}, {"adaptive": False}, shadow={"go_up": 3})."""
+    cfg = {"enabled": True, **(top or {})}
+    keys = {c: {**(every or {}), **per_class.get(c, {})} for c in RAY_CLASSES}
+    keys = {c: k for c, k in keys.items() if k}
+    if keys:
+        cfg["keys"] = keys
+    return cfg
+
+
+def settings_args(flags, path):
+    """`flags` with their HRPP settings (the dicts among them: hrpp_settings, merged in order)
+    written to the file `path` and given as --hrpp-config PATH; the strings kept in order."""
+    settings = [f for f in flags if isinstance(f, dict)]
+    args = [f for f in flags if not isinstance(f, dict)]
+    if not settings:
+        return args
+    merged = {}
+    for cfg in settings:
+        keys = {**merged.get("keys", {})}
+        for c, k in cfg.get("keys", {}).items():
+            keys[c] = {**keys.get(c, {}), **k}
+        merged = {**merged, **cfg, **({"keys": keys} if keys else {})}
+    with open(path, "w") as f:
+        json.dump(merged, f, indent=1, sort_keys=True)
+    return args + ["--hrpp-config", path]
+
+
+def flags_text(flags):
+    """A flag list as one line, its settings as JSON (a table's or a log's record of a run)."""
+    return " ".join(json.dumps(f, sort_keys=True) if isinstance(f, dict) else f for f in flags)
 
 
 def cpu_model():
@@ -74,12 +111,13 @@ def run(cmd, who, echo=False):
 
 
 def render(hrpp, scene, out, size, spp, seed, flags=(), who="hrpp", reuse=False, echo=False):
-    """`hrpp render SCENE --size --spp --seed FLAGS` into OUT.exr and OUT.json; returns the stats
-    and the image's path. With `reuse`, a render already there is read instead."""
+    """`hrpp render SCENE --size --spp --seed FLAGS` into OUT.exr and OUT.json (FLAGS' HRPP
+    settings into OUT.hrpp.json: settings_args); returns the stats and the image's path. With `reuse`, a render already there is read instead."""
     exr, stats = out + ".exr", out + ".json"
     if not (reuse and os.path.exists(exr) and os.path.exists(stats)):
         run([hrpp, "render", scene_arg(scene), "--size", size, "--spp", str(spp), "--seed",
-             str(seed), "--out", exr, "--stats", stats] + list(flags), who, echo)
+             str(seed), "--out", exr, "--stats", stats] + settings_args(flags, out + ".hrpp.json"),
+            who, echo)
     with open(stats) as f:
         j = json.load(f)
     if j.get("session", {}).get("interrupted"):  # a stopped render's passes are not the job's

@@ -40,12 +40,13 @@ import hrpp_common  # noqa: E402
 from hrpp_common import HERE, REPO, STAND_INS  # noqa: E402
 from sweep_common import note_run, rewrite_block, run_line  # noqa: E402
 
-PREDICT_ALL = ["--hrpp", "on", "--hrpp-adaptive", "off"]
+EVERY_RAY = {"adaptive": False}  # every ray of every class predicted (--hrpp-config)
+PREDICT_ALL = ["--hrpp", "on", hrpp_common.hrpp_settings(None, EVERY_RAY)]
 SETTINGS = {
     "off": ["--hrpp", "off"],
     "keys": PREDICT_ALL,
-    "bits4": PREDICT_ALL + ["--hash-bits", "4"],
-    "up2": PREDICT_ALL + ["--go-up", "2"],
+    "bits4": ["--hrpp", "on", hrpp_common.hrpp_settings({"hash_bits": 4}, EVERY_RAY)],
+    "up2": ["--hrpp", "on", hrpp_common.hrpp_settings({"go_up": 2}, EVERY_RAY)],
     "exact": PREDICT_ALL + ["--hrpp-mode", "exact"],
     "default": ["--hrpp", "on"],  # the adaptive predictor: its decisions, not fitted
 }

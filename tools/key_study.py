@@ -20,6 +20,7 @@ grid):
                      [--results MD] [--command TEXT] [--backend gpu|cpu]
 """
 import argparse
+import json
 import os
 import sys
 import time
@@ -32,50 +33,73 @@ from hrpp_common import REPO, image_errors, read_exr  # noqa: E402
 from sweep_common import repo_commit, rewrite_block, table  # noqa: E402
 
 SCENES = ["teapot", "bunny", "lamborghini", "dragon"]
-N4 = ["--table-preset", "beam"]  # 4096 x 2 x 4 lru: 224 KiB
+# Each key tried: the studied class's keys in an --hrpp-config file (host/app/hrpp_config_file.h);
+# "fallback" goes to the file's top level, "mode" to --hrpp-mode.
+N4 = {"table_preset": "beam"}  # 4096 x 2 x 4 lru: 224 KiB
 # The distance gate's key: a finer origin grid, coarser direction bins, four times the tuned
 # table's sets (65536 x 2 x 1 lru: 2 MiB, 2.5 MiB with the gate).
-FINE = ["--hash-bits", "7", "--hash-dir-bits", "3", "--table-sets", "65536"]
+FINE = {"hash_bits": 7, "hash_dir_bits": 3, "table_sets": 65536}
 # The distance gates of the gate table (tools/key_study.py --backend), 0: none.
 GATES = [0, 1.1, 1.4, 2]
 SHADOW = {
-    "hrpp N=6 (paper)": ["--hash", "hrpp", "--hash-bits", "6"],
-    "grid-spherical N=3 go-up 4": ["--hash", "grid-spherical", "--hash-bits", "3", "--go-up", "4"],
-    "light N=6 size 0.02": ["--hash", "shadow=light", "--hash-bits", "6", "--go-up-size", "0.02"],
-    "light-depth N=6 size 0.02": ["--hash", "shadow=light-depth", "--hash-bits", "6",
-                                  "--go-up-size", "0.02"],
-    "light-depth N=6 size 0.02, beam, fallback root": ["--hash", "shadow=light-depth",
-                                                       "--hash-bits", "6", "--go-up-size",
-                                                       "0.02", "--hrpp-fallback", "root"] + N4,
-    "light-depth N=6 size 0.02, beam (default)": ["--hash", "shadow=light-depth", "--hash-bits",
-                                                  "6", "--go-up-size", "0.02"] + N4,
+    "hrpp N=6 (paper)": {"hash": "hrpp", "hash_bits": 6},
+    "grid-spherical N=3 go-up 4": {"hash": "grid-spherical", "hash_bits": 3, "go_up": 4},
+    "light N=6 size 0.02": {"hash": "light", "hash_bits": 6, "go_up_size": 0.02},
+    "light-depth N=6 size 0.02": {"hash": "light-depth", "hash_bits": 6, "go_up_size": 0.02},
+    "light-depth N=6 size 0.02, beam, fallback root": {"hash": "light-depth", "hash_bits": 6,
+                                                       "go_up_size": 0.02, "fallback": "root",
+                                                       **N4},
+    "light-depth N=6 size 0.02, beam (default)": {"hash": "light-depth", "hash_bits": 6,
+                                                  "go_up_size": 0.02, **N4},
 }
 BOUNCE = {
-    "hrpp N=6 (paper)": ["--hash", "hrpp", "--hash-bits", "6"],
-    "grid-spherical N=3": ["--hash", "grid-spherical", "--hash-bits", "3"],
-    "grid-spherical N=4": ["--hash", "grid-spherical", "--hash-bits", "4"],
-    "grid-spherical N=4 go-up 2": ["--hash", "grid-spherical", "--hash-bits", "4", "--go-up", "2"],
-    "grid-spherical N=5": ["--hash", "grid-spherical", "--hash-bits", "5"],
-    "grid-spherical N=5 go-up 1": ["--hash", "grid-spherical", "--hash-bits", "5", "--go-up", "1"],
-    "grid-spherical N=5, beam": ["--hash", "grid-spherical", "--hash-bits", "5"] + N4,
-    "grid-spherical N=6 (default)": ["--hash", "grid-spherical", "--hash-bits", "6"],
-    "two-point N=4 go-up 2": ["--hash", "two-point", "--hash-bits", "4", "--go-up", "2"],
-    "two-point N=5 go-up 2": ["--hash", "two-point", "--hash-bits", "5", "--go-up", "2"],
-    "grid-spherical N=4 exact": ["--hash", "grid-spherical", "--hash-bits", "4",
-                                 "--hrpp-mode", "exact"],
-    "grid-spherical N=7 D=3, 65536 sets": ["--hash", "grid-spherical"] + FINE,
-    "grid-spherical N=7 D=3, 65536 sets, gate 1.4": ["--hash", "grid-spherical"] + FINE
-    + ["--hrpp-gate", "1.4"],
+    "hrpp N=6 (paper)": {"hash": "hrpp", "hash_bits": 6},
+    "grid-spherical N=3": {"hash": "grid-spherical", "hash_bits": 3},
+    "grid-spherical N=4": {"hash": "grid-spherical", "hash_bits": 4},
+    "grid-spherical N=4 go-up 2": {"hash": "grid-spherical", "hash_bits": 4, "go_up": 2},
+    "grid-spherical N=5": {"hash": "grid-spherical", "hash_bits": 5},
+    "grid-spherical N=5 go-up 1": {"hash": "grid-spherical", "hash_bits": 5, "go_up": 1},
+    "grid-spherical N=5, beam": {"hash": "grid-spherical", "hash_bits": 5, **N4},
+    "grid-spherical N=6 (default)": {"hash": "grid-spherical", "hash_bits": 6},
+    "two-point N=4 go-up 2": {"hash": "two-point", "hash_bits": 4, "go_up": 2},
+    "two-point N=5 go-up 2": {"hash": "two-point", "hash_bits": 5, "go_up": 2},
+    "grid-spherical N=4 exact": {"hash": "grid-spherical", "hash_bits": 4, "mode": "exact"},
+    "grid-spherical N=7 D=3, 65536 sets": {"hash": "grid-spherical", **FINE},
+    "grid-spherical N=7 D=3, 65536 sets, gate 1.4": {"hash": "grid-spherical", **FINE,
+                                                      "gate": 1.4},
 }
+# Every ray of the named classes predicted, the full traversals counted (savings).
+PREDICT_ALL = {"adaptive": False, "count_baseline": True}
+
+
+def key_flags(cls, key):
+    """The flags of a render predicting class `cls` alone with `key` (on the tuned table unless
+    it names one)."""
+    k = {"table_preset": "tuned", **key}
+    top = {**PREDICT_ALL, **({"fallback": k.pop("fallback")} if "fallback" in k else {})}
+    mode = ["--hrpp-mode", k.pop("mode")] if "mode" in k else []
+    return ["--hrpp", "on", "--hrpp-rays", cls] + mode + [hrpp_common.hrpp_settings(None, top,
+                                                                                    **{cls: k})]
 
 
 # The study's setup: both classes predicted in one render with the default keys, on
 # the tuned table and on the beam table with bounce rays at N = 5.
-STUDY_KEYS = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays",
-              "bounce,shadow", "--hash", "hrpp,bounce=grid-spherical,shadow=light-depth",
-              "--go-up-size", "shadow=0.02"]
-STUDY = {"tuned": STUDY_KEYS + ["--hash-bits", "6", "--table-preset", "tuned"],
-         "beam": STUDY_KEYS + ["--hash-bits", "6,bounce=5", "--table-preset", "beam"]}
+STUDY_KEYS = {"bounce": {"hash": "grid-spherical"}, "shadow": {"hash": "light-depth",
+                                                                "go_up_size": 0.02}}
+STUDY_TABLES = {"tuned": {"bounce": {"hash_bits": 6}, "every": {"table_preset": "tuned"}},
+                "beam": {"bounce": {"hash_bits": 5}, "every": {"table_preset": "beam"}}}
+
+
+def study_flags(preset):
+    """The flags of the study's setup on the table `preset`."""
+    t = STUDY_TABLES[preset]
+    keys = {c: {**t["every"], "hash_bits": 6, **STUDY_KEYS[c], **t.get(c, {})}
+            for c in ("bounce", "shadow")}
+    return ["--hrpp", "on", "--hrpp-rays", "bounce,shadow",
+            hrpp_common.hrpp_settings(None, PREDICT_ALL, **keys)]
+
+
+STUDY = {p: study_flags(p) for p in STUDY_TABLES}
 # The modes of tools/sweep.sh: size, spp, scenes and the keys tried (None: every key) of the
 # exploration tables, and size and spp of the study's setup.
 MODES = {
@@ -126,7 +150,6 @@ def shadow_shares(j):
 def study(a):
     """{class: rows of its table}, the keys of the mode predicting one class at a time."""
     # The tuned table unless a row names one (the shadow class's default is the beam table).
-    on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count"]
     rows = {cls: [] for cls in a.classes}
     for scene in a.scenes:
         _, off_exr = render(a, scene, "off", [])
@@ -135,9 +158,7 @@ def study(a):
             for name, flags in (SHADOW if cls == "shadow" else BOUNCE).items():
                 if a.keys is not None and name not in a.keys:
                     continue
-                preset = [] if "--table-preset" in flags else ["--table-preset", "tuned"]
-                j, exr = render(a, scene, f"{cls}-{name}",
-                                on + ["--hrpp-rays", cls] + preset + flags)
+                j, exr = render(a, scene, f"{cls}-{name}", key_flags(cls, flags))
                 s = j["hrpp_predictor"][cls]
                 if cls == "shadow":
                     occ, answered = shadow_shares(j)
@@ -190,8 +211,7 @@ def gate_study(a):
     """One row per scene at the study's setup, bounce rays alone on FINE: per distance gate the
     net savings, wrong closest hits per probe and relMSE against HRPP off."""
     rows = []
-    on = ["--hrpp", "on", "--hrpp-adaptive", "off", "--hrpp-count", "--hrpp-rays", "bounce",
-          "--hash", "grid-spherical", "--table-preset", "tuned"] + FINE
+    on = {"hash": "grid-spherical", "table_preset": "tuned", **FINE}
     cpu = a.backend == "cpu"
     flags = ["--backend", "cpu"] if cpu else []
     prefix = "cpu-" if cpu else ""  # the device's renders of the same names share --runs
@@ -201,7 +221,7 @@ def gate_study(a):
         row = [scene]
         for gate in GATES:
             j, exr = render(a, scene, f"{prefix}gate-{gate}",
-                            flags + on + ["--hrpp-gate", str(gate)], a.study)
+                            flags + key_flags("bounce", {**on, "gate": gate}), a.study)
             b = j["hrpp_predictor"]["bounce"]
             a.device = hrpp_common.device_name(j)
             relmse = image_errors(read_exr(exr), off_image)[1]
@@ -219,8 +239,8 @@ def gate_lines(a, rows):
     head = ["scene"] + [f"gate {g}: net savings, wrong / probe, relMSE" if g else
                         "no gate: net savings, wrong / probe, relMSE" for g in GATES]
     return ["", f"The distance gate, {size}, {spp} spp, seed 5, on {where}: bounce rays alone on "
-            "grid-spherical N = 7 with D = 3 direction bits and 65536 sets (`"
-            + " ".join(FINE) + " --hrpp-gate G`):", "", table(head, rows)]
+            "grid-spherical N = 7 with D = 3 direction bits and 65536 sets (`--hrpp-config` keys "
+            "`" + json.dumps({"bounce": {**FINE, "gate": "G"}}) + "`):", "", table(head, rows)]
 
 
 def main():
@@ -275,9 +295,8 @@ def main():
     size, spp = a.study
     lines += ["", f"The study's setup, {size}, {spp} spp, seed 5: both classes predicted in one "
               "render, the default keys on the tuned table and on the beam table with bounce "
-              "rays at N = 6 and N = 5 (`" + " ".join(STUDY_KEYS) + "` with `"
-              + " ".join(STUDY["tuned"][len(STUDY_KEYS):]) + "` or `"
-              + " ".join(STUDY["beam"][len(STUDY_KEYS):]) + "`):", "",
+              "rays at N = 6 and N = 5 (`" + hrpp_common.flags_text(STUDY["tuned"]) + "` or `"
+              + hrpp_common.flags_text(STUDY["beam"]) + "`):", "",
               table(STUDY_HEAD, setup)] + gate_lines(a, gates)
     print("\n".join(lines))
     if a.results:

@@ -30,7 +30,7 @@ import shlex
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from hrpp_common import scene_arg  # noqa: E402
+from hrpp_common import flags_text, hrpp_settings, scene_arg, settings_args  # noqa: E402
 
 TABLE1_SCENES = ["teapot", "bunny", "bunny-complex", "dragon", "lamborghini", "cornell",
                  "killeroo-simple", "killeroo-gold"]
@@ -90,26 +90,26 @@ class Jobs:
             return
         self.ids.add(jid)
         out = os.path.join(self.args.runs, jid)
+        os.makedirs(self.args.runs, exist_ok=True)  # the job's HRPP settings file goes there
         cmd = [self.args.hrpp, "render", scene_arg(scene), "--size", f"{size}x{size}", "--spp", str(spp),
                "--seed", str(seed), "--out", out + ".exr", "--stats", out + ".json"] + \
-            (ESTIMATOR if estimator is None else estimator) + flags
+            (ESTIMATOR if estimator is None else estimator) + settings_args(flags, out + ".hrpp.json")
         line = " ".join(shlex.quote(c) for c in cmd) + " > " + shlex.quote(out + ".log") + " 2>&1"
         row = dict(id=jid, grid=grid, scene=scene, size=size, spp=spp, seed=seed,
-                   flags=" ".join(flags), cmd=" ".join(shlex.quote(c) for c in cmd), **meta)
+                   flags=flags_text(flags), cmd=" ".join(shlex.quote(c) for c in cmd), **meta)
         self.rows.append((line, row))
 
 
 def hrpp_flags(mode="speculative", preset="unbounded", count=True, bits=6, goup=0, hash_="hrpp",
                sets=None, ways=None, nodes=None, policy=None):
-    f = ["--hrpp", "on", "--hrpp-rays", "both", "--hrpp-adaptive", "off", "--hrpp-mode", mode,
-         "--hrpp-fallback", "root", "--hash", hash_,
-         "--hash-bits", str(bits), "--go-up", str(goup), "--table-preset", preset]
+    """Every class predicting every ray with one key and table: the paper's setup (the root
+    fallback), as --hrpp on and an --hrpp-config file."""
+    every = {"hash": hash_, "hash_bits": bits, "go_up": goup, "table_preset": preset}
     if sets is not None:
-        f += ["--table-sets", str(sets), "--table-ways", str(ways), "--table-nodes", str(nodes),
-              "--table-policy", policy]
-    if count:
-        f.append("--hrpp-count")
-    return f
+        every.update(table_sets=sets, table_ways=ways, table_nodes=nodes, table_policy=policy)
+    top = {"adaptive": False, "fallback": "root", "count_baseline": count}
+    return ["--hrpp", "on", "--hrpp-rays", "camera,bounce,shadow", "--hrpp-mode", mode,
+            hrpp_settings(every, top)]
 
 
 OFF = ["--hrpp", "off"]

@@ -178,7 +178,8 @@ void add_class_summaries(const std::function<TableOccupancy(RayClass)>& occupanc
 void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bvh) {
   // The GPU stage's orders do not exist here: each ray probes, then traces, then inserts.
   if (o.render.predictor.enabled && (o.render.predictor.batch > 0 || o.render.predictor.serial))
-    throw Error(std::string(o.render.predictor.batch > 0 ? "--hrpp-batch" : "--hrpp-serial") +
+    throw Error(std::string("--hrpp-config: ") +
+                (o.render.predictor.batch > 0 ? "batch" : "serial") +
                 ": the CPU backend predicts inline, one ray at a time, in its own order");
   std::unique_ptr<EmbreeTracer> embree;
   OutsideTracer outside;

@@ -181,14 +181,21 @@ PredictorConfig config_with_file(const HrppOptions& cli, DeviceTracerKind tracer
   const std::string& path = cli.config_file;
   const nlohmann::json file = read_hrpp_config(path);
   const HrppOptions from_file = options_from_file(file, path, HrppOptions{});
+  // The file checked as if HRPP were on, whatever its "enabled" says: its keys are for then.
+  HrppOptions on = from_file;
+  on.enabled = true;
   PredictorConfig file_only;
   try {
-    file_only = from_file.build(tracer);
+    file_only = on.build(tracer);
   } catch (const Error& e) {
     throw Error(path + ": " + naming_the_key(e.what()));
   }
   check_file_agrees(file, path, file_only);
-  return from_file.overridden_by(cli).build(tracer);
+  try {
+    return from_file.overridden_by(cli).build(tracer);
+  } catch (const Error& e) {  // a flag against the file's settings
+    throw Error(path + " with the flags: " + naming_the_key(e.what()));
+  }
 }
 
 nlohmann::json read_hrpp_config(const std::string& path) {
@@ -236,7 +243,7 @@ void check_file_agrees(const nlohmann::json& file, const std::string& path,
       for (const auto& [name, cls] : v.items())
         for (const auto& [k, value] : cls.items())
           if (k != "table_preset") check("keys." + name + "." + k, value, runs["keys"][name][k]);
-    } else if (!is_in(key, kFigureKeys) && runs.contains(key)) {
+    } else if (key != "enabled" && !is_in(key, kFigureKeys) && runs.contains(key)) {
       check(key, v, runs[key]);
     }
   }

@@ -6,6 +6,7 @@
 #include "app/cli_names.h"
 #include "app/hrpp_config_file.h"
 #include "common/error.h"
+#include "hrpp_interface.h"
 
 namespace hrpp::app {
 
@@ -59,24 +60,6 @@ void parse_per_class(const std::string& text, const std::string& flag, PerClass<
   }
 }
 
-float parse_number(const std::string& v) {
-  std::size_t used = 0;
-  float x = 0.0f;
-  try {
-    x = std::stof(v, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (v.empty() || used != v.size()) throw Error("'" + v + "' is not a number");
-  return x;
-}
-
-std::uint32_t parse_count(const std::string& v) {
-  if (v.empty() || v.size() > 9 || v.find_first_not_of("0123456789") != std::string::npos)
-    throw Error("'" + v + "' is not a non-negative integer");
-  return static_cast<std::uint32_t>(std::stoul(v));
-}
-
 }  // namespace
 
 std::string ray_class_list(const PerClass<bool>& classes) {
@@ -95,15 +78,7 @@ HrppOptions HrppOptions::overridden_by(const HrppOptions& cli) const {
   for (const std::string& f : cli.given) {
     if (f == "--hrpp") o.enabled = cli.enabled;
     if (f == "--hrpp-rays") o.classes = cli.classes;
-    if (f == "--hrpp-adaptive") o.adaptive = cli.adaptive;
     if (f == "--hrpp-mode") o.mode = cli.mode;
-    if (f == "--hrpp-fallback") o.fallback = cli.fallback;
-    if (f == "--hrpp-gate") o.gate = cli.gate;
-    if (f == "--hash") o.hash = cli.hash;
-    if (f == "--hash-bits") o.hash_bits = cli.hash_bits;
-    if (f == "--hash-dir-bits") o.hash_dir_bits = cli.hash_dir_bits;
-    if (f == "--go-up") o.go_up = cli.go_up;
-    if (f == "--go-up-size") o.go_up_size = cli.go_up_size;
     if (f == "--table-preset") {  // the whole table
       o.preset = cli.preset;
       o.sets = cli.sets;
@@ -111,14 +86,6 @@ HrppOptions HrppOptions::overridden_by(const HrppOptions& cli) const {
       o.nodes = cli.nodes;
       o.policy = cli.policy;
     }
-    if (f == "--table-sets") o.sets = cli.sets;
-    if (f == "--table-ways") o.ways = cli.ways;
-    if (f == "--table-nodes") o.nodes = cli.nodes;
-    if (f == "--table-policy") o.policy = cli.policy;
-    if (f == "--hrpp-batch") o.batch = cli.batch;
-    if (f == "--hrpp-pilot") o.pilot = cli.pilot;
-    if (f == "--hrpp-serial") o.serial = cli.serial;
-    if (f == "--hrpp-count") o.count_baseline = cli.count_baseline;
   }
   o.config_file.clear();
   o.given.clear();
@@ -146,6 +113,8 @@ PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
     if (nodes[k]) t.nodes = nodes[k];
     if (policy[k]) t.policy = *policy[k];
   }
+  if (batch > HRPP_INSERT_BATCH_MAX)
+    throw Error("--hrpp-batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
   c.batch = batch;
   c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
@@ -186,58 +155,7 @@ const char* const kPerClass =
     " (V: every ray class; a list of V and class=V, in order, e.g. hrpp,shadow=light-depth; "
     "classes: camera, bounce, shadow)";
 
-// --hash, --hash-bits, --go-up, --go-up-size: the key of each ray class and what its table stores.
-void add_key_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
-  const std::string per_class = kPerClass;
-  cmd->add_option_function<std::string>(
-         "--hash",
-         [&o](const std::string& v) {
-           parse_per_class(v, "--hash", o.hash,
-                           [](const std::string& n) { return parse_hash_kind(n); });
-         },
-         "Ray hash: hrpp (the paper's IEEE-754 bits), grid-spherical, two-point; for shadow "
-         "rays also light (the light end on a grid, the direction from the light in octahedral "
-         "cells) and light-depth (light plus the receiver's distance from the light)" +
-             per_class)
-      ->default_str(per_class_default(o.hash, [](HashKind k) { return hash_kind_name(k); }))
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--hash-bits",
-         [&o](const std::string& v) {
-           parse_per_class(v, "--hash-bits", o.hash_bits, parse_count);
-         },
-         "Hash precision N (1..8)" + per_class)
-      ->default_str(
-          per_class_default(o.hash_bits, [](std::uint32_t n) { return std::to_string(n); }))
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--hash-dir-bits",
-         [&o](const std::string& v) {
-           parse_per_class(v, "--hash-dir-bits", o.hash_dir_bits, parse_count);
-         },
-         "grid-spherical: precision D (1..8) of the direction bins (0: N, --hash-bits)" +
-             per_class)
-      ->default_str("0")
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--go-up",
-         [&o](const std::string& v) { parse_per_class(v, "--go-up", o.go_up, parse_count); },
-         "Go-up level: predict the ancestor L levels above the leaf that held the hit" + per_class)
-      ->default_str(per_class_default(o.go_up, [](std::uint32_t n) { return std::to_string(n); }))
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--go-up-size",
-         [&o](const std::string& v) {
-           parse_per_class(v, "--go-up-size", o.go_up_size, parse_number);
-         },
-         "Then go further up while the node's box is smaller than this share (0..1) of the "
-         "scene box's largest extent: the same beam width on dense and coarse meshes (0: off)" +
-             per_class)
-      ->default_str(per_class_default(o.go_up_size, format_number))
-      ->group(g);
-}
-
-// --table-preset, --table-sets, --table-ways, --table-nodes, --table-policy, per ray class.
+// --table-preset, per ray class (the sizes and the policy: --hrpp-config).
 void add_table_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
   const std::string per_class = kPerClass;
   cmd->add_option_function<std::string>(
@@ -254,27 +172,6 @@ void add_table_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
       ->default_str(per_class_default(
           o.preset, [](TablePreset p) { return std::string(name_in(kTablePresetNames, p)); }))
       ->group(g);
-  const auto count_option = [&](const char* flag, PerClass<std::uint32_t>& v, const char* what) {
-    const std::string name = flag;
-    cmd->add_option_function<std::string>(
-           name, [&v, name](const std::string& s) { parse_per_class(s, name, v, parse_count); },
-           std::string(what) + " (overrides the preset)" + per_class)
-        ->group(g);
-  };
-  count_option("--table-sets", o.sets, "Sets (a power of two)");
-  count_option("--table-ways", o.ways, "Ways per set");
-  count_option("--table-nodes", o.nodes, "Nodes per entry");
-  cmd->add_option_function<std::string>(
-         "--table-policy",
-         [&o](const std::string& v) {
-           parse_per_class(v, "--table-policy", o.policy, [](const std::string& n) {
-             return std::optional<TablePolicy>(parse_in(kTablePolicyNames, n, "unknown policy"));
-           });
-         },
-         "When full: none (drop), lru (evict the least recently used) or fifo (evict the "
-         "oldest key; probe hits write nothing) (overrides the preset)" +
-             per_class)
-      ->group(g);
 }
 
 void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
@@ -289,61 +186,18 @@ void add_hrpp_options(CLI::App* cmd, HrppOptions& o) {
          "Ray classes that predict: a comma-separated subset of " + names_in(kRayClassNames))
       ->default_str(ray_class_list(o.classes))
       ->group(g);
-  cmd->add_option("--hrpp-adaptive", o.adaptive,
-                  "render: per frame and ray class, sample first and predict every ray only "
-                  "where a sample saves time, sampling again now and then: on | off (every named "
-                  "class predicts every ray, every frame; also with --hrpp-batch)")
-      ->transform(one_of(kOnOff))
-      ->default_str("on")
-      ->group(g);
   cmd->add_option("--hrpp-mode", o.mode,
                   "Hit-all: speculative (accept the closest predicted hit; can be wrong) or exact "
                   "(its t bounds a full traversal: same answers as --hrpp off)")
       ->transform(one_of(kPredictorModeNames))
       ->default_str(predictor_mode_name(o.mode))
       ->group(g);
-  cmd->add_option_function<Fallback>(
-         "--hrpp-fallback", [&o](const Fallback& f) { o.fallback = f; },
-         "What a ray its prediction did not answer traces: root (a full traversal, as "
-         "the paper) or skip (from the root, not entering the nodes its prediction "
-         "tested: the same answer, the verification not paid twice; the BVH kernels only)")
-      ->transform(one_of(kFallbackNames))
-      ->default_str("skip; root with --tracer rayquery")
-      ->group(g);
-  cmd->add_option_function<std::string>(
-         "--hrpp-gate",
-         [&o](const std::string& v) { parse_per_class(v, "--hrpp-gate", o.gate, parse_number); },
-         "Distance gate G, speculative mode: accept a predicted closest hit only within G times "
-         "the nearest hit that traced rays of its key found; a farther one bounds a full "
-         "traversal (fewer wrong closest hits; hit-all classes, 0: off)" +
-             std::string(kPerClass))
-      ->default_str("0")
-      ->group(g);
-  add_key_options(cmd, o, g);
   add_table_options(cmd, o, g);
-  cmd->add_option("--hrpp-batch", o.batch,
-                  "Deterministic order: rays in batches of K probe the table the previous "
-                  "batches left; inserts applied after each batch in ray order (0: inserts "
-                  "during the trace)")
-      ->capture_default_str()
-      ->group(g);
-  cmd->add_option("--hrpp-pilot", o.pilot,
-                  "Pilot schedule: each trace predicts and traces every K-th ray first, so the "
-                  "others find their entries (0: one round; ignored with --hrpp-batch)")
-      ->capture_default_str()
-      ->group(g);
-  cmd->add_flag("--hrpp-serial", o.serial,
-                "One ray per subgroup: the CPU reference's node order (with --hrpp-batch, "
-                "counters a CPU reference predictor reproduces exactly)")
-      ->group(g);
-  cmd->add_flag("--hrpp-count", o.count_baseline,
-                "render: also count what full traversals would visit (savings %); adds a "
-                "counting traversal to the timed work (trace and bench count in a separate run)")
-      ->group(g);
   cmd->add_option("--hrpp-config", o.config_file,
-                  "HRPP's settings from FILE.json: the \"hrpp\" object of a --stats JSON (or "
-                  "that JSON itself) or any part of it (docs/HRPP.md, \"Settings file\"); "
-                  "flags given here override it")
+                  "HRPP's settings from FILE.json: keys, tables, adaptive, fallback, gate, "
+                  "batches and more, in the form of the \"hrpp\" object of a --stats JSON (or "
+                  "that JSON itself), or any part of it (docs/HRPP.md, \"Settings file\"; "
+                  "configs/hrpp/); the flags above given too override it")
       ->group(g);
   for (CLI::Option* opt : cmd->get_options())  // which flags the command line gives
     if (opt->get_group() == g && opt->get_name() != "--hrpp-config")

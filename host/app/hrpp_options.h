@@ -1,7 +1,7 @@
 // The HRPP option group, one definition for every command that traces (trace, bench, render):
-// --hrpp, --hrpp-rays, --hrpp-adaptive, --hrpp-mode, --hrpp-fallback, --hrpp-gate, --hash,
-// --hash-bits, --hash-dir-bits, --go-up, --table-*, --hrpp-batch, --hrpp-serial, --hrpp-config;
-// and the JSON form of the configuration and of a run's predictor figures.
+// --hrpp, --hrpp-rays, --hrpp-mode, --table-preset and --hrpp-config, the settings file that
+// holds every other setting (app/hrpp_config_file.h); and the JSON form of the configuration
+// and of a run's predictor figures.
 #pragma once
 
 #include <cstdint>
@@ -18,18 +18,19 @@
 
 namespace hrpp::app {
 
-// Flags are parsed once, by CLI11 transformers and callbacks, into the enums and flags they stand
-// for (names from the enums' name tables); config() combines the preset with its overrides.
+// The settings, from the flags (parsed once, by CLI11 transformers and callbacks, into the enums
+// they stand for: names from the enums' name tables) and the --hrpp-config file (its keys named
+// beside each field); config() combines the preset with its overrides.
 struct HrppOptions {
   bool enabled = false;             // --hrpp off | on
   PerClass<bool> classes{{true, true, true}};  // --hrpp-rays: the classes that predict
-  bool adaptive = true;             // --hrpp-adaptive on | off
+  bool adaptive = true;             // adaptive
   PredictorMode mode = PredictorMode::kSpeculative;
-  // --hrpp-fallback; unset: skip in front of the BVH kernels, root in front of the driver's ray
+  // fallback; unset: skip in front of the BVH kernels, root in front of the driver's ray
   // queries (skip lists are the BVH kernels').
   std::optional<Fallback> fallback;
-  // Per ray class (--hash, --hash-bits, --go-up, --go-up-size take "V" for every class, or a
-  // list of V and class=V): the --hrpp on default per class, measured in results/KEYS.md:
+  // Per ray class (keys.<class>.hash, hash_bits, hash_dir_bits, go_up, go_up_size): the
+  // --hrpp on default per class, measured in results/KEYS.md:
   // camera rays the paper's key; bounce rays grid-spherical at N = 6 (the finest measured that
   // kept every stand-in's relMSE against HRPP off at most 1e-3); shadow rays
   // light-depth at N = 6 storing the subtree of at least 2% of the scene's extent above the
@@ -39,11 +40,12 @@ struct HrppOptions {
   PerClass<std::uint32_t> hash_dir_bits{};  // grid-spherical direction bins (0: hash_bits)
   PerClass<std::uint32_t> go_up{{0, 0, 0}};
   PerClass<float> go_up_size{{0.0f, 0.0f, 0.02f}};
-  // Table per ray class (--table-* take V or a list of V and class=V, as --hash).
+  // Table per ray class (--table-preset takes V for every class or a list of V and class=V;
+  // keys.<class>.table_preset, table_sets, table_ways, table_nodes, table_policy).
   PerClass<TablePreset> preset{{TablePreset::kTuned, TablePreset::kTuned, TablePreset::kBeam}};
   PerClass<std::uint32_t> sets{}, ways{}, nodes{};  // 0: the preset's
   PerClass<std::optional<TablePolicy>> policy{};    // none: the preset's
-  PerClass<float> gate{};  // --hrpp-gate (PredictorConfig::gate; hit-all classes)
+  PerClass<float> gate{};  // keys.<class>.gate (PredictorConfig::gate; hit-all classes)
   std::uint32_t batch = 0;
   std::uint32_t pilot = PredictorConfig{}.pilot;
   bool serial = false;
