@@ -1,6 +1,6 @@
 // hrpp_hash_rays: the HRPP key of every ray (shaders/lib/hrpp_hash.glsl), one ray per
 // invocation and no loops (so lavapipe's loop limiter cannot touch it). Used to check the C++
-// mirror (host/hrpp/ray_hash.cpp) bit for bit; host side: host/hrpp/gpu_ray_hash.cpp.
+// mirror (host/hrpp/ray_hash.cpp) bit for bit; host side: host/front/gpu_ray_hash.cpp.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

@@ -15,7 +15,7 @@
 #include "bvh/gpu_layout.h"
 #include "common/error.h"
 #include "vk/compute_pipeline.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "vk/embedded_shaders.h"
 #include "gpu/gpu_tracer.h"
 #include "kernels/kernel_bindings.h"

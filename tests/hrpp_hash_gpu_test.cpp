@@ -1,4 +1,4 @@
-// host/hrpp/gpu_ray_hash + shaders/lib/hrpp_hash.glsl: on the Vulkan device (lavapipe here) every
+// host/front/gpu_ray_hash + shaders/lib/hrpp_hash.glsl: on the Vulkan device (lavapipe here) every
 // hash kind at every precision gives the key of the C++ mirror (host/hrpp/ray_hash.h) bit for
 // bit, on ~120k random rays (scene-like rays, shadow-like rays that end at a point in the box,
 // and raw random float bits, tmax included: the light-space keys read it) plus a hand list of
@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hrpp/gpu_ray_hash.h"
+#include "front/gpu_ray_hash.h"
 #include "vk/vulkan_context.h"
 #include "gpu_test_context.h"
 #include "hrpp/ray_hash.h"

@@ -1,4 +1,4 @@
-// HRPP on the GPU (host/hrpp/gpu_predictor, shaders/lib/hrpp_*.glsl) against HRPP off and the CPU
+// HRPP on the GPU (host/front/gpu_predictor, shaders/lib/hrpp_*.glsl) against HRPP off and the CPU
 // reference predictor (host/hrpp/reference_predictor), on lavapipe:
 //   - exact hit-all and hit-any answers equal HRPP off ray for ray, with a roomy table, a tiny
 //     LRU table (evictions counted) and a tiny table that drops;
@@ -21,7 +21,7 @@
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "front/make_device_tracer.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
 #include "vk/vulkan_context.h"
 #include "gpu_test_context.h"

@@ -27,7 +27,7 @@
 #include "common/error.h"
 #include "extreme_cases.h"
 #include "front/make_device_tracer.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "gpu/ray_query_tracer.h"
 #include "gpu_test_context.h"
 #include "reference/embree_tracer.h"

@@ -1,5 +1,5 @@
 // HRPP in front of a tracer: the paper's picture, a predictor before the traversal. A
-// PredictingTracer owns the HRPP stage (host/hrpp/gpu_predictor.h) and any device tracer behind
+// PredictingTracer owns the HRPP stage (host/front/gpu_predictor.h) and any device tracer behind
 // it (the BVH kernels, the driver's ray queries), which knows nothing of HRPP, as Embree's filter
 // functions or pbrt's aggregates wrap a primitive. A class that probes traces through the stage:
 // hrpp_predict, the inner tracer's queue_kernel() over the queue, hrpp_resolve; a class that does
@@ -16,7 +16,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/device_tracer.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "hrpp/predictor_config.h"
 #include "kernels/device_bvh.h"
 

@@ -10,7 +10,7 @@
 
 #include "bvh/gpu_layout.h"
 #include "gpu/device_tracer.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "gpu/ray_sorter.h"
 #include "gpu_types.h"
 #include "hrpp/inline_predictor.h"

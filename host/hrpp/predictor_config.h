@@ -1,5 +1,5 @@
 // How HRPP runs: hash, mode, go-up level, table geometry and policy, insert order. Filled by the
-// CLI (host/app/hrpp_options.h), read by the GPU predictor (host/hrpp/gpu_predictor.h) and the CPU
+// CLI (host/app/hrpp_options.h), read by the GPU predictor (host/front/gpu_predictor.h) and the CPU
 // reference predictor (host/hrpp/reference_predictor.h).
 #pragma once
 

@@ -1,4 +1,4 @@
-// A trace kernel made for another stage's ray arrays: the HRPP stage (host/hrpp/gpu_predictor.h)
+// A trace kernel made for another stage's ray arrays: the HRPP stage (host/front/gpu_predictor.h)
 // asks the tracer it stands in front of for one per query kind, binds it to its queue's rays,
 // hits and counters, and dispatches it over the queue. The tracer binds what the kernel reads of
 // the scene (the BVH arrays, or the driver's acceleration structure); the bindings below are the

@@ -1,6 +1,6 @@
 // The lanes of a trace workgroup that take rays: every lane, or in serial mode (HRPP's
 // deterministic runs: the CPU reference's node order) one lane per subgroup. Shared by the trace
-// kernels' host side (host/gpu/gpu_tracer.h) and the HRPP stage's (host/hrpp/gpu_predictor.h),
+// kernels' host side (host/gpu/gpu_tracer.h) and the HRPP stage's (host/front/gpu_predictor.h),
 // whose dispatches must agree on it.
 #pragma once
 

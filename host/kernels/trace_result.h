@@ -1,6 +1,6 @@
 // What one trace of a ray class did on the device, read back after its submit: the answer of
 // the device tracers (host/gpu/device_tracer.h) and of the HRPP stage in front of them
-// (host/hrpp/gpu_predictor.h).
+// (host/front/gpu_predictor.h).
 #pragma once
 
 #include <cstdint>

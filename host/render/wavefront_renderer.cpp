@@ -14,7 +14,7 @@
 #include "common/free_array.h"
 #include "vk/compute_pipeline.h"
 #include "gpu/device_tracer.h"
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 #include "front/make_device_tracer.h"
 #include "vk/embedded_shaders.h"
 #include "gpu/ray_sorter.h"

@@ -1,7 +1,7 @@
 // HRPP (hash-based ray path prediction): the constants and structs that the C++ side
-// (host/hrpp/, host/hrpp/gpu_predictor.cpp) and the GLSL side (shaders/lib/hrpp_*.glsl,
+// (host/hrpp/, host/front/gpu_predictor.cpp) and the GLSL side (shaders/lib/hrpp_*.glsl,
 // shaders/hrpp_*.comp) share. One definition each; the host static_asserts sizes
-// (host/hrpp/ray_hash.h, host/hrpp/predictor_config.h, host/hrpp/gpu_predictor.cpp).
+// (host/hrpp/ray_hash.h, host/hrpp/predictor_config.h, host/front/gpu_predictor.cpp).
 #ifndef HRPP_HRPP_TYPES_H
 #define HRPP_HRPP_TYPES_H
 

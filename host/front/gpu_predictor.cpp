@@ -1,4 +1,4 @@
-#include "hrpp/gpu_predictor.h"
+#include "front/gpu_predictor.h"
 
 #include <algorithm>
 #include <array>

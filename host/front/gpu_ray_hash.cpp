@@ -1,4 +1,4 @@
-#include "hrpp/gpu_ray_hash.h"
+#include "front/gpu_ray_hash.h"
 
 #include <algorithm>
 #include <string>
