@@ -5,7 +5,7 @@ Brace matching over C++ and GLSL with comments, strings and preprocessor lines b
 top-level brace (or one inside a namespace, struct or class) opens a function body when the
 text before it holds a parameter list and is not a type, namespace or initializer. Length is
 counted from the line of the function's name to its closing brace, like a reader would.
-Usage: tools/long_functions.py [--max N] [ROOT]   (exit status 1 when any function is longer)
+Usage: tests/code_checks/long_functions.py [--max N] [ROOT]   (exit status 1 when any function is longer)
 """
 import argparse
 import pathlib

@@ -6,7 +6,7 @@ Each folder of host/ is a stage (docs/ARCHITECTURE.md, "Stages and data flow"); 
 and every cycle; exits 1 when there is one (the test suite's include_graph_test), so that the
 stages keep their one-way order.
 
-Usage: tools/include_graph.py [REPO]
+Usage: tests/code_checks/include_graph.py [REPO]
 """
 import os
 import re
@@ -49,7 +49,7 @@ def cycles(graph):
 
 
 def main():
-    repo = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+    repo = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..")
     graph = edges(os.path.join(repo, "host"))
     for stage in sorted(graph):
         print(f"{stage:11s} -> {', '.join(sorted(graph[stage])) or '(none)'}")
