@@ -79,7 +79,7 @@ def functions(text):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--max", type=int, default=80)
-    ap.add_argument("root", nargs="?", default=pathlib.Path(__file__).resolve().parent.parent)
+    ap.add_argument("root", nargs="?", default=pathlib.Path(__file__).resolve().parents[2])
     args = ap.parse_args()
     root = pathlib.Path(args.root)
     long = []
