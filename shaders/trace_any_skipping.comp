@@ -1,4 +1,4 @@
-// trace_any_skipping: trace_any (any-hit (occlusion) queries) over HRPP's queue with --hrpp-fallback skip:
+// trace_any_skipping: trace_any (any-hit (occlusion) queries) over HRPP's queue with fallback skip:
 // position j does not enter the nodes of entry j of a skip list, those its prediction tested
 // without an answer. The kernel is shaders/lib/trace_kernel.glsl; the interface
 // shaders/shared/trace_interface.h.

@@ -1,4 +1,4 @@
-// trace_closest_skipping: trace_closest (closest-hit queries) over HRPP's queue with --hrpp-fallback skip:
+// trace_closest_skipping: trace_closest (closest-hit queries) over HRPP's queue with fallback skip:
 // position j does not enter the nodes of entry j of a skip list, those its prediction tested
 // without an answer. The kernel is shaders/lib/trace_kernel.glsl; the interface
 // shaders/shared/trace_interface.h.

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <fstream>
 #include <string_view>
-#include <utility>
 
 #include "common/error.h"
 #include "hrpp/ray_hash.h"
@@ -152,29 +151,6 @@ bool same_value(const json& a, const json& b) {
   return a == b;
 }
 
-// A configuration check's message (which names the flag) naming the file's key instead.
-std::string naming_the_key(const std::string& message) {
-  static constexpr std::array<std::pair<std::string_view, std::string_view>, 13> kKeyOfFlag = {
-      {{"--hrpp-mode", "mode"},
-       {"--hrpp-fallback", "fallback"},
-       {"--hrpp-gate", "gate"},
-       {"--hash-dir-bits", "hash_dir_bits"},
-       {"--hash-bits", "hash_bits"},
-       {"--hash", "hash"},
-       {"--go-up-size", "go_up_size"},
-       {"--go-up", "go_up"},
-       {"--table-sets", "table_sets"},
-       {"--table-ways", "table_ways"},
-       {"--table-nodes", "table_nodes"},
-       {"--table-policy", "table_policy"},
-       {"--hrpp-batch", "batch"}}};
-  for (const auto& [flag, key] : kKeyOfFlag)
-    if (message.rfind(flag, 0) == 0 && message.size() > flag.size() &&
-        (message[flag.size()] == ':' || message[flag.size()] == ' '))
-      return std::string(key) + message.substr(flag.size());
-  return message;
-}
-
 }  // namespace
 
 PredictorConfig config_with_file(const HrppOptions& cli, DeviceTracerKind tracer) {
@@ -188,13 +164,13 @@ PredictorConfig config_with_file(const HrppOptions& cli, DeviceTracerKind tracer
   try {
     file_only = on.build(tracer);
   } catch (const Error& e) {
-    throw Error(path + ": " + naming_the_key(e.what()));
+    throw Error(path + ": " + e.what());
   }
   check_file_agrees(file, path, file_only);
   try {
     return from_file.overridden_by(cli).build(tracer);
   } catch (const Error& e) {  // a flag against the file's settings
-    throw Error(path + " with the flags: " + naming_the_key(e.what()));
+    throw Error(path + " with the flags: " + e.what());
   }
 }
 

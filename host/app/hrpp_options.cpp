@@ -99,8 +99,8 @@ PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
   c.fallback = fallback.value_or(tracer == DeviceTracerKind::kRayQuery ? Fallback::kRoot
                                                                         : Fallback::kSkip);
   if (enabled && tracer == DeviceTracerKind::kRayQuery && c.fallback == Fallback::kSkip)
-    throw Error("--hrpp-fallback skip: skip lists are the BVH kernels'; in front of the "
-                "driver's ray queries use --hrpp-fallback root");
+    throw Error("fallback skip: skip lists are the BVH kernels'; in front of the "
+                "driver's ray queries use fallback root");
   for (RayClass k : kRayClasses) c.hash[k] = {hash[k], hash_bits[k], hash_dir_bits[k]};
   c.gate = gate;
   c.go_up = go_up;
@@ -114,7 +114,7 @@ PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
     if (policy[k]) t.policy = *policy[k];
   }
   if (batch > HRPP_INSERT_BATCH_MAX)
-    throw Error("--hrpp-batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
+    throw Error("batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
   c.batch = batch;
   c.pilot = batch > 0 ? 0 : pilot;
   c.serial = serial;
@@ -125,17 +125,17 @@ PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
     if (!c.predicts(k)) c.hash[k].dir_bits = 0;  // a list's V sets every class
     if (!c.predicts(k) || query_kind(k) == QueryKind::kAny) c.gate[k] = 0.0f;
     if (c.gate[k] > 0.0f && c.mode == PredictorMode::kExact)
-      throw Error("--hrpp-gate: exact mode already bounds every true positive's trace");
+      throw Error("gate: exact mode already bounds every true positive's trace");
     (void)make_predictor_params(c, k, Aabb{});
     if (c.predicts(k) && query_kind(k) != QueryKind::kAny && is_light_space(c.hash[k].kind))
-      throw Error(std::string("--hash: ") + hash_kind_name(c.hash[k].kind) +
+      throw Error(std::string("hash: ") + hash_kind_name(c.hash[k].kind) +
                   " keys shadow rays (it reads the ray's end at the light), not " +
                   ray_class_name(k) + " rays");
   }
   return c;
 }
 
-// A number as --go-up-size and --hrpp-gate take it: "0.02" (6 digits; no round trip needed).
+// A number as go_up_size and gate are written: "0.02" (6 digits; no round trip needed).
 std::string format_number(float x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));

@@ -39,7 +39,7 @@ std::string names_in(const NameTable<E, N>& table) {
 }
 
 // The value named `name`; otherwise throws hrpp::Error("<what> 'name' (a, b, c)"), e.g. with
-// what = "--hash: unknown hash".
+// what = "hash: unknown hash".
 template <class E, std::size_t N>
 E parse_in(const NameTable<E, N>& table, std::string_view name, std::string_view what) {
   for (const Named<E>& n : table)

@@ -50,11 +50,11 @@ enum TableBuffer { kTags, kStamps, kSlots };
 std::array<BufferNeed, 3> table_buffers(RayClass c, std::uint64_t sets, std::uint64_t ways,
                                         std::uint64_t nodes, bool gate) {
   const std::string cls = ray_class_name(c);
-  return {BufferNeed{cls + " predictor tags (--table-sets × --table-ways)",
+  return {BufferNeed{cls + " predictor tags (table_sets × table_ways)",
                      texel_bytes(sets * ways * sizeof(std::uint64_t))},
           BufferNeed{cls + (gate ? " predictor stamps and nearest hits" : " predictor stamps"),
                      (gate ? 2u : 1u) * sets * ways * sizeof(std::uint32_t)},
-          BufferNeed{cls + " predictor node slots (sets × ways × --table-nodes)",
+          BufferNeed{cls + " predictor node slots (sets × ways × table_nodes)",
                      texel_bytes(sets * ways * nodes * sizeof(std::uint32_t))}};
 }
 
@@ -154,7 +154,7 @@ struct Table {
 struct Queue {
   StorageBuffer state;           // gpu::PredictQueue
   StorageBuffer trace_counters;  // gpu::TraceCounters of the trace over the queue
-  StorageBuffer rays, entries, hits, skips;  // skips: the skip lists (--hrpp-fallback skip)
+  StorageBuffer rays, entries, hits, skips;  // skips: the skip lists (fallback skip)
   TexelView ray_view, entry_view, hit_view, skip_view;
   QueueTraceKernel trace;     // the tracer's kernel for the queue (DeviceTracer::queue_kernel)
   ComputePipeline pass_args;  // hrpp_pass_args: predict_groups of a pilot or sample pass
@@ -365,7 +365,7 @@ GpuPredictor::GpuPredictor(VulkanContext& ctx, const GpuBvh& bvh, const Predicto
     throw Error(ctx.info().name + ": --hrpp on needs shaderInt64 and shaderBufferInt64Atomics");
   if (config.sample == 0) throw Error("HRPP: the adaptive predictor's sample stride must be >= 1");
   if (config.batch > HRPP_INSERT_BATCH_MAX)
-    throw Error("--hrpp-batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
+    throw Error("batch: at most " + std::to_string(HRPP_INSERT_BATCH_MAX) + " rays");
   s_->ctx = &ctx;
   s_->config = config;
   // The node to insert for each triangle id: each go-up level applied once, here.
@@ -489,7 +489,7 @@ bool GpuPredictor::record_trace(VkCommandBuffer cmd, RayClass c, const RayCountS
   } else if (count.host) {
     s_->record_batches(cmd, c, *count.host, trace_pc);
   } else {
-    throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
+    throw Error("trace: HRPP's batched mode (batch) needs the ray count on the host");
   }
   return true;
 }
@@ -505,7 +505,7 @@ void GpuPredictor::advance_clock(RayClass c, std::uint64_t rays) {
 void GpuPredictor::State::start_queue(VkCommandBuffer cmd, RayClass c,
                                       const RayCountSource& count) {
   if (config.batch > 0)
-    throw Error("HRPP's batched mode (--hrpp-batch) records with record_batches");
+    throw Error("HRPP's batched mode (batch) records with record_batches");
   Queue& q = queue(c);
   if (q.capacity == 0) throw Error("HRPP: a trace recorded before bind_rays sized its queue");
   upload_clock(c);

@@ -62,7 +62,7 @@ void PredictingTracer::record_indirect(VkCommandBuffer cmd, RayClass c, const St
                                        VkDeviceSize count_offset, VkDeviceSize args_offset,
                                        KernelTimer* timer) {
   if (!records_indirect(c))
-    throw Error("trace: HRPP's batched mode (--hrpp-batch) needs the ray count on the host");
+    throw Error("trace: HRPP's batched mode (batch) needs the ray count on the host");
   check_sized(*this, c);
   const RayCountSource source{nullptr, &queue, count_offset, args_offset};
   if (predictor_->record_trace(cmd, c, source, push_constants(), timer)) return;

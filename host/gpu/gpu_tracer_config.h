@@ -26,7 +26,7 @@ struct GpuTracerConfig {
   // compiled out (a specialization constant). The HRPP stage's trace never counts them.
   bool count_steps = false;
   // One ray per subgroup: the trace kernels visit nodes in the CPU reference's order (HRPP's
-  // deterministic runs, --hrpp-serial, set by make_device_tracer from the predictor's
+  // deterministic runs, serial, set by make_device_tracer from the predictor's
   // configuration, whose stage dispatches the same way). Not for the driver's ray queries.
   bool serial = false;
 

@@ -57,8 +57,8 @@ void RayQueryTracer::check_rays(std::span<const gpu::Ray> rays) const {
 
 QueueTraceKernel RayQueryTracer::queue_kernel(QueryKind kind, bool skip_lists) const {
   if (skip_lists)
-    throw Error("--hrpp-fallback skip: skip lists are the BVH kernels'; in front of the "
-                "driver's ray queries use --hrpp-fallback root");
+    throw Error("fallback skip: skip lists are the BVH kernels'; in front of the "
+                "driver's ray queries use fallback root");
   QueueTraceKernel q{ComputePipeline(context(), ray_query_kernel(kind),
                                      embedded_spirv(ray_query_kernel(kind)), kRayQueryBindingTypes,
                                      sizeof(gpu::TracePushConstants)),

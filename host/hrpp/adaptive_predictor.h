@@ -33,7 +33,7 @@
 // smallest power of two, at least PredictorConfig::sample and at most kStrideMax, at which the
 // sample's per-ray part costs at most kSampleBudget of the frame's plain trace, so one frame's
 // credit pays for it; what remains is its dispatches' fixed cost, which the spacing covers.
-// Adaptive off (--hrpp-adaptive off): every enabled class is at `all` every frame. The
+// Adaptive off (adaptive false): every enabled class is at `all` every frame. The
 // decisions are reported per frame in the render stats.
 #pragma once
 

@@ -37,15 +37,15 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
                                            const Aabb& scene_box) {
   const TableConfig& t = config.table[c];
   if (t.sets == 0 || !std::has_single_bit(t.sets))
-    throw Error("--table-sets: " + std::to_string(t.sets) + " is not a power of two");
-  if (t.ways == 0 || t.ways > 64) throw Error("--table-ways: must be 1..64");
+    throw Error("table_sets: " + std::to_string(t.sets) + " is not a power of two");
+  if (t.ways == 0 || t.ways > 64) throw Error("table_ways: must be 1..64");
   if (t.nodes == 0 || t.nodes > kMaxTableNodes)
-    throw Error("--table-nodes: must be 1.." + std::to_string(kMaxTableNodes));
-  if (config.go_up[c] > 64) throw Error("--go-up: must be 0..64");
+    throw Error("table_nodes: must be 1.." + std::to_string(kMaxTableNodes));
+  if (config.go_up[c] > 64) throw Error("go_up: must be 0..64");
   if (!(config.go_up_size[c] >= 0.0f && config.go_up_size[c] <= 1.0f))
-    throw Error("--go-up-size: must be 0..1");
+    throw Error("go_up_size: must be 0..1");
   if (!(config.gate[c] >= 0.0f && std::isfinite(config.gate[c])))
-    throw Error("--hrpp-gate: must be a finite number >= 0");
+    throw Error("gate: must be a finite number >= 0");
   gpu::PredictorParams p{};
   p.hash = make_hash_params(config.hash[c], scene_box);
   p.sets = t.sets;

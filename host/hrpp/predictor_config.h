@@ -49,7 +49,7 @@ inline constexpr NameTable<Fallback, 2> kFallbackNames = {
     {{Fallback::kRoot, "root"}, {Fallback::kSkip, "skip"}}};
 constexpr const char* fallback_name(Fallback f) { return name_in(kFallbackNames, f); }
 
-// Most node slots per entry (--table-nodes).
+// Most node slots per entry (table_nodes).
 inline constexpr std::uint32_t kMaxTableNodes = 64;
 
 // Capacity = sets × ways entries of `nodes` node slots each.
@@ -87,16 +87,16 @@ TableConfig table_preset(std::string_view name);
 
 struct PredictorConfig {
   bool enabled = false;
-  // Per ray class: its key (--hash, --hash-bits) and the go-up level of what its table stores
-  // (--go-up). The defaults here are the paper's (hrpp at N = 6, leaves); the CLI's --hrpp on
-  // default is host/app/hrpp_options.h's.
+  // Per ray class: its key (the settings file's hash, hash_bits) and the go-up level of what its
+  // table stores (go_up). The defaults here are the paper's (hrpp at N = 6, leaves); the CLI's
+  // --hrpp on default is host/app/hrpp_options.h's.
   PerClass<HashConfig> hash;
   PredictorMode mode = PredictorMode::kSpeculative;
   Fallback fallback = Fallback::kSkip;
   PerClass<std::uint32_t> go_up{};
-  PerClass<float> go_up_size{};  // --go-up-size: then up to a box of this share of the scene's
-  PerClass<TableConfig> table;   // per ray class (--table-*)
-  // The distance gate per hit-all class (--hrpp-gate; shaders/shared/hrpp_distance_gate.h):
+  PerClass<float> go_up_size{};  // go_up_size: then up to a box of this share of the scene's
+  PerClass<TableConfig> table;   // per ray class (--table-preset, table_*)
+  // The distance gate per hit-all class (gate; shaders/shared/hrpp_distance_gate.h):
   // speculative mode accepts a true positive only within gate × the nearest hit its key's traced
   // rays found, and bounds an exact trace with the others. 0: off.
   PerClass<float> gate{};
@@ -111,7 +111,7 @@ struct PredictorConfig {
   // Count what a full traversal of every probed ray visits (savings %, wrong closest hits):
   // doubles the traversal work, so timings are taken with it off.
   bool count_baseline = false;
-  // The pilot schedule (--hrpp-pilot K): a trace first predicts and traces every K-th ray and
+  // The pilot schedule (pilot K): a trace first predicts and traces every K-th ray and
   // inserts their hits, then predicts the others, which find the pilots' entries (a wavefront
   // probes all at once: without it, rays of one trace never see each other's inserts). 0 or 1:
   // one round. Not with batches (their order is the deterministic one).
@@ -142,7 +142,7 @@ struct PredictorConfig {
   bool adapts() const { return adaptive && batch == 0; }
 };
 
-// One per-class setting as --hash writes it: "v" when every predicting class has the same value
+// One per-class setting as the --stats summaries write it: "v" when every predicting class has the same value
 // (camera's when none predicts), else "class=v,..." over the predicting classes in class order.
 template <class T, class Text>
 std::string per_class_text(const PredictorConfig& config, const PerClass<T>& values, Text text) {

@@ -152,11 +152,11 @@ glm::vec3 grid_scale(const glm::vec3& extent, std::uint32_t n) {
 
 gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box) {
   if (config.bits < 1 || config.bits > HRPP_HASH_BITS_MAX)
-    throw Error("--hash-bits: " + std::to_string(config.bits) + " is outside 1..8");
+    throw Error("hash_bits: " + std::to_string(config.bits) + " is outside 1..8");
   if (config.dir_bits > HRPP_HASH_BITS_MAX)
-    throw Error("--hash-dir-bits: " + std::to_string(config.dir_bits) + " is outside 1..8");
+    throw Error("hash_dir_bits: " + std::to_string(config.dir_bits) + " is outside 1..8");
   if (config.dir_bits > 0 && config.kind != HashKind::kGridSpherical)
-    throw Error(std::string("--hash-dir-bits: only grid-spherical keys have direction bins, not ") +
+    throw Error(std::string("hash_dir_bits: only grid-spherical keys have direction bins, not ") +
                 hash_kind_name(config.kind));
   gpu::HashParams p{};
   p.kind = static_cast<std::uint32_t>(config.kind);

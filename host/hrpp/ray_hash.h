@@ -39,7 +39,7 @@ struct HashConfig {
   friend bool operator==(const HashConfig&, const HashConfig&) = default;
 };
 
-// The --hash values; parse_hash_kind throws hrpp::Error naming --hash otherwise.
+// The hash kinds' names (--hrpp-config's hash key); parse_hash_kind throws hrpp::Error otherwise.
 inline constexpr NameTable<HashKind, HRPP_HASH_KIND_COUNT> kHashKindNames = {
     {{HashKind::kIeee, "hrpp"},  // the paper's IEEE-754 bits
      {HashKind::kGridSpherical, "grid-spherical"},
@@ -48,7 +48,7 @@ inline constexpr NameTable<HashKind, HRPP_HASH_KIND_COUNT> kHashKindNames = {
      {HashKind::kLightDepth, "light-depth"}}};
 constexpr const char* hash_kind_name(HashKind kind) { return name_in(kHashKindNames, kind); }
 inline HashKind parse_hash_kind(std::string_view name) {
-  return parse_in(kHashKindNames, name, "--hash: unknown hash");
+  return parse_in(kHashKindNames, name, "hash: unknown hash");
 }
 
 // The parameters the kernels get: grid origin and scales over `scene_box`. Throws hrpp::Error

@@ -28,7 +28,7 @@ struct ReferencePredictor::Trace {
   const ReferencePredictor& p;
   const QueryKind kind;
   const bool exact;
-  const bool skips;                    // --hrpp-fallback skip
+  const bool skips;                    // fallback skip
   const gpu::PredictorParams& params;  // the class's
   PredictorTraceResult& out;
   std::vector<Insert>& inserts;  // of the current batch, applied after it in ray order
@@ -51,7 +51,7 @@ struct ReferencePredictor::Trace {
   }
 
   // The entry's nodes in slot order, up to the first empty slot: the closest hit among them
-  // (hit-any: the first). With --hrpp-fallback skip, `tested` gets the first HRPP_SKIP_NODES.
+  // (hit-any: the first). With fallback skip, `tested` gets the first HRPP_SKIP_NODES.
   gpu::Hit verify(const gpu::Ray& ray, std::span<const int> slots, SkipList& tested) {
     gpu::Hit predicted = kMiss;
     TraversalCounters v;

@@ -11,7 +11,7 @@
 //     gate stops (shaders/shared/hrpp_distance_gate.h), trace from the root with tmax = its t and
 //     keep the closer of that answer and the predicted hit (ties: lower id). No hit:
 //     false positive, full traversal. No entry: negative, full traversal. With
-//     --hrpp-fallback skip (PredictorConfig::fallback) these traversals do not enter the first
+//     fallback skip (PredictorConfig::fallback) these traversals do not enter the first
 //     HRPP_SKIP_NODES nodes the verification tested;
 //   - after every full traversal that hit, the prediction node (host/hrpp/prediction_node.h)
 //     of the hit is inserted under the ray's key, at the ray's use stamp (the class's rays

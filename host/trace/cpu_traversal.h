@@ -24,7 +24,7 @@ gpu::Hit trace_any_hit(const GpuBvh& bvh, const gpu::Ray& ray, TraversalCounters
 
 // trace_closest (QueryKind::kClosest) or trace_any_hit (kAny) that does not enter the nodes in
 // `skip` (child references; 0, the root: nothing is entered): the queue's trace with
-// --hrpp-fallback skip (host/hrpp/reference_predictor.h).
+// fallback skip (host/hrpp/reference_predictor.h).
 gpu::Hit trace_skipping(const GpuBvh& bvh, const gpu::Ray& ray, QueryKind kind,
                         std::span<const int> skip, TraversalCounters* counters = nullptr);
 

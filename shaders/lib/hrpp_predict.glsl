@@ -12,7 +12,7 @@
 //     stops (hrpp_distance_gate.h), write it and queue the ray with tmax = its t (hrpp_resolve
 //     keeps the closer of the two: the answer of HRPP off). No hit: false positive, queued. No
 //     entry: negative, queued;
-//   - with the skip list on (kSkipList, --hrpp-fallback skip) a queued ray also gets the first
+//   - with the skip list on (kSkipList, fallback skip) a queued ray also gets the first
 //     HRPP_SKIP_NODES nodes it tested, which the queue's trace (trace_*_skipping) does not
 //     enter: nothing in them answers the ray before its queued tmax;
 //   - queued rays are compacted: one atomicAdd per subgroup (ballot), and the queue's

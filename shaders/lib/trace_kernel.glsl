@@ -16,7 +16,7 @@
 // that index, so a reordering (host/gpu/ray_sorter.h) moves no ray and no hit. Without it
 // (0, the default) position j is ray j.
 //
-// HRPP_TRACE_SKIPPING 1 (trace_*_skipping.comp, HRPP's queue with --hrpp-fallback skip):
+// HRPP_TRACE_SKIPPING 1 (trace_*_skipping.comp, HRPP's queue with fallback skip):
 // position j also reads entry j of a skip list (HRPP_TRACE_BINDING_SKIP_NODES), the nodes its
 // prediction tested without an answer, and the traversal does not enter them (traversal.glsl).
 #ifndef HRPP_TRACE_KERNEL_GLSL

@@ -1,4 +1,4 @@
-// The distance gate (--hrpp-gate G; hit-all rays, speculative mode). A speculative answer goes
+// The distance gate (gate G; hit-all rays, speculative mode). A speculative answer goes
 // wrong when the ray has an occluder near its origin that its entry does not hold: rays that
 // share a coarse key start up to a cell apart, and one of them meets a surface close by that
 // the others pass (results/KEYS.md, "Bounce rays"). The gate accepts a true positive only when

@@ -30,7 +30,7 @@
 // hrpp_predict reads them (texel gathers; scattered storage loads are slow on lavapipe).
 #define HRPP_STAGE_BINDING_TAG_TEXELS 18
 #define HRPP_STAGE_BINDING_SLOT_TEXELS 19
-// The queued rays' skip lists (--hrpp-fallback skip): per queued ray, the nodes its prediction
+// The queued rays' skip lists (fallback skip): per queued ray, the nodes its prediction
 // tested without an answer (HRPP_TRACE_BINDING_SKIP_NODES of the skipping trace kernels).
 #define HRPP_STAGE_BINDING_QUEUE_SKIPS 20
 #define HRPP_STAGE_BINDING_COUNT 21
@@ -45,7 +45,7 @@
 // StagePushConstants::trace_group_rays rays, as one of the trace kernel's does: the dispatch
 // sizes (the trace's own indirect arguments among them) stay those of the trace.
 #define HRPP_SPEC_PREDICT_WORKGROUP 4
-// 1: hrpp_predict writes each queued ray's skip list (--hrpp-fallback skip); 0 compiles it out.
+// 1: hrpp_predict writes each queued ray's skip list (fallback skip); 0 compiles it out.
 #define HRPP_SPEC_SKIP_LIST 5
 
 // The table's buffers at base + these offsets (the stage: base HRPP_STAGE_BINDING_TABLE;

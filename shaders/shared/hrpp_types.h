@@ -12,12 +12,12 @@ namespace hrpp::gpu {
 using uint64_t = std::uint64_t;
 #endif
 
-// Hash kinds (--hash). Every kind takes a precision N = 1..8 (--hash-bits) and gives a key of at
+// Hash kinds (hash). Every kind takes a precision N = 1..8 (hash_bits) and gives a key of at
 // most 48 bits; the exact definitions are in shaders/lib/hrpp_hash.glsl (the C++ mirror,
 // host/hrpp/ray_hash.cpp, repeats them operation for operation).
 #define HRPP_HASH_IEEE 0            // the paper's IEEE-754 bit hash with the xor swizzle
 #define HRPP_HASH_GRID_SPHERICAL 1  // MICRO'21: origin on a 2^N grid, direction as θ/φ bins
-                                    // (2^D each; D = N unless --hash-dir-bits says)
+                                    // (2^D each; D = N unless hash_dir_bits says)
 #define HRPP_HASH_TWO_POINT 2       // origin and a point further along the ray, both on grids
 #define HRPP_HASH_LIGHT 3           // light space: the ray's end (the light) on a grid and the
                                     // direction from it to the origin in octahedral cells
@@ -38,7 +38,7 @@ using uint64_t = std::uint64_t;
 //     axis) over the scene box itself;
 //   reach: the scene box's largest extent, the max-norm distance of the second point;
 //   second_bits: the light-space keys' light-end grid precision, min(N + 1, 8); grid-spherical:
-//     the direction bins' precision (--hash-dir-bits, default N); 0 for the others.
+//     the direction bins' precision (hash_dir_bits, default N); 0 for the others.
 struct HashParams {
   vec3 grid_lo;
   uint kind;  // HRPP_HASH_*
@@ -55,7 +55,7 @@ struct HashParams {
 #define HRPP_MODE_SPECULATIVE 0  // the paper: accept the closest hit among the predicted nodes
 #define HRPP_MODE_EXACT 1        // use that hit's t as tmax of a full traversal: = HRPP off
 
-// Replacement when an insert finds no room (--table-policy).
+// Replacement when an insert finds no room (table_policy).
 #define HRPP_POLICY_NONE 0  // the paper: drop the insert
 #define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
                             // shaders/lib/hrpp_table.glsl)

@@ -40,7 +40,7 @@ namespace hrpp::gpu {
 #define HRPP_TRACE_BINDING_RAY_INDICES 8
 #define HRPP_TRACE_INDEXED_BINDING_COUNT 9
 // The skipping kernels (trace_closest_skipping, trace_any_skipping: HRPP_TRACE_SKIPPING 1) trace
-// HRPP's queue with --hrpp-fallback skip: position j also reads entry j of a skip list, the
+// HRPP's queue with fallback skip: position j also reads entry j of a skip list, the
 // nodes (child references, HRPP_EMPTY_NODE for none) that ray's prediction already tested
 // without finding a hit before its tmax, and the traversal does not enter them: what they hold is
 // known not to be the answer. A uniform texel buffer of HRPP_SKIP_NODES ints per entry (one
