@@ -152,7 +152,7 @@ std::string per_class_default(const PerClass<T>& v, Text text) {
 
 // What every per-class option's help adds.
 const char* const kPerClass =
-    " (V: every ray class; a list of V and class=V, in order, e.g. hrpp,shadow=light-depth; "
+    " (V: every ray class; a list of V and class=V, in order, e.g. tuned,shadow=beam; "
     "classes: camera, bounce, shadow)";
 
 // --table-preset, per ray class (the sizes and the policy: --hrpp-config).

@@ -444,6 +444,12 @@ RenderResult WavefrontRenderer::render(PassObserver* observer) {
     RenderStats stats;
     std::chrono::steady_clock::time_point at;
   } kept;
+  const auto keep = [&](std::chrono::steady_clock::time_point now) {
+    kept.sum.resize(pixels);
+    s_->image.download(kept.sum.data(), kept.sum.size() * sizeof(glm::vec4));
+    kept.stats = stats;
+    kept.at = now;
+  };
   for (std::uint32_t sample = 0; sample < s_->cfg.spp; ++sample) {
     FrameStats frame;
     try {
@@ -456,23 +462,15 @@ RenderResult WavefrontRenderer::render(PassObserver* observer) {
     stats += frame;
     stats.frames.push_back(std::move(frame));
     const auto now = std::chrono::steady_clock::now();
-    if (sample == 0 || now - kept.at >= kKeepInterval) {
-      kept.sum.resize(pixels);
-      s_->image.download(kept.sum.data(), kept.sum.size() * sizeof(glm::vec4));
-      kept.stats = stats;
-      kept.at = now;
-    }
+    if (sample == 0 || now - kept.at >= kKeepInterval) keep(now);
     const double elapsed = std::chrono::duration<double>(now - first_pass).count();
     if (observer && !observer->after_pass(sample + 1, elapsed, mean_so_far)) break;
   }
-  if (!out.failure.empty()) {  // the device's arrays may be gone: only what the host kept
+  if (!out.failure.empty())  // the device's arrays may be gone: only what the host kept
     stats = kept.stats;
-    set_mean_image(out, kept.sum, static_cast<std::uint32_t>(stats.frames.size()));
-  } else {
-    std::vector<glm::vec4> sum(pixels);
-    s_->image.download(sum.data(), sum.size() * sizeof(glm::vec4));
-    set_mean_image(out, sum, static_cast<std::uint32_t>(stats.frames.size()));
-  }
+  else if (kept.stats.frames.size() != stats.frames.size())  // not kept at the last pass
+    keep(std::chrono::steady_clock::now());
+  set_mean_image(out, kept.sum, static_cast<std::uint32_t>(stats.frames.size()));
   stats.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
