@@ -103,7 +103,7 @@ TEST_F(Cli, TriangleDumpIsNineFloatsPerTriangleInIdOrder) {
   }
 }
 
-// The scene export for another renderer (tools/cycles_reference.py): the loaded scene's
+// The scene export for another renderer (study/cycles_reference.py): the loaded scene's
 // triangles, normals, materials, lights and cameras, as load_scene has them.
 TEST_F(Cli, SceneExportHoldsTheLoadedScene) {
   const fs::path out = dir_ / "cornell.json";

@@ -373,7 +373,7 @@ TEST_F(GltfEncodings, UnknownUsedExtensionsAreIgnoredWithOneWarning) {
 
 }  // namespace
 
-// ---- the corpus: one mesh in each encoding (tools/make_gltf_encodings.sh) ----------------------
+// ---- the corpus: one mesh in each encoding (tests/gltf/make_encodings.sh) ----------------------
 namespace {
 
 const fs::path kCorpus = fs::path(HRPP_TEST_DATA_DIR) / "gltf_encodings";

@@ -35,12 +35,12 @@ print(f"frame on/off over {n} pairs: min {r[0]:.3f}, median {statistics.median(r
 PY
   echo "(uptime: $(uptime | sed 's/^ *//'))"
 }
-echo "== HRPP on against off (tools/hrpp_bench.py: same binary, seed and image, $pairs off/on"
+echo "== HRPP on against off (study/bench.py: same binary, seed and image, $pairs off/on"
 echo "   pairs interleaved; ratios of device time per ray class and frame, < 1: HRPP faster)"
-/usr/bin/python3 tools/hrpp_bench.py --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
+/usr/bin/python3 -m study bench --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
   --spp 8 --repeat "$pairs" --images build/demo/default
 spread default
-/usr/bin/python3 tools/hrpp_bench.py --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
+/usr/bin/python3 -m study bench --hrpp "$hrpp" --scenes builtin:cornell --size 256x256 \
   --spp 8 --repeat "$pairs" --flags "--hrpp-mode exact" --images build/demo/exact
 spread exact
 oiiotool build/demo/default/builtin_cornell_off0.exr build/demo/exact/builtin_cornell_on0.exr \

@@ -14,16 +14,16 @@
 #      both memory modes, and on bunny's rays hrpp trace against the independent Embree harness;
 #   4. per-kernel times: hrpp render bunny with HRPP on under each memory mode (render --stats),
 #      twice, interleaved;
-#   5. tools/hrpp_bench.py at its defaults (the adaptive predictor): HRPP on against off;
+#   5. study/bench.py at its defaults (the adaptive predictor): HRPP on against off;
 #   6. every GPU test binary (CTest label gpu), each alone;
-#   7. tools/hrpp_bench.py with every ray predicted (configs/hrpp/every-ray.json);
-#   8. tools/hrpp_model.py: this device's cost per operation fitted, its held-out error and where
+#   7. study/bench.py with every ray predicted (configs/hrpp/every-ray.json);
+#   8. study/model.py: this device's cost per operation fitted, its held-out error and where
 #      prediction would pay here (docs/EXPERIMENTS.md, "The cost model");
 #   9. step 7 again with the paper's fallback (configs/hrpp/every-ray-root.json): what the skip fallback
 #      (step 7, the default) saves in time on this device;
 #  10. where the device has VK_KHR_ray_query (step 1 says), the driver's ray queries beside the
 #      BVH kernels and Embree, with HRPP in front of them (hrpp bench --tracer rayquery --hrpp on
-#      on bunny, lamborghini and dragon, and tools/hrpp_bench.py --tracer rayquery); elsewhere
+#      on bunny, lamborghini and dragon, and python3 -m study bench --tracer rayquery); elsewhere
 #      one line saying that the device has none.
 # Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
@@ -57,7 +57,7 @@
 #   --quick       small sizes and one scene: a run of the whole script on lavapipe in about a
 #                 minute (the test suite's gpu_figures_quick)
 #   --pack        write the kit (above) from --build (default build/portable)
-# PYTHON names the Python that runs tools/hrpp_bench.py and tools/hrpp_model.py (default python3,
+# PYTHON names the Python that runs study/bench.py and study/model.py (default python3,
 # with numpy; without OpenImageIO hrpp_bench.py reads the uncompressed EXR files of a portable
 # build, and without matplotlib the model draws no figure).
 set -uo pipefail
@@ -347,7 +347,7 @@ done
 
 if want hrpp_bench; then
   step "hrpp_bench.py, the default predictor"
-  limit 120 "hrpp_bench default" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  limit 120 "hrpp_bench default" "${PYTHON:-python3}" -m study bench --hrpp "$hrpp" \
     "${hb_args[@]}" --json "$out/hrpp_bench_default.json"
 fi
 
@@ -373,19 +373,19 @@ fi
 
 if want every_ray; then
   step "hrpp_bench.py, every ray predicted (configs/hrpp/every-ray.json)"
-  limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  limit 90 "hrpp_bench every ray" "${PYTHON:-python3}" -m study bench --hrpp "$hrpp" \
     "${hb_args[@]}" --repeat 1 --flags "--hrpp-config configs/hrpp/every-ray.json" --json "$out/hrpp_bench_every_ray.json"
 fi
 
 if want model; then
   step "hrpp_model.py: this device's costs per operation and where prediction would pay"
-  limit 120 "hrpp_model" "${PYTHON:-python3}" tools/hrpp_model.py --hrpp "$hrpp" "${model_args[@]}" \
+  limit 120 "hrpp_model" "${PYTHON:-python3}" -m study model --hrpp "$hrpp" "${model_args[@]}" \
     --runs "$rays/model" --json "$out/hrpp_model.json" --figure "$out/hrpp_model.png"
 fi
 
 if want root; then
   step "hrpp_bench.py, every ray predicted, the paper's fallback (configs/hrpp/every-ray-root.json)"
-  limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+  limit 90 "hrpp_bench every ray, root" "${PYTHON:-python3}" -m study bench --hrpp "$hrpp" \
     "${hb_args[@]}" --repeat 1 --flags "--hrpp-config configs/hrpp/every-ray-root.json" \
     --json "$out/hrpp_bench_every_ray_root.json"
 fi
@@ -397,7 +397,7 @@ if want rayquery; then
       limit 90 "rayquery bench $scene" "$hrpp" bench "$scene" --tracer rayquery --hrpp on \
         --warn-mismatches "${bench_args[@]}" --json "$out/rayquery_$scene.json"
     done
-    limit 90 "hrpp_bench rayquery" "${PYTHON:-python3}" tools/hrpp_bench.py --hrpp "$hrpp" \
+    limit 90 "hrpp_bench rayquery" "${PYTHON:-python3}" -m study bench --hrpp "$hrpp" \
       "${hb_args[@]}" --repeat 1 --tracer rayquery --json "$out/hrpp_bench_rayquery.json"
   else
     echo "no VK_KHR_ray_query on this device ($(cat "$out/ray_tracing.txt" 2>/dev/null)):" \

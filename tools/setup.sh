@@ -74,7 +74,7 @@ fi
 what=${missing[*]:-}
 [ "$mesa_missing" = 1 ] && what="$what mesa-vulkan-drivers (Mesa 25, from $backports)"
 echo "setup: installing ${what# }"
-# openssh-server is there for sshd, which tests/remote_sweep_test.sh starts on loopback ports of
+# openssh-server is there for sshd, which study/tests/remote_sweep_test.sh starts on loopback ports of
 # its own; the package's system service is not wanted, so a policy-rc.d keeps it from starting
 # while it installs and, where systemd runs, the service is disabled afterwards.
 installing_sshd=0

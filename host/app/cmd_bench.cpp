@@ -464,7 +464,7 @@ void run_bench(const BenchOptions& o) {
   const std::unique_ptr<VulkanContext> ctx = open_device(o, report["machine"]);
   // The bench traces rays only: without the shading data and with the base tree consumed by the
   // layout, the host holds the triangles and the two BVHs (hrpp's and Embree's) at a 50M-triangle
-  // scale (tools/build_scaling.py).
+  // scale (study/build_scaling.py).
   Scene scene = load_scene(o.shared.scene);
   free_array(scene.shading);
   Bvh base = build_bvh(scene, o.shared.bvh);

@@ -145,7 +145,7 @@ void add_scene_command(CLI::App& app) {
                   "Write the triangles (9 float32 each, id order) to FILE");
   cmd->add_option("--export-json", o->export_json,
                   "Write the scene as loaded (triangles, materials, lights, cameras) as JSON to "
-                  "FILE, for another renderer (tools/cycles_reference.py)");
+                  "FILE, for another renderer (study/cycles_reference.py)");
   cmd->add_option("--threads", o->shared.bvh.threads, "BVH build threads (0: all)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -1,4 +1,4 @@
-// The scene as loaded, as JSON for another renderer: tools/cycles_reference.py builds the same
+// The scene as loaded, as JSON for another renderer: study/cycles_reference.py builds the same
 // scene in Blender's Cycles from it to compare hrpp render against (docs/FORMATS.md, "Scene
 // export"). Every triangle's positions and vertex normals (9 floats each, id order; zero
 // normals: none) and material index, the

@@ -1,0 +1,37 @@
+"""`study figures --csv FILE --out DIR`: the limit study's figures from the sweep CSV (study
+sweep's step after collecting): plot_savings.py's (Table 1 against the paper, hash precision,
+go-up level, spp, bounded tables, hash functions) and plot_error_time.py's (error against run
+time, error against HRPP off, kernel times). Writes PNGs into --out; a grid the CSV lacks is
+skipped. matplotlib draws without a display."""
+import argparse
+import os
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (the plot modules draw with it)
+
+from common import read_csv  # noqa: E402
+
+
+def save(fig, out, name, written):
+    p = os.path.join(out, name)
+    fig.tight_layout()
+    fig.savefig(p, dpi=110)
+    plt.close(fig)
+    written.append(p)
+
+
+def main():
+    import plot_error_time
+    import plot_savings
+    ap = argparse.ArgumentParser(prog="study figures", description=__doc__)
+    ap.add_argument("--csv", required=True)
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    data = read_csv(a.csv)
+    written = []
+    for f in plot_savings.PLOTTERS + plot_error_time.PLOTTERS:
+        f(data, a.out, written)
+    for p in written:
+        print(f"study figures: {p}")
