@@ -9,7 +9,7 @@
 set -euo pipefail
 HRPP="${1:?usage: remote_sweep_test.sh HRPP_BINARY WORK_DIR}"
 WORK="${2:?usage: remote_sweep_test.sh HRPP_BINARY WORK_DIR}"
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 SSHD=/usr/sbin/sshd
 [[ -x "$SSHD" ]] || { echo "remote_sweep_test: $SSHD missing (tools/setup.sh installs openssh-server)" >&2; exit 1; }
 command -v ssh-keygen >/dev/null || { echo "remote_sweep_test: ssh-keygen missing" >&2; exit 1; }
@@ -68,7 +68,7 @@ for i in 0 1; do
     exit 1
 done
 
-"$REPO/study" sweep --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
+/usr/bin/python3 "$REPO/study" sweep --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
     --figures "$WORK/figures" --sshloginfile "$WORK/sshloginfile" --grids test
 
 /usr/bin/python3 - "$WORK" <<'PY'

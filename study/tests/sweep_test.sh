@@ -9,10 +9,10 @@
 set -euo pipefail
 HRPP="${1:?usage: sweep_test.sh HRPP_BINARY WORK_DIR}"
 WORK="${2:?usage: sweep_test.sh HRPP_BINARY WORK_DIR}"
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 rm -rf "$WORK"
 mkdir -p "$WORK"
-"$REPO/study" sweep --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
+/usr/bin/python3 "$REPO/study" sweep --test --hrpp "$HRPP" --out "$WORK/run" --csv "$WORK/test.csv" \
     --figures "$WORK/figures"
 /usr/bin/python3 - "$WORK" <<'PY'
 import csv, os, re, sys
