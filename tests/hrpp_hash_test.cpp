@@ -3,6 +3,7 @@
 // subnormals keep their top mantissa bits), and monotone precision (rays with equal keys at
 // precision N+1 have equal keys at N, for every hash kind); the light-space keys' layout (light
 // end on the coarse grid, octahedral cells of comparable solid angle, the receiver's cell).
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -16,13 +17,14 @@
 
 #include "common/error.h"
 #include "hrpp/ray_hash.h"
+#include "micro21_bins.h"
 
 namespace hrpp {
 namespace {
 
 const Aabb kBox{{-1.25f, -0.5f, -2.0f}, {2.75f, 3.0f, 1.0f}};
-constexpr HashKind kKinds[] = {HashKind::kIeee, HashKind::kGridSpherical, HashKind::kTwoPoint,
-                               HashKind::kLight, HashKind::kLightDepth};
+constexpr HashKind kKinds[] = {HashKind::kIeee,  HashKind::kGridSpherical, HashKind::kTwoPoint,
+                               HashKind::kLight, HashKind::kLightDepth,    HashKind::kMicro21};
 // The light-space keys' light-end grid precision at precision n.
 std::uint32_t light_bits(std::uint32_t n) { return std::min(n + 1, 8u); }
 
@@ -58,10 +60,11 @@ TEST(RayHash, KeysFit48BitsForEveryKindAndPrecision) {
         all |= k;
       }
       // The fields the kinds use: IEEE 3 × 16-bit fields of 2N+1 bits (16 at N = 8), grid 5N,
-      // two-point 6N, light 3C + 2N, light-depth 3C + 2N + 8 (C = min(N + 1, 8)): random bits
-      // must reach the top of the layout.
+      // two-point 6N, light 3C + 2N, light-depth 3C + 2N + 8 (C = min(N + 1, 8)), micro21
+      // max(3N, 7): random bits must reach the top of the layout.
       const int top = kind == HashKind::kIeee ? 32 + static_cast<int>(n + std::min(n, 7u))
                       : kind == HashKind::kGridSpherical ? static_cast<int>(5 * n) - 1
+                      : kind == HashKind::kMicro21 ? std::max(static_cast<int>(3 * n), 7) - 1
                       : kind == HashKind::kTwoPoint      ? static_cast<int>(6 * n) - 1
                       : kind == HashKind::kLight
                           ? static_cast<int>(3 * light_bits(n) + 2 * n) - 1
@@ -210,7 +213,8 @@ TEST(RayHash, LightKeysAreLightEndDirectionAndReceiver) {
   EXPECT_LT(2 * hi, 7 * lo);
 }
 
-// Rays with equal keys at precision N+1 have equal keys at N: a finer hash only splits entries.
+// Rays with equal keys at precision N+1 have equal keys at N: a finer hash only splits entries
+// (hrpp's own kinds; MICRO'21's xor of the direction bins into the cell is not monotone).
 TEST(RayHash, PrecisionIsMonotone) {
   std::mt19937 rng(11);
   std::normal_distribution<float> jitter(0.0f, 1.0f);
@@ -225,6 +229,7 @@ TEST(RayHash, PrecisionIsMonotone) {
                         d + spread * glm::vec3{jitter(rng), jitter(rng), jitter(rng)});
   }
   for (HashKind kind : kKinds) {
+    if (kind == HashKind::kMicro21) continue;  // its direction bins xor into the cell's bits
     std::size_t merged = 0;  // fine keys that share a coarse key, over every precision
     for (std::uint32_t n = 1; n < 8; ++n) {
       std::map<std::uint64_t, std::uint64_t> coarse_of_fine;
@@ -244,6 +249,121 @@ TEST(RayHash, PrecisionIsMonotone) {
     }
     // Lowering the precision must merge keys somewhere, or N would not change the hash.
     EXPECT_GT(merged, 0u) << hash_kind_name(kind);
+  }
+}
+
+// MICRO'21's hash as its simulator's rt-sim.cc computes it (hash_origin_grid, hash_direction_
+// spherical, hash_grid_spherical), in double with acos and atan2: the origin's cell packed
+// x << 2n | y << n | z, xor (φ° >> 5) << 3 | (θ° >> 5), θ° = acos(d.z) and φ° = atan2(d.y, d.x)
+// + π in whole degrees. Sets `near_edge` when the ray lies within `margin` of a cell or bin edge,
+// where float rounding may move it by one bin (micro21_bins.h).
+std::uint64_t micro21_source_key(glm::vec3 o, glm::vec3 d, const Aabb& box, std::uint32_t n,
+                                 bool& near_edge, double margin = 1e-4) {
+  const double cells = std::ldexp(1.0, static_cast<int>(n));
+  std::uint64_t cell[3];
+  near_edge = false;
+  for (int a = 0; a < 3; ++a) {
+    const double x = (static_cast<double>(o[a]) - box.lo[a]) / (box.hi[a] - box.lo[a]) * cells;
+    near_edge |= std::fabs(x - std::round(x)) < margin;
+    cell[a] = static_cast<std::uint64_t>(std::clamp(x, 0.0, cells - 1.0));
+  }
+  const glm::dvec3 u = glm::normalize(glm::dvec3(d));
+  const double theta = std::acos(std::clamp(u.z, -1.0, 1.0)) / std::acos(-1.0) * 180.0;
+  const double phi = (std::atan2(u.y, u.x) + std::acos(-1.0)) / std::acos(-1.0) * 180.0;
+  near_edge |= std::fabs(theta / 32.0 - std::round(theta / 32.0)) < margin ||
+               std::fabs(phi / 32.0 - std::round(phi / 32.0)) < margin;
+  const std::uint64_t dir = ((static_cast<std::uint64_t>(phi) >> 5) << 3) |
+                            (static_cast<std::uint64_t>(theta) >> 5);
+  return ((cell[0] << (2 * n)) | (cell[1] << n) | cell[2]) ^ dir;
+}
+
+// Hand-worked rays on a 32-unit cube at MICRO'21's 5 grid bits: cell (5, 17, 30) is 5 << 10 |
+// 17 << 5 | 30 = 5694; +z is θ 0°, φ 180° (atan2(0, 0) = 0): bins (0, 5), 5694 ^ 40 = 5654;
+// (1, 1, 0)/√2 is θ 90°, φ 225°: bins (2, 7), 5694 ^ 58 = 5636; -x is φ 360° (atan2(+0, -1) =
+// π): bins (2, 11), 5694 ^ 90 = 5732; -z from the centre: bins (5, 5), 16912 ^ 45 = 16957; and
+// (0.36, -0.48, -0.8) from cell 0: θ 143°, φ 126°: bins (4, 3), 0 ^ 28 = 28.
+TEST(RayHash, Micro21KeysAreTheSimulatorsOnHandWorkedRays) {
+  const Aabb cube{glm::vec3(0.0f), glm::vec3(32.0f)};
+  const auto k = [&](glm::vec3 o, glm::vec3 d) {
+    return hash_ray(o, d, 1.0f, make_hash_params({HashKind::kMicro21, 5}, cube));
+  };
+  const glm::vec3 o{5.5f, 17.2f, 30.9f};
+  const float s = std::sqrt(0.5f);
+  EXPECT_EQ(k(o, {0.0f, 0.0f, 1.0f}), 5654u);
+  EXPECT_EQ(k(o, {s, s, 0.0f}), 5636u);
+  EXPECT_EQ(k(o, {-1.0f, 0.0f, 0.0f}), 5732u);
+  EXPECT_EQ(k(o, {-1.0f, -0.0f, 0.0f}), 5732u);  // -0 is +0: atan2(+0, -1)
+  EXPECT_EQ(k({16.0f, 16.0f, 16.0f}, {0.0f, 0.0f, -1.0f}), 16957u);
+  EXPECT_EQ(k({0.5f, 0.5f, 0.5f}, {0.36f, -0.48f, -0.8f}), 28u);
+  EXPECT_EQ(k({31.9f, 0.1f, 12.3f}, {-0.6f, 0.0f, 0.8f}), 31829u);
+  // The direction's length does not matter (the source's directions are unit length).
+  EXPECT_EQ(k({0.5f, 0.5f, 0.5f}, {3.6f, -4.8f, -8.0f}), 28u);
+  // The zero direction as the source's: θ = acos 0 = 90°, φ = 180°: bins (2, 5).
+  EXPECT_EQ(k(o, {0.0f, 0.0f, 0.0f}), 5694u ^ ((5u << 3) | 2u));
+  EXPECT_NO_THROW(make_hash_params({HashKind::kMicro21, 5, 3}, cube));
+  EXPECT_THROW(make_hash_params({HashKind::kMicro21, 5, 4}, cube), Error);
+}
+
+// The same on random rays in a scene box, at every grid precision: equal to the source's key
+// except within a rounding of an edge (skipped: fewer than 1 in 500).
+TEST(RayHash, Micro21KeysAreTheSimulatorsOnRandomRays) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> t(-0.1f, 1.1f), dir(-1.0f, 1.0f);
+  const glm::vec3 e = kBox.extent();
+  for (std::uint32_t n = 1; n <= 8; ++n) {
+    const gpu::HashParams params = make_hash_params({HashKind::kMicro21, n}, kBox);
+    int compared = 0, skipped = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const glm::vec3 o = kBox.lo + glm::vec3(t(rng), t(rng), t(rng)) * e;
+      const glm::vec3 d{dir(rng), dir(rng), dir(rng)};
+      if (glm::length(d) < 1e-3f) continue;
+      bool near_edge = false;
+      const std::uint64_t expected = micro21_source_key(o, d, kBox, n, near_edge);
+      if (near_edge) {
+        ++skipped;
+        continue;
+      }
+      ++compared;
+      ASSERT_EQ(hash_ray(o, d, 1.0f, params), expected) << "N=" << n << " ray " << i;
+    }
+    EXPECT_LT(skipped * 500, compared) << "N=" << n;
+  }
+}
+
+// The bin edges of micro21_bins.h are cos 32k° |cos 32k°| and the diamond angle of 32k°,
+// rounded to float.
+TEST(RayHash, Micro21BinEdgesAreThe32DegreeEdges) {
+  const double pi = std::acos(-1.0);
+  for (int k = 0; k <= 6; ++k) {  // θ: the bin of an angle 1e-3° past each edge is k
+    const double a = (32.0 * k + 1e-3) * pi / 180.0;
+    if (a > pi) break;
+    const double c = std::cos(a) * std::fabs(std::cos(a));
+    EXPECT_EQ(gpu::hrpp_micro21_theta_bin(static_cast<float>(c)), static_cast<std::uint32_t>(k))
+        << k;
+    const double before = (32.0 * k - 1e-3) * pi / 180.0;
+    if (k > 0) {
+      const double cb = std::cos(before) * std::fabs(std::cos(before));
+      EXPECT_EQ(gpu::hrpp_micro21_theta_bin(static_cast<float>(cb)),
+                static_cast<std::uint32_t>(k - 1))
+          << k;
+    }
+  }
+  const auto diamond = [](double a) {
+    const double x = std::cos(a), y = std::sin(a), s = std::fabs(x) + std::fabs(y);
+    const double u = x / s, v = y / s;
+    return v >= 0.0 ? (u >= 0.0 ? v : 1.0 - u) : (u < 0.0 ? 2.0 - v : 3.0 + u);
+  };
+  for (int k = 0; k <= 11; ++k) {  // φ
+    const double after = (32.0 * k + 1e-3) * pi / 180.0;
+    EXPECT_EQ(gpu::hrpp_micro21_phi_bin(static_cast<float>(diamond(after))),
+              static_cast<std::uint32_t>(k))
+        << k;
+    if (k > 0) {
+      const double before = (32.0 * k - 1e-3) * pi / 180.0;
+      EXPECT_EQ(gpu::hrpp_micro21_phi_bin(static_cast<float>(diamond(before))),
+                static_cast<std::uint32_t>(k - 1))
+          << k;
+    }
   }
 }
 

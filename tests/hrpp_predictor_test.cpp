@@ -13,6 +13,7 @@
 //     included) and go-up 0 and 3: answers equal HRPP off, and the CPU reference reproduces
 //     every counter in the deterministic configuration.
 #include <cstdio>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@
 #include "hrpp/reference_predictor.h"
 #include "hrpp/reference_table.h"
 #include "hrpp_distance_gate.h"
+#include "hrpp_table_set.h"
 #include "hrpp_counter_checks.h"
 #include "test_scenes.h"
 #include "trace/ray_batches.h"
@@ -188,16 +190,40 @@ TEST(HrppPredictor, ExactAndAnyHitEqualHrppOff) {
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 
+// MICRO'21's predictor as published (its key at 5 grid bits, its table) in exact mode, and on
+// the AO rays it was built for: every answer is HRPP off's, and it predicts.
+TEST(HrppPredictor, Micro21ExactAndAnyHitEqualHrppOff) {
+  GpuTracerConfig off_config;
+  off_config.rays_per_invocation = 8;
+  GpuTracer off(context(), bunny().bvh, off_config);
+  for (const Case& c : cases()) {
+    const GpuTraceResult reference = off.trace(*c.rays, c.kind);
+    PredictorConfig p = config(PredictorMode::kExact, table_preset("micro21"));
+    p.set_hash({HashKind::kMicro21, 5});
+    const std::string what = std::string("micro21 ") + c.name;
+    DeviceTracer* tracer = nullptr;
+    trace_gpu(p, *c.rays, c.kind, &tracer);  // a trace's inserts serve the next
+    const GpuTraceResult on = tracer->trace(*c.rays, c.kind);
+    expect_same_hits(on.hits, reference.hits, what);
+    expect_counters_add_up(on.predictor, c.rays->size(), what);
+    EXPECT_GT(on.predictor.c[HRPP_PC_TRUE_POSITIVES], 0u) << what;
+  }
+  EXPECT_EQ(context().validation_messages(), 0u);
+}
+
 // One deterministic trace (batches of 64, one ray per subgroup) on the GPU and on the CPU
-// reference predictor: the same hits, counters and table contents.
-void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& c) {
+// reference predictor: the same hits, counters and table contents. The key: `hash`, else the
+// case's IEEE precision.
+void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& c,
+                                     const HashConfig* hash = nullptr) {
   PredictorConfig p = config;
-  p.set_hash({HashKind::kIeee, c.bits});
+  p.set_hash(hash ? *hash : HashConfig{HashKind::kIeee, c.bits});
   p.batch = 64;
   p.serial = true;
   p.count_baseline = true;
   const TableConfig& table = p.table[RayClass::kCamera];
-  const std::string what = std::string(c.name) + " " + predictor_mode_name(p.mode) +
+  const std::string what = std::string(c.name) + " " + predictor_mode_name(p.mode) + " " +
+                           hash_kind_name(p.hash[RayClass::kCamera].kind) +
                            (p.gate[RayClass::kCamera] > 0.0f ? " gated" : "") + " " +
                            fallback_name(p.fallback) + " go-up " +
                            std::to_string(p.go_up[RayClass::kCamera]) + " table " +
@@ -234,15 +260,20 @@ void expect_reference_reproduces_gpu(const PredictorConfig& config, const Case& 
 }
 
 // The deterministic configuration reproduced: a roomy table and tiny ones that evict (lru,
-// fifo) or drop (none), leaves and go-up 2 (the roomy table), with either fallback (root: go-up 2).
+// fifo, micro21) or drop (none), leaves and go-up 2 (the roomy table), with either fallback
+// (root: go-up 2); MICRO'21's predictor as published (its key and table).
 TEST(HrppPredictor, ReferencePredictorReproducesGpuCounters) {
   const TableConfig roomy{1u << 12, 8, 16, TablePolicy::kNone};
-  const TableConfig tiny[] = {
-      {4, 2, 2, TablePolicy::kLru}, {4, 2, 2, TablePolicy::kFifo}, {4, 2, 2, TablePolicy::kNone}};
+  const TableConfig tiny[] = {{4, 2, 2, TablePolicy::kLru},
+                              {4, 2, 2, TablePolicy::kFifo},
+                              {4, 2, 2, TablePolicy::kNone},
+                              {4, 1, 2, TablePolicy::kMicro21}};
+  const HashConfig micro21{HashKind::kMicro21, 5};
   for (const PredictorMode mode : {PredictorMode::kSpeculative, PredictorMode::kExact})
     for (const Case& c : cases()) {
       if (c.kind == QueryKind::kAny && mode == PredictorMode::kExact) continue;  // one mode
       for (const TableConfig& table : tiny) expect_reference_reproduces_gpu(config(mode, table), c);
+      expect_reference_reproduces_gpu(config(mode, table_preset("micro21")), c, &micro21);
       PredictorConfig p = config(mode, roomy);
       expect_reference_reproduces_gpu(p, c);
       p.set_go_up(2);
@@ -490,7 +521,7 @@ TEST(HrppPredictor, DistanceGateBoundsTheTraceOfFarPredictions) {
 // Which key each policy gives up when a full set takes a new one: one set of two ways, keys 1
 // and 2 inserted at clocks 1 and 2, key 1 probed at clock 3, key 3 inserted at clock 4. lru
 // evicts key 2 (key 1 was used last), fifo key 1 (it came in first; the probe wrote nothing),
-// none drops key 3. The GPU table makes the same choices (ReferencePredictorReproducesGpuCounters).
+// none drops key 3, micro21 evicts as lru. The GPU table makes the same choices (ReferencePredictorReproducesGpuCounters).
 TEST(HrppPredictor, PoliciesEvictTheirVictims) {
   struct Expect {
     TablePolicy policy;
@@ -501,7 +532,8 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
   using O = ReferenceTable::Outcome;
   for (const Expect& e : {Expect{TablePolicy::kLru, {true, false, true}, O::kInserted, 1},
                           Expect{TablePolicy::kFifo, {false, true, true}, O::kInserted, 1},
-                          Expect{TablePolicy::kNone, {true, true, false}, O::kDropped, 0}}) {
+                          Expect{TablePolicy::kNone, {true, true, false}, O::kDropped, 0},
+                          Expect{TablePolicy::kMicro21, {true, false, true}, O::kInserted, 1}}) {
     gpu::PredictorParams params{};
     params.sets = 1;
     params.ways = 2;
@@ -519,6 +551,46 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
           << table_policy_name(e.policy) << " key " << key;
     EXPECT_EQ(evictions, e.evictions) << table_policy_name(e.policy);
   }
+}
+
+// MICRO'21's table (ray-predictor.cc, check_table and add_entry with placement 'd'), scripted
+// on its published geometry (4096 entries, direct-mapped, 4 nodes): a key's entry is its low 12
+// bits, so keys 7 and 7 + 4096 share one and the later replaces the earlier (its nodes go with
+// it); an entry takes a ray's node while it holds fewer than 4, and a fifth is dropped, the
+// first four kept ('l', not FIFO); a node already held is present. The golden-ratio sets of the
+// other policies would put the two keys apart.
+TEST(HrppPredictor, Micro21TableIsDirectMappedAndKeepsItsFirstNodes) {
+  const TableConfig geometry = table_preset("micro21");
+  EXPECT_EQ(geometry, (TableConfig{4096, 1, 4, TablePolicy::kMicro21}));
+  EXPECT_EQ(geometry.bytes(), 4096u * (8 + 4 + 16));  // 112 KiB
+  gpu::PredictorParams params{};
+  params.sets = geometry.sets;
+  params.ways = geometry.ways;
+  params.nodes = geometry.nodes;
+  params.policy = static_cast<std::uint32_t>(geometry.policy);
+  ReferenceTable table(params);
+  EXPECT_EQ(table.set_of(7), 7u);
+  EXPECT_EQ(table.set_of(7 + 4096), 7u);
+  EXPECT_NE(gpu::hrpp_set_of(7, 4096), gpu::hrpp_set_of(7 + 4096, 4096));
+  using O = ReferenceTable::Outcome;
+  std::uint64_t evictions = 0;
+  std::uint32_t nearest = 0;
+  std::uint32_t clock = 1;
+  for (int node : {10, 11, 12, 13}) EXPECT_EQ(table.insert(7, node, 1.0f, clock++, evictions), O::kInserted);
+  EXPECT_EQ(table.insert(7, 14, 1.0f, clock++, evictions), O::kDropped);
+  EXPECT_EQ(table.insert(7, 12, 1.0f, clock++, evictions), O::kPresent);
+  const std::span<const int> held = table.lookup(7, clock++, nearest);
+  EXPECT_EQ(std::vector<int>(held.begin(), held.end()), (std::vector<int>{10, 11, 12, 13}));
+  EXPECT_EQ(evictions, 0u);
+  EXPECT_EQ(table.insert(7 + 4096, 20, 1.0f, clock++, evictions), O::kInserted);
+  EXPECT_EQ(evictions, 1u);
+  EXPECT_TRUE(table.lookup(7, clock++, nearest).empty());
+  const std::span<const int> now = table.lookup(7 + 4096, clock++, nearest);
+  ASSERT_EQ(now.size(), 4u);
+  EXPECT_EQ(now[0], 20);
+  EXPECT_EQ(now[1], HRPP_EMPTY_NODE);
+  EXPECT_EQ(table.entries(), 1u);
+  EXPECT_EQ(table.stored_nodes(), 1u);
 }
 
 // The distance gate's nearest hit per entry: the least t inserted under the key, none (word 0)

@@ -23,6 +23,8 @@ TableConfig table_preset(TablePreset preset) {
       return {4, 2, 2, TablePolicy::kLru};
     case TablePreset::kBeam:
       return {1u << 12, 2, 4, TablePolicy::kLru};
+    case TablePreset::kMicro21:
+      return {1u << 12, 1, 4, TablePolicy::kMicro21};
     case TablePreset::kTuned:
       break;
   }

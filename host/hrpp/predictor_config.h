@@ -28,12 +28,16 @@ enum class TablePolicy : std::uint32_t {
   kNone = HRPP_POLICY_NONE,
   kLru = HRPP_POLICY_LRU,
   kFifo = HRPP_POLICY_FIFO,
+  kMicro21 = HRPP_POLICY_MICRO21,
 };
 
 inline constexpr NameTable<PredictorMode, 2> kPredictorModeNames = {
     {{PredictorMode::kSpeculative, "speculative"}, {PredictorMode::kExact, "exact"}}};
 inline constexpr NameTable<TablePolicy, HRPP_POLICY_COUNT> kTablePolicyNames = {
-    {{TablePolicy::kNone, "none"}, {TablePolicy::kLru, "lru"}, {TablePolicy::kFifo, "fifo"}}};
+    {{TablePolicy::kNone, "none"},
+     {TablePolicy::kLru, "lru"},
+     {TablePolicy::kFifo, "fifo"},
+     {TablePolicy::kMicro21, "micro21"}}};
 constexpr const char* predictor_mode_name(PredictorMode m) {
   return name_in(kPredictorModeNames, m);
 }
@@ -73,14 +77,17 @@ struct TableConfig {
 // the shadow rays'. "unbounded": the
 // paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
 // counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
-// than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction.
-enum class TablePreset : std::uint8_t { kTuned, kBeam, kSmall, kUnbounded, kTiny };
-inline constexpr NameTable<TablePreset, 5> kTablePresetNames = {
+// than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction. "micro21":
+// MICRO'21's published table of one SM (its MOBILE configuration: 4096 entries, direct-mapped,
+// 4 nodes an entry, policy micro21): 112 KiB here.
+enum class TablePreset : std::uint8_t { kTuned, kBeam, kSmall, kUnbounded, kTiny, kMicro21 };
+inline constexpr NameTable<TablePreset, 6> kTablePresetNames = {
     {{TablePreset::kTuned, "tuned"},
      {TablePreset::kBeam, "beam"},
      {TablePreset::kSmall, "small"},
      {TablePreset::kUnbounded, "unbounded"},
-     {TablePreset::kTiny, "tiny"}}};
+     {TablePreset::kTiny, "tiny"},
+     {TablePreset::kMicro21, "micro21"}}};
 TableConfig table_preset(TablePreset preset);
 // The same by name; throws hrpp::Error naming --table-preset for an unknown one.
 TableConfig table_preset(std::string_view name);

@@ -6,6 +6,7 @@
 #include <cstddef>
 
 #include "common/error.h"
+#include "micro21_bins.h"
 
 namespace hrpp {
 namespace {
@@ -92,6 +93,35 @@ std::uint64_t hash_grid_spherical(const glm::vec3& o, const glm::vec3& d,
          (std::uint64_t{direction_bins(d, h.second_bits)} << (3u * n));
 }
 
+float diamond_angle(float x, float y) {
+  const float s = std::fabs(x) + std::fabs(y);
+  const float a = x / s;
+  const float b = y / s;
+  const float q1 = 1.0f - a;
+  const float q2 = 2.0f - b;
+  const float q3 = 3.0f + a;
+  return b >= 0.0f ? (a >= 0.0f ? b : q1) : (a < 0.0f ? q2 : q3);
+}
+
+std::uint64_t hash_micro21(const glm::vec3& o, const glm::vec3& d, const gpu::HashParams& h) {
+  const std::uint32_t n = h.bits, cells = 1u << n;
+  const glm::vec3 x = (flushed(o) - h.grid_lo) * h.grid_scale;
+  const std::uint32_t cell = (bin(x.x, cells) << (2u * n)) | (bin(x.y, cells) << n) |
+                             bin(x.z, cells);
+  glm::vec3 u;
+  std::uint32_t theta = HRPP_MICRO21_THETA_BIN_ZERO, phi = HRPP_MICRO21_PHI_BIN_VERTICAL;
+  if (scaled_direction(d, u)) {
+    const float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
+    const float c = (u.z * std::fabs(u.z)) / len2;
+    theta = gpu::hrpp_micro21_theta_bin(c);
+    if (u.y == 0.0f && u.x < 0.0f)
+      phi = HRPP_MICRO21_PHI_BIN_MINUS_X;
+    else if (u.x != 0.0f || u.y != 0.0f)
+      phi = gpu::hrpp_micro21_phi_bin(diamond_angle(-u.x, -u.y));
+  }
+  return std::uint64_t{cell ^ ((phi << HRPP_MICRO21_SPHERE_BITS) | theta)};
+}
+
 std::uint64_t hash_two_point(const glm::vec3& o, const glm::vec3& d, const gpu::HashParams& h) {
   const std::uint32_t n = h.bits;
   const glm::vec3 oc = flushed(o);
@@ -155,9 +185,13 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
     throw Error("hash_bits: " + std::to_string(config.bits) + " is outside 1..8");
   if (config.dir_bits > HRPP_HASH_BITS_MAX)
     throw Error("hash_dir_bits: " + std::to_string(config.dir_bits) + " is outside 1..8");
-  if (config.dir_bits > 0 && config.kind != HashKind::kGridSpherical)
-    throw Error(std::string("hash_dir_bits: only grid-spherical keys have direction bins, not ") +
-                hash_kind_name(config.kind));
+  if (config.dir_bits > 0 && config.kind != HashKind::kGridSpherical &&
+      !(config.kind == HashKind::kMicro21 && config.dir_bits == HRPP_MICRO21_SPHERE_BITS))
+    throw Error(config.kind == HashKind::kMicro21
+                    ? "hash_dir_bits: micro21 has MICRO'21's 3 sphere bits only"
+                    : std::string("hash_dir_bits: only grid-spherical keys have direction "
+                                  "bins, not ") +
+                          hash_kind_name(config.kind));
   gpu::HashParams p{};
   p.kind = static_cast<std::uint32_t>(config.kind);
   p.bits = config.bits;
@@ -175,6 +209,7 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
   }
   if (config.kind == HashKind::kGridSpherical)
     p.second_bits = config.dir_bits > 0 ? config.dir_bits : config.bits;
+  if (config.kind == HashKind::kMicro21) p.second_bits = HRPP_MICRO21_SPHERE_BITS;
   p.far_lo = flushed(box.lo - glm::vec3(p.reach));
   p.far_scale = grid_scale(extent + glm::vec3(2.0f * p.reach), config.bits);
   return p;
@@ -200,6 +235,8 @@ std::uint64_t hash_ray(const glm::vec3& origin, const glm::vec3& dir, float tmax
       return hash_light(origin, dir, tmax, params, false);
     case HRPP_HASH_LIGHT_DEPTH:
       return hash_light(origin, dir, tmax, params, true);
+    case HRPP_HASH_MICRO21:
+      return hash_micro21(origin, dir, params);
     default:
       return hash_ieee(origin, dir, params.bits);
   }

@@ -24,6 +24,7 @@ enum class HashKind : std::uint32_t {
   kTwoPoint = HRPP_HASH_TWO_POINT,
   kLight = HRPP_HASH_LIGHT,
   kLightDepth = HRPP_HASH_LIGHT_DEPTH,
+  kMicro21 = HRPP_HASH_MICRO21,
 };
 
 // The light-space keys read the ray's end (tmax): meant for shadow rays.
@@ -34,7 +35,8 @@ constexpr bool is_light_space(HashKind kind) {
 struct HashConfig {
   HashKind kind = HashKind::kIeee;
   std::uint32_t bits = 6;  // precision N, 1..8 (the paper's Table 1 uses 6)
-  std::uint32_t dir_bits = 0;  // grid-spherical: the direction bins' precision D (0: N)
+  std::uint32_t dir_bits = 0;  // grid-spherical: the direction bins' precision D (0: N);
+                               // micro21: 0 or its 3 sphere bits
 
   friend bool operator==(const HashConfig&, const HashConfig&) = default;
 };
@@ -45,7 +47,8 @@ inline constexpr NameTable<HashKind, HRPP_HASH_KIND_COUNT> kHashKindNames = {
      {HashKind::kGridSpherical, "grid-spherical"},
      {HashKind::kTwoPoint, "two-point"},
      {HashKind::kLight, "light"},
-     {HashKind::kLightDepth, "light-depth"}}};
+     {HashKind::kLightDepth, "light-depth"},
+     {HashKind::kMicro21, "micro21"}}};
 constexpr const char* hash_kind_name(HashKind kind) { return name_in(kHashKindNames, kind); }
 inline HashKind parse_hash_kind(std::string_view name) {
   return parse_in(kHashKindNames, name, "hash: unknown hash");

@@ -20,7 +20,7 @@ ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
 
 // The GPU table's set function, shared with it.
 std::size_t ReferenceTable::set_base(std::uint64_t key) const {
-  return std::size_t{gpu::hrpp_set_of(key, params_.sets)} * params_.ways;
+  return std::size_t{gpu::hrpp_set_index(key, params_.sets, params_.policy)} * params_.ways;
 }
 
 std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock,
@@ -31,15 +31,15 @@ std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clo
   for (std::uint32_t w = 0; w < params_.ways; ++w) {
     Way& way = ways_[base + w];
     if (way.tag != key) continue;
-    if (policy_ == TablePolicy::kLru) way.stamp = std::max(way.stamp, clock);
+    if (gpu::hrpp_renews_stamps(params_.policy)) way.stamp = std::max(way.stamp, clock);
     nearest = way.nearest;
     return slots(base + w);
   }
   return {};
 }
 
-// The way holding `key`, else the first empty way, else (lru, fifo) the way with the oldest
-// stamp, emptied; none: dropped.
+// The way holding `key`, else the first empty way, else (lru, fifo, micro21) the way with the
+// oldest stamp, emptied; none: dropped.
 std::size_t ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
                                       std::uint64_t& evictions) {
   const std::size_t base = set_base(key);
@@ -61,6 +61,7 @@ std::size_t ReferenceTable::claim_way(std::uint64_t key, Claim& claim,
       return victim;
     case TablePolicy::kLru:
     case TablePolicy::kFifo:
+    case TablePolicy::kMicro21:
       break;
   }
   claim = Claim::kClaimed;
@@ -78,7 +79,8 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, floa
   const std::size_t w = claim_way(key, claim, evictions);
   if (claim == Claim::kDropped) return Outcome::kDropped;
   Way& way = ways_[w];
-  if (policy_ == TablePolicy::kLru || (policy_ == TablePolicy::kFifo && claim == Claim::kClaimed))
+  if (gpu::hrpp_renews_stamps(params_.policy) ||
+      (policy_ == TablePolicy::kFifo && claim == Claim::kClaimed))
     way.stamp = std::max(way.stamp, clock);
   if (params_.gate > 0.0f) way.nearest = std::max(way.nearest, gpu::hrpp_nearest_word(t));
   Outcome outcome = Outcome::kDropped;
@@ -94,7 +96,7 @@ ReferenceTable::Outcome ReferenceTable::insert(std::uint64_t key, int node, floa
       break;
     }
   }
-  if (outcome == Outcome::kDropped && policy_ != TablePolicy::kNone) {
+  if (outcome == Outcome::kDropped && gpu::hrpp_replaces_nodes(params_.policy)) {
     way_slots[clock % params_.nodes] = node;
     ++evictions;
     outcome = Outcome::kInserted;

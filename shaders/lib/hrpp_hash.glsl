@@ -16,6 +16,7 @@
 
 #include "hrpp_types.h"
 #include "ieee_math.glsl"
+#include "micro21_bins.h"
 
 uint hrpp_canonical_bits(float f) {
   const uint b = floatBitsToUint(f);
@@ -127,6 +128,41 @@ uint64_t hrpp_hash_grid_spherical(vec3 o, vec3 d, HashParams h) {
          (uint64_t(hrpp_direction_bins(d, h.second_bits)) << (3u * n));
 }
 
+// The diamond angle of (x, y) ≠ (0, 0): a number in [0, 4) monotone in the angle from the x axis,
+// counter-clockwise (quadrant q covers [q, q + 1)), from a = x / s, b = y / s, s = |x| + |y|.
+float hrpp_diamond_angle(float x, float y) {
+  precise float s = abs(x) + abs(y);
+  precise float a = ieee_div(x, s);
+  precise float b = ieee_div(y, s);
+  precise float q1 = 1.0 - a;
+  precise float q2 = 2.0 - b;
+  precise float q3 = 3.0 + a;
+  return b >= 0.0 ? (a >= 0.0 ? b : q1) : (a < 0.0 ? q2 : q3);
+}
+
+// MICRO'21's own grid-spherical hash (its simulator's rt-sim.cc, hash_grid_spherical): the
+// origin's cell on the 2^n grid packed x << 2n | y << n | z (x highest), xor the direction's
+// bins φ-bin << 3 | θ-bin at 32° each (shaders/shared/micro21_bins.h), on the scaled direction
+// (hrpp_scaled_direction). A key of max(3n, 7) bits.
+uint64_t hrpp_hash_micro21(vec3 o, vec3 d, HashParams h) {
+  const uint n = h.bits, cells = 1u << n;
+  precise vec3 x = (hrpp_flushed(o) - h.grid_lo) * h.grid_scale;
+  const uint cell = (hrpp_bin(x.x, cells) << (2u * n)) | (hrpp_bin(x.y, cells) << n) |
+                    hrpp_bin(x.z, cells);
+  vec3 u;
+  uint theta = HRPP_MICRO21_THETA_BIN_ZERO, phi = HRPP_MICRO21_PHI_BIN_VERTICAL;
+  if (hrpp_scaled_direction(d, u)) {
+    precise float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
+    precise float c = ieee_div(u.z * abs(u.z), len2);
+    theta = hrpp_micro21_theta_bin(c);
+    if (u.y == 0.0 && u.x < 0.0)
+      phi = HRPP_MICRO21_PHI_BIN_MINUS_X;
+    else if (u.x != 0.0 || u.y != 0.0)
+      phi = hrpp_micro21_phi_bin(hrpp_diamond_angle(-u.x, -u.y));
+  }
+  return uint64_t(cell ^ ((phi << HRPP_MICRO21_SPHERE_BITS) | theta));
+}
+
 // Two-point hash: the origin's cell on the scene grid and the cell of q = o + u × (reach / m),
 // with u the scaled direction (hrpp_scaled_direction) and m its largest |component| (q lies
 // `reach` away from o in the max norm), on the grid over the scene box grown by reach:
@@ -197,6 +233,7 @@ uint64_t hrpp_hash_ray(vec3 o, vec3 d, float tmax, HashParams h) {
   if (h.kind == HRPP_HASH_TWO_POINT) return hrpp_hash_two_point(o, d, h);
   if (h.kind == HRPP_HASH_LIGHT) return hrpp_hash_light(o, d, tmax, h, false);
   if (h.kind == HRPP_HASH_LIGHT_DEPTH) return hrpp_hash_light(o, d, tmax, h, true);
+  if (h.kind == HRPP_HASH_MICRO21) return hrpp_hash_micro21(o, d, h);
   return hrpp_hash_ieee(o, d, h.bits);
 }
 

@@ -1,6 +1,6 @@
 // The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag (the full key;
 // all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
-// set hrpp_set_of (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
+// set hrpp_set_index (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
 // with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
 // claimed only by a CAS from empty, after every earlier slot was seen holding another node).
 //
@@ -12,6 +12,8 @@
 //   fifo: as lru, but a way's stamp is the clock at which its key came in (an empty way
 //         claimed, or a victim replaced), never renewed: the oldest key is evicted, and a probe
 //         hit writes nothing to the table.
+//   micro21: MICRO'21's table: sets indexed by the key's low bits; no free way: as lru; full
+//         node list: the insert is dropped (its source keeps an entry's first nodes).
 // Stamps are the ray's clock (PredictorParams.clock + ray index), so they wrap after 2^32 rays.
 // With the distance gate (PredictorParams.gate > 0) the stamp buffer holds after the sets × ways
 // stamps each entry's nearest hit (shaders/shared/hrpp_distance_gate.h): inserts raise it, a key
@@ -83,18 +85,18 @@ const uint kHrppDropped = 2u;
 
 // Entry index holding `key`, or -1. A hit renews the entry's stamp (lru).
 int hrpp_table_lookup(uint64_t key, uint clock) {
-  const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
+  const uint base = hrpp_set_index(key, hrpp.sets, hrpp.policy) * hrpp.ways;
   int found = -1;
   for (uint w = 0u; w < hrpp.ways; ++w)
     if (found < 0 && HRPP_TABLE_FETCH_TAG(base + w) == key) found = int(base + w);
-  if (found >= 0 && hrpp.policy == HRPP_POLICY_LRU) atomicMax(hrpp_stamps[found], clock);
+  if (found >= 0 && hrpp_renews_stamps(hrpp.policy)) atomicMax(hrpp_stamps[found], clock);
   return found;
 }
 
 // Inserts node `node`, found by a traced ray at `t`, under `key`; returns kHrppInserted /
 // kHrppPresent / kHrppDropped and adds the entries and nodes it replaced to `evictions`.
 uint hrpp_table_insert(uint64_t key, int node, float t, uint clock, inout uint evictions) {
-  const uint base = hrpp_set_of(key, hrpp.sets) * hrpp.ways;
+  const uint base = hrpp_set_index(key, hrpp.sets, hrpp.policy) * hrpp.ways;
   int entry = -1;
   bool claimed = false;  // this insert brought the key in (fifo's stamp)
   for (uint w = 0u; w < hrpp.ways && entry < 0; ++w) {
@@ -123,7 +125,7 @@ uint hrpp_table_insert(uint64_t key, int node, float t, uint clock, inout uint e
     }
     entry = int(victim);
   }
-  if (hrpp.policy == HRPP_POLICY_LRU || (hrpp.policy == HRPP_POLICY_FIFO && claimed))
+  if (hrpp_renews_stamps(hrpp.policy) || (hrpp.policy == HRPP_POLICY_FIFO && claimed))
     atomicMax(hrpp_stamps[entry], clock);
   if (hrpp.gate > 0.0) {
     if (claimed) atomicExchange(hrpp_stamps[hrpp_nearest_index(uint(entry))], 0u);
@@ -138,7 +140,7 @@ uint hrpp_table_insert(uint64_t key, int node, float t, uint clock, inout uint e
     if (held == kHrppEmptyNode) outcome = kHrppInserted;
     else if (held == uint(node)) outcome = kHrppPresent;
   }
-  if (outcome == kHrppDropped && hrpp.policy != HRPP_POLICY_NONE) {
+  if (outcome == kHrppDropped && hrpp_replaces_nodes(hrpp.policy)) {
     atomicExchange(hrpp_slots[first + clock % hrpp.nodes], uint(node));
     ++evictions;
     outcome = kHrppInserted;

@@ -1,10 +1,12 @@
 // The set of an HRPP predictor table that holds a key: (key × the 64-bit golden-ratio constant)
-// >> 32, modulo the power-of-two set count. One definition for the GPU table
+// >> 32, modulo the power-of-two set count; under MICRO'21's policy the key's low bits, as its
+// table indexes (hash & (size - 1)). One definition for the GPU table
 // (shaders/lib/hrpp_table.glsl) and its CPU mirror (host/hrpp/reference_table.cpp). GLSL
 // includers enable 64-bit integers first.
 #ifndef HRPP_HRPP_TABLE_SET_H
 #define HRPP_HRPP_TABLE_SET_H
 
+#include "hrpp_types.h"
 #include "shared_fn.h"
 
 #ifdef __cplusplus
@@ -13,6 +15,20 @@ namespace hrpp::gpu {
 
 HRPP_SHARED_FN uint hrpp_set_of(uint64_t key, uint sets) {
   return uint((key * 0x9E3779B97F4A7C15ul) >> 32) & (sets - 1u);
+}
+
+HRPP_SHARED_FN uint hrpp_set_index(uint64_t key, uint sets, uint policy) {
+  return policy == HRPP_POLICY_MICRO21 ? uint(key) & (sets - 1u) : hrpp_set_of(key, sets);
+}
+
+// The policies' rules that both sides branch on: whether probe hits and inserts renew a way's
+// use stamp (the oldest is the victim), and whether an insert into a full node list overwrites
+// a slot (else it is dropped).
+HRPP_SHARED_FN bool hrpp_renews_stamps(uint policy) {
+  return policy == HRPP_POLICY_LRU || policy == HRPP_POLICY_MICRO21;
+}
+HRPP_SHARED_FN bool hrpp_replaces_nodes(uint policy) {
+  return policy == HRPP_POLICY_LRU || policy == HRPP_POLICY_FIFO;
 }
 
 #ifdef __cplusplus

@@ -16,13 +16,15 @@ using uint64_t = std::uint64_t;
 // most 48 bits; the exact definitions are in shaders/lib/hrpp_hash.glsl (the C++ mirror,
 // host/hrpp/ray_hash.cpp, repeats them operation for operation).
 #define HRPP_HASH_IEEE 0            // the paper's IEEE-754 bit hash with the xor swizzle
-#define HRPP_HASH_GRID_SPHERICAL 1  // MICRO'21: origin on a 2^N grid, direction as θ/φ bins
-                                    // (2^D each; D = N unless hash_dir_bits says)
+#define HRPP_HASH_GRID_SPHERICAL 1  // after MICRO'21: origin on a 2^N grid, direction as θ/φ
+                                    // bins (2^D each; D = N unless hash_dir_bits says)
 #define HRPP_HASH_TWO_POINT 2       // origin and a point further along the ray, both on grids
 #define HRPP_HASH_LIGHT 3           // light space: the ray's end (the light) on a grid and the
                                     // direction from it to the origin in octahedral cells
 #define HRPP_HASH_LIGHT_DEPTH 4     // HRPP_HASH_LIGHT plus the receiver's distance from the light
-#define HRPP_HASH_KIND_COUNT 5
+#define HRPP_HASH_MICRO21 5         // MICRO'21's own grid-spherical hash as its simulator has it:
+                                    // origin cell xor 32° direction bins (micro21_bins.h)
+#define HRPP_HASH_KIND_COUNT 6
 #define HRPP_HASH_BITS_MAX 8
 
 // Keys are < 2^48, so a tag of all ones never equals a key: it marks an empty table entry.
@@ -38,7 +40,8 @@ using uint64_t = std::uint64_t;
 //     axis) over the scene box itself;
 //   reach: the scene box's largest extent, the max-norm distance of the second point;
 //   second_bits: the light-space keys' light-end grid precision, min(N + 1, 8); grid-spherical:
-//     the direction bins' precision (hash_dir_bits, default N); 0 for the others.
+//     the direction bins' precision (hash_dir_bits, default N); micro21: its sphere bits, 3;
+//     0 for the others.
 struct HashParams {
   vec3 grid_lo;
   uint kind;  // HRPP_HASH_*
@@ -60,8 +63,11 @@ struct HashParams {
 #define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
                             // shaders/lib/hrpp_table.glsl)
 #define HRPP_POLICY_FIFO 2  // evict the way whose key came in first (a probe hit writes nothing)
+#define HRPP_POLICY_MICRO21 3  // MICRO'21's table: a key's set is its low bits (no mixing), a new
+                               // key replaces the set's least recently used way, a full node
+                               // list keeps its nodes (ray-predictor.cc, add_entry)
 #define HRPP_POLICY_COUNT \
-  3  // a new policy: its branches in shaders/lib/hrpp_table.glsl and
+  4  // a new policy: its branches in shaders/lib/hrpp_table.glsl and
      // host/hrpp/reference_table.cpp, its name in predictor_config.h
 
 // Ray classes: each has its own table, switch, counters and
