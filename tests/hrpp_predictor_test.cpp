@@ -21,6 +21,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
+#include "common/error.h"
 #include "front/make_device_tracer.h"
 #include "front/gpu_predictor.h"
 #include "gpu/gpu_tracer.h"
@@ -561,9 +562,9 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
 // other policies would put the two keys apart.
 TEST(HrppPredictor, Micro21TableIsDirectMappedAndKeepsItsFirstNodes) {
   const TableConfig geometry = table_preset("micro21");
-  EXPECT_EQ(geometry, (TableConfig{4096, 1, 4, TablePolicy::kMicro21}));
-  EXPECT_EQ(geometry.bytes(), 4096u * (8 + 4 + 16));  // 112 KiB
-  gpu::PredictorParams params{};
+  EXPECT_EQ(geometry, (TableConfig{4096, 1, 4, TablePolicy::kMicro21, 2}));  // 2 SMs
+  EXPECT_EQ(geometry.bytes(), 2u * 4096u * (8 + 4 + 16));                    // 112 KiB each
+  gpu::PredictorParams params{};  // one SM's table
   params.sets = geometry.sets;
   params.ways = geometry.ways;
   params.nodes = geometry.nodes;
@@ -591,6 +592,47 @@ TEST(HrppPredictor, Micro21TableIsDirectMappedAndKeepsItsFirstNodes) {
   EXPECT_EQ(now[1], HRPP_EMPTY_NODE);
   EXPECT_EQ(table.entries(), 1u);
   EXPECT_EQ(table.stored_nodes(), 1u);
+}
+
+// Per-SM tables: rays in blocks of HRPP_SM_BLOCK (64) consecutive use clocks go to the K tables
+// round robin; the same key in two blocks dealt to different tables makes two entries, each
+// table of its own sets, and a key's table survives in it (the queue and deferred inserts).
+TEST(HrppPredictor, SmTablesDealBlocksOfRaysRoundRobin) {
+  constexpr std::uint32_t kTables = 3;
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 0, kTables), 5u);
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 63, kTables), 5u);
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 64, kTables), 5u | (std::uint64_t{1} << HRPP_KEY_BITS));
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 128, kTables), 5u | (std::uint64_t{2} << HRPP_KEY_BITS));
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 192, kTables), 5u);
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 100, 1), 5u);  // one table: the key as hashed
+  EXPECT_EQ(gpu::hrpp_sm_key(5, 100, 0), 5u);
+  gpu::PredictorParams params{};
+  params.sets = 4;
+  params.ways = 1;
+  params.nodes = 2;
+  params.policy = static_cast<std::uint32_t>(TablePolicy::kMicro21);
+  params.sm_tables = kTables;
+  ReferenceTable table(params);
+  std::uint64_t evictions = 0;
+  std::uint32_t nearest = 0;
+  for (std::uint32_t clock : {0u, 64u, 128u}) {
+    const std::uint64_t key = gpu::hrpp_sm_key(5, clock, kTables);
+    EXPECT_EQ(table.set_of(key), (clock / 64) * 4 + 1) << clock;  // table × sets + (5 & 3)
+    EXPECT_EQ(table.insert(key, static_cast<int>(clock), 1.0f, clock, evictions),
+              ReferenceTable::Outcome::kInserted);
+  }
+  EXPECT_EQ(table.entries(), 3u);
+  EXPECT_EQ(evictions, 0u);
+  const std::span<const int> second = table.lookup(gpu::hrpp_sm_key(5, 70, kTables), 200, nearest);
+  ASSERT_FALSE(second.empty());
+  EXPECT_EQ(second[0], 64);
+  TableConfig config = table_preset("micro21");
+  config.sm_tables = 0;
+  PredictorConfig p;
+  p.enabled = true;
+  p.set_table(config);
+  EXPECT_THROW(make_predictor_params(p, RayClass::kCamera, Aabb{glm::vec3(0.0f), glm::vec3(1.0f)}),
+               Error);
 }
 
 // The distance gate's nearest hit per entry: the least t inserted under the key, none (word 0)

@@ -25,9 +25,9 @@ constexpr std::array<std::string_view, 9> kFigureKeys = {"camera",
                                                          "traced_with_shorter_tmax",
                                                          "rays"};
 // The summaries of "keys" a --stats JSON writes: checked against what "keys" sets.
-constexpr std::array<std::string_view, 10> kSummaryKeys = {
-    "hash",       "hash_bits",  "gate",        "go_up",        "go_up_size",
-    "table_sets", "table_ways", "table_nodes", "table_policy", "table_bytes"};
+constexpr std::array<std::string_view, 11> kSummaryKeys = {
+    "hash",        "hash_bits",    "gate",        "go_up",    "go_up_size", "table_sets",
+    "table_ways",  "table_nodes",  "table_policy", "table_bytes", "sm_tables"};
 
 bool is_in(std::string_view key, std::span<const std::string_view> keys) {
   return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -97,10 +97,12 @@ void read_class(const json& j, const std::string& path, RayClass c, HrppOptions&
       o.nodes[c] = r.count(v);
     else if (key == "table_policy")
       o.policy[c] = r.name(v, kTablePolicyNames);
+    else if (key == "sm_tables")
+      o.sm_tables[c] = r.count(v);
     else if (key != "table_bytes")
       r.fail(
           "unknown key (hash, hash_bits, hash_dir_bits, gate, go_up, go_up_size, "
-          "table_preset, table_sets, table_ways, table_nodes, table_policy)");
+          "table_preset, table_sets, table_ways, table_nodes, table_policy, sm_tables)");
   }
 }
 

@@ -84,6 +84,7 @@ HrppOptions HrppOptions::overridden_by(const HrppOptions& cli) const {
       o.sets = cli.sets;
       o.ways = cli.ways;
       o.nodes = cli.nodes;
+      o.sm_tables = cli.sm_tables;
       o.policy = cli.policy;
     }
   }
@@ -111,6 +112,7 @@ PredictorConfig HrppOptions::build(DeviceTracerKind tracer) const {
     if (sets[k]) t.sets = sets[k];
     if (ways[k]) t.ways = ways[k];
     if (nodes[k]) t.nodes = nodes[k];
+    if (sm_tables[k]) t.sm_tables = sm_tables[k];
     if (policy[k]) t.policy = *policy[k];
   }
   if (batch > HRPP_INSERT_BATCH_MAX)
@@ -237,6 +239,7 @@ nlohmann::json class_keys(const PredictorConfig& c) {
                                {"table_ways", c.table[k].ways},
                                {"table_nodes", c.table[k].nodes},
                                {"table_policy", table_policy_name(c.table[k].policy)},
+                               {"sm_tables", c.table[k].sm_tables},
                                {"table_bytes", c.table_bytes(k)}};
   return keys;
 }
@@ -260,6 +263,7 @@ nlohmann::json predictor_config_json(const PredictorConfig& c) {
                                             return std::string(table_policy_name(t.policy));
                                           })},
           {"table_bytes", per_class_number(c, [&c](RayClass k) { return c.table_bytes(k); })},
+          {"sm_tables", per_class_number(c, [&c](RayClass k) { return c.table[k].sm_tables; })},
           {"ray_classes", class_names(c)},
           {"adaptive", c.adapts()},
           {"count_baseline", c.count_baseline},

@@ -41,9 +41,9 @@ struct HrppOptions {
   PerClass<std::uint32_t> go_up{{0, 0, 0}};
   PerClass<float> go_up_size{{0.0f, 0.0f, 0.02f}};
   // Table per ray class (--table-preset takes V for every class or a list of V and class=V;
-  // keys.<class>.table_preset, table_sets, table_ways, table_nodes, table_policy).
+  // keys.<class>.table_preset, table_sets, table_ways, table_nodes, table_policy, sm_tables).
   PerClass<TablePreset> preset{{TablePreset::kTuned, TablePreset::kTuned, TablePreset::kBeam}};
-  PerClass<std::uint32_t> sets{}, ways{}, nodes{};  // 0: the preset's
+  PerClass<std::uint32_t> sets{}, ways{}, nodes{}, sm_tables{};  // 0: the preset's
   PerClass<std::optional<TablePolicy>> policy{};    // none: the preset's
   PerClass<float> gate{};  // keys.<class>.gate (PredictorConfig::gate; hit-all classes)
   std::uint32_t batch = 0;

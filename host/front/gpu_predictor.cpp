@@ -19,6 +19,7 @@
 #include "vk/vulkan_context.h"
 #include "kernels/trace_lanes.h"
 #include "hrpp/prediction_node.h"
+#include "hrpp_table_set.h"
 
 namespace hrpp {
 
@@ -93,7 +94,9 @@ struct Table {
   ComputePipeline resolve, insert;
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback)
-      : Table(ctx, p, c, fallback, table_buffers(c, p.sets, p.ways, p.nodes, p.gate > 0.0f)) {}
+      : Table(ctx, p, c, fallback,
+              table_buffers(c, std::uint64_t{gpu::hrpp_table_count(p.sm_tables)} * p.sets,
+                            p.ways, p.nodes, p.gate > 0.0f)) {}
 
   Table(VulkanContext& ctx, const gpu::PredictorParams& p, RayClass c, Fallback fallback,
         const std::array<BufferNeed, 3>& b)
@@ -349,7 +352,8 @@ std::vector<BufferNeed> GpuPredictor::buffer_needs(const GpuBvh& bvh, const Pred
   for (RayClass c : kRayClasses) {
     if (!config.predicts(c)) continue;
     const TableConfig& t = config.table[c];
-    for (const BufferNeed& b : table_buffers(c, t.sets, t.ways, t.nodes, config.gate[c] > 0.0f))
+    for (const BufferNeed& b : table_buffers(c, std::uint64_t{t.sets} * t.sm_tables, t.ways,
+                                             t.nodes, config.gate[c] > 0.0f))
       needs.push_back(b);
     request_bytes += capacity * sizeof(gpu::InsertRequest);
   }
@@ -602,7 +606,8 @@ TableOccupancy GpuPredictor::occupancy(RayClass c) const {
   TableOccupancy o;
   if (!s_->tables[c]) return o;
   const Table& t = s_->table(c);
-  o.capacity = std::uint64_t{t.params.sets} * t.params.ways;
+  o.capacity = std::uint64_t{gpu::hrpp_table_count(t.params.sm_tables)} * t.params.sets *
+               t.params.ways;
   o.bytes = s_->config.table_bytes(c);
   std::vector<std::uint64_t> tags(o.capacity);
   t.tags.download(std::span<std::uint64_t>(tags));

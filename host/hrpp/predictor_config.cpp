@@ -24,7 +24,7 @@ TableConfig table_preset(TablePreset preset) {
     case TablePreset::kBeam:
       return {1u << 12, 2, 4, TablePolicy::kLru};
     case TablePreset::kMicro21:
-      return {1u << 12, 1, 4, TablePolicy::kMicro21};
+      return {1u << 12, 1, 4, TablePolicy::kMicro21, 2};
     case TablePreset::kTuned:
       break;
   }
@@ -41,6 +41,8 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
   if (t.sets == 0 || !std::has_single_bit(t.sets))
     throw Error("table_sets: " + std::to_string(t.sets) + " is not a power of two");
   if (t.ways == 0 || t.ways > 64) throw Error("table_ways: must be 1..64");
+  if (t.sm_tables == 0 || t.sm_tables > kMaxSmTables)
+    throw Error("sm_tables: must be 1.." + std::to_string(kMaxSmTables));
   if (t.nodes == 0 || t.nodes > kMaxTableNodes)
     throw Error("table_nodes: must be 1.." + std::to_string(kMaxTableNodes));
   if (config.go_up[c] > 64) throw Error("go_up: must be 0..64");
@@ -54,6 +56,7 @@ gpu::PredictorParams make_predictor_params(const PredictorConfig& config, RayCla
   p.ways = t.ways;
   p.nodes = t.nodes;
   p.policy = static_cast<std::uint32_t>(t.policy);
+  p.sm_tables = t.sm_tables;
   p.go_up = config.go_up[c];
   p.go_up_size = config.go_up_size[c];
   p.gate = config.gate[c];

@@ -15,7 +15,7 @@
 
 namespace hrpp {
 
-static_assert(sizeof(gpu::PredictorParams) == 112);
+static_assert(sizeof(gpu::PredictorParams) == 128);
 static_assert(sizeof(gpu::InsertRequest) == 16);
 static_assert(sizeof(gpu::PredictorCounters) == 8 * HRPP_PC_COUNT);
 
@@ -53,17 +53,20 @@ inline constexpr NameTable<Fallback, 2> kFallbackNames = {
     {{Fallback::kRoot, "root"}, {Fallback::kSkip, "skip"}}};
 constexpr const char* fallback_name(Fallback f) { return name_in(kFallbackNames, f); }
 
-// Most node slots per entry (table_nodes).
+// Most node slots per entry (table_nodes), most per-SM tables (sm_tables).
 inline constexpr std::uint32_t kMaxTableNodes = 64;
+inline constexpr std::uint32_t kMaxSmTables = 256;
 
-// Capacity = sets × ways entries of `nodes` node slots each.
+// Capacity = sets × ways entries of `nodes` node slots each, in each of sm_tables tables (per-SM
+// tables: shaders/shared/hrpp_table_set.h).
 struct TableConfig {
   std::uint32_t sets = 1u << 12;
   std::uint32_t ways = 8;
   std::uint32_t nodes = 8;
   TablePolicy policy = TablePolicy::kLru;
+  std::uint32_t sm_tables = 1;
 
-  std::uint64_t entries() const { return std::uint64_t{sets} * ways; }
+  std::uint64_t entries() const { return std::uint64_t{sets} * ways * sm_tables; }
   friend bool operator==(const TableConfig&, const TableConfig&) = default;
   // Bytes on the GPU: per entry a 64-bit tag, a 32-bit use stamp and 32-bit node slots; with
   // the distance gate also a 32-bit nearest hit.
@@ -78,8 +81,8 @@ struct TableConfig {
 // paper's limit study (policy none, so nothing is ever evicted; inserts that find no room are
 // counted as drops: 3 of 294k on the bunny's 1024×1024 primaries, where a few keys gather more
 // than 16 leaves). "small": 352 KiB. "tiny": 8 entries, for tests of eviction. "micro21":
-// MICRO'21's published table of one SM (its MOBILE configuration: 4096 entries, direct-mapped,
-// 4 nodes an entry, policy micro21): 112 KiB here.
+// MICRO'21's published tables (its MOBILE configuration: 2 SMs, each with 4096 entries,
+// direct-mapped, 4 nodes an entry; policy micro21): 112 KiB a table here.
 enum class TablePreset : std::uint8_t { kTuned, kBeam, kSmall, kUnbounded, kTiny, kMicro21 };
 inline constexpr NameTable<TablePreset, 6> kTablePresetNames = {
     {{TablePreset::kTuned, "tuned"},

@@ -6,6 +6,7 @@
 #include "hrpp/prediction_node.h"
 #include "hrpp/shared_table.h"
 #include "hrpp_distance_gate.h"
+#include "hrpp_table_set.h"
 #include "trace/cpu_traversal.h"
 #include "trace/ray_setup.h"
 #include "trace_interface.h"
@@ -120,7 +121,9 @@ struct ReferencePredictor::Trace {
   gpu::Hit trace_ray(const gpu::Ray& ray, Table& table, std::uint32_t clock) {
     if (!setup_ray(ray).valid)  // misses unprobed
       return p.full_trace_ ? kMiss : full_trace(ray, out.counters);
-    const std::uint64_t key = hash_ray(ray.origin, ray.dir, ray.tmax, params.hash);
+    const std::uint64_t key =
+        gpu::hrpp_sm_key(hash_ray(ray.origin, ray.dir, ray.tmax, params.hash), clock,
+                         params.sm_tables);
     SkipList tested;
     tested.fill(HRPP_EMPTY_NODE);
     std::uint32_t nearest = 0;

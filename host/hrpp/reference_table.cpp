@@ -15,12 +15,12 @@ constexpr int kEmptyNode = HRPP_EMPTY_NODE;
 ReferenceTable::ReferenceTable(const gpu::PredictorParams& params)
     : params_(params),
       policy_(static_cast<TablePolicy>(params.policy)),
-      ways_(std::size_t{params.sets} * params.ways),
+      ways_(std::size_t{gpu::hrpp_table_count(params.sm_tables)} * params.sets * params.ways),
       slots_(ways_.size() * params.nodes, kEmptyNode) {}
 
 // The GPU table's set function, shared with it.
 std::size_t ReferenceTable::set_base(std::uint64_t key) const {
-  return std::size_t{gpu::hrpp_set_index(key, params_.sets, params_.policy)} * params_.ways;
+  return gpu::hrpp_entry_base(key, params_.sets, params_.ways, params_.policy);
 }
 
 std::span<const int> ReferenceTable::lookup(std::uint64_t key, std::uint32_t clock,

@@ -138,7 +138,8 @@ bool predict_ray(uint index, bool in_range, out bool resolved) {
     ray = load_ray(index);
     const RaySetup r = setup_ray(ray);
     if (r.valid) {
-      const uint64_t key = hrpp_hash_ray(ray.origin, ray.dir, ray.tmax, hrpp.hash);
+      const uint64_t key = hrpp_sm_key(hrpp_hash_ray(ray.origin, ray.dir, ray.tmax, hrpp.hash),
+                                       hrpp.clock + index, hrpp.sm_tables);
       entry = QueueEntry(index, HRPP_QUEUE_PROBED, uint(key), uint(key >> 32));
       uint nearest;
       const Hit predicted = predict(index, r, key, finished, tested, nearest);

@@ -1,6 +1,6 @@
 // The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag (the full key;
 // all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
-// set hrpp_set_index (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
+// set hrpp_entry_base (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
 // with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
 // claimed only by a CAS from empty, after every earlier slot was seen holding another node).
 //
@@ -63,7 +63,9 @@ layout(std430, set = 0, binding = HRPP_TABLE_BASE + HRPP_TABLE_COUNTERS) restric
 };
 
 // Entry e's nearest-hit word (the distance gate's): in the stamp buffer, after the stamps.
-uint hrpp_nearest_index(uint e) { return hrpp.sets * hrpp.ways + e; }
+uint hrpp_nearest_index(uint e) {
+  return hrpp_table_count(hrpp.sm_tables) * hrpp.sets * hrpp.ways + e;
+}
 
 const uint64_t kHrppEmptyTag = ~uint64_t(0);
 const uint kHrppEmptyNode = uint(HRPP_EMPTY_NODE);
@@ -85,7 +87,7 @@ const uint kHrppDropped = 2u;
 
 // Entry index holding `key`, or -1. A hit renews the entry's stamp (lru).
 int hrpp_table_lookup(uint64_t key, uint clock) {
-  const uint base = hrpp_set_index(key, hrpp.sets, hrpp.policy) * hrpp.ways;
+  const uint base = hrpp_entry_base(key, hrpp.sets, hrpp.ways, hrpp.policy);
   int found = -1;
   for (uint w = 0u; w < hrpp.ways; ++w)
     if (found < 0 && HRPP_TABLE_FETCH_TAG(base + w) == key) found = int(base + w);
@@ -96,7 +98,7 @@ int hrpp_table_lookup(uint64_t key, uint clock) {
 // Inserts node `node`, found by a traced ray at `t`, under `key`; returns kHrppInserted /
 // kHrppPresent / kHrppDropped and adds the entries and nodes it replaced to `evictions`.
 uint hrpp_table_insert(uint64_t key, int node, float t, uint clock, inout uint evictions) {
-  const uint base = hrpp_set_index(key, hrpp.sets, hrpp.policy) * hrpp.ways;
+  const uint base = hrpp_entry_base(key, hrpp.sets, hrpp.ways, hrpp.policy);
   int entry = -1;
   bool claimed = false;  // this insert brought the key in (fifo's stamp)
   for (uint w = 0u; w < hrpp.ways && entry < 0; ++w) {

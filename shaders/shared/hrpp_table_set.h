@@ -21,6 +21,22 @@ HRPP_SHARED_FN uint hrpp_set_index(uint64_t key, uint sets, uint policy) {
   return policy == HRPP_POLICY_MICRO21 ? uint(key) & (sets - 1u) : hrpp_set_of(key, sets);
 }
 
+// Per-SM tables (sm_tables K > 1), the hardware predictor's setting: K independent tables, each
+// of sets × ways entries. A ray's table is that of its block of HRPP_SM_BLOCK consecutive rays in
+// launch order (its use clock: the class's rays counted over its traces), dealt round robin, as
+// a GPU hands workgroups to its SMs. The table rides in the key above its HRPP_KEY_BITS, so that
+// every later use of the key (the queue, deferred inserts) finds the same table.
+#define HRPP_SM_BLOCK 64u
+HRPP_SHARED_FN uint hrpp_table_count(uint sm_tables) { return sm_tables > 1u ? sm_tables : 1u; }
+HRPP_SHARED_FN uint64_t hrpp_sm_key(uint64_t key, uint clock, uint sm_tables) {
+  return sm_tables > 1u ? key | (uint64_t((clock / HRPP_SM_BLOCK) % sm_tables) << HRPP_KEY_BITS)
+                        : key;
+}
+// The first entry of the set that holds `key`: its table's, then the set within it.
+HRPP_SHARED_FN uint hrpp_entry_base(uint64_t key, uint sets, uint ways, uint policy) {
+  return (uint(key >> HRPP_KEY_BITS) * sets + hrpp_set_index(key, sets, policy)) * ways;
+}
+
 // The policies' rules that both sides branch on: whether probe hits and inserts renew a way's
 // use stamp (the oldest is the victim), and whether an insert into a full node list overwrites
 // a slot (else it is dropped).

@@ -85,7 +85,8 @@ struct HashParams {
 // One predictor (a table and how it is used); one per ray class, each in buffers of its own.
 // Table: sets (a power of two) × ways entries, each a 64-bit tag (the full key; all ones =
 // empty), a use stamp and `nodes` node slots; with the distance gate also the nearest hit its
-// key's traced rays found. Bytes: sets × ways × (8 + 4 + 4 × nodes), + 4 with the gate.
+// key's traced rays found. Bytes: sets × ways × (8 + 4 + 4 × nodes), + 4 with the gate; times
+// sm_tables.
 struct PredictorParams {
   HashParams hash;
   uint sets;
@@ -102,6 +103,9 @@ struct PredictorParams {
   float go_up_size;  // then further up while the node's box is smaller than this fraction of
                      // the scene box (host/hrpp/prediction_node.h; 0: levels only)
   float gate;  // the distance gate G (shaders/shared/hrpp_distance_gate.h; 0: off)
+  uint sm_tables;  // K independent tables of sets × ways entries, one per SM of a hardware
+                   // predictor (shaders/shared/hrpp_table_set.h, hrpp_sm_key); 0 or 1: one
+  uint pad0, pad1, pad2;
 };
 
 // The HRPP stage's queue of one trace (shaders/hrpp_predict.comp → the trace kernel →
