@@ -13,6 +13,7 @@
 //     included) and go-up 0 and 3: answers equal HRPP off, and the CPU reference reproduces
 //     every counter in the deterministic configuration.
 #include <cstdio>
+#include <random>
 #include <span>
 #include <string>
 #include <vector>
@@ -554,44 +555,66 @@ TEST(HrppPredictor, PoliciesEvictTheirVictims) {
   }
 }
 
-// MICRO'21's table (ray-predictor.cc, check_table and add_entry with placement 'd'), scripted
-// on its published geometry (4096 entries, direct-mapped, 4 nodes): a key's entry is its low 12
-// bits, so keys 7 and 7 + 4096 share one and the later replaces the earlier (its nodes go with
-// it); an entry takes a ray's node while it holds fewer than 4, and a fifth is dropped, the
-// first four kept ('l', not FIFO); a node already held is present. The golden-ratio sets of the
-// other policies would put the two keys apart.
-TEST(HrppPredictor, Micro21TableIsDirectMappedAndKeepsItsFirstNodes) {
+// MICRO'21's table index (ray-predictor.cc, compute_index) as its source computes it: the hash
+// xor-folded in chunks of log2(sets) bits.
+std::uint64_t micro21_source_index(std::uint64_t hash, unsigned num_bits) {
+  const std::uint64_t mask = UINT64_MAX >> (64 - num_bits);
+  std::uint64_t index = 0;
+  while (hash > 0) {
+    index ^= hash & mask;
+    hash >>= num_bits;
+  }
+  return index;
+}
+
+// MICRO'21's table as submitted (its MOBILE configuration: 1024 entries, 4-way set-associative,
+// 1 node an entry, LRU; check_table, add_entry and add_node_to_predictor_entry with placement
+// 's'), scripted on one SM's table: a key's set is its folded bits (keys 0x004, 0x105, 0x206,
+// 0x307 and 0x400 share set 4, which the golden-ratio sets of the other policies would not);
+// a probe hit renews its way, so the fifth key evicts the least recently used of the other
+// three; a new node replaces an entry's one node.
+TEST(HrppPredictor, Micro21TableFoldsKeysAndEvictsTheLeastRecentlyUsed) {
   const TableConfig geometry = table_preset("micro21");
-  EXPECT_EQ(geometry, (TableConfig{4096, 1, 4, TablePolicy::kMicro21, 2}));  // 2 SMs
-  EXPECT_EQ(geometry.bytes(), 2u * 4096u * (8 + 4 + 16));                    // 112 KiB each
+  EXPECT_EQ(geometry, (TableConfig{256, 4, 1, TablePolicy::kMicro21, 2}));  // 2 SMs
+  EXPECT_EQ(geometry.bytes(), 2u * 1024u * (8 + 4 + 4));                    // 16 KiB each
+  std::mt19937_64 rng(21);
+  for (int i = 0; i < 1000; ++i) {
+    const std::uint64_t key = rng() >> (64 - HRPP_KEY_BITS + (i % 40));
+    for (unsigned bits : {1u, 3u, 8u, 10u})
+      ASSERT_EQ(gpu::hrpp_folded_set(key, 1u << bits), micro21_source_index(key, bits)) << key;
+    EXPECT_EQ(gpu::hrpp_folded_set(key | (std::uint64_t{1} << HRPP_KEY_BITS), 256),
+              gpu::hrpp_folded_set(key, 256));  // an SM table's bits are not folded
+  }
+  EXPECT_EQ(gpu::hrpp_folded_set(0x7ABC, 256), 0xBCu ^ 0x7Au);
+  EXPECT_EQ(gpu::hrpp_folded_set(0x7ABC, 1), 0u);
   gpu::PredictorParams params{};  // one SM's table
   params.sets = geometry.sets;
   params.ways = geometry.ways;
   params.nodes = geometry.nodes;
   params.policy = static_cast<std::uint32_t>(geometry.policy);
   ReferenceTable table(params);
-  EXPECT_EQ(table.set_of(7), 7u);
-  EXPECT_EQ(table.set_of(7 + 4096), 7u);
-  EXPECT_NE(gpu::hrpp_set_of(7, 4096), gpu::hrpp_set_of(7 + 4096, 4096));
+  const std::uint64_t keys[] = {0x004, 0x105, 0x206, 0x307, 0x400};
+  for (std::uint64_t key : keys) EXPECT_EQ(table.set_of(key), 4u) << key;
+  EXPECT_NE(gpu::hrpp_set_of(0x004, 256), gpu::hrpp_set_of(0x105, 256));
   using O = ReferenceTable::Outcome;
   std::uint64_t evictions = 0;
   std::uint32_t nearest = 0;
-  std::uint32_t clock = 1;
-  for (int node : {10, 11, 12, 13}) EXPECT_EQ(table.insert(7, node, 1.0f, clock++, evictions), O::kInserted);
-  EXPECT_EQ(table.insert(7, 14, 1.0f, clock++, evictions), O::kDropped);
-  EXPECT_EQ(table.insert(7, 12, 1.0f, clock++, evictions), O::kPresent);
-  const std::span<const int> held = table.lookup(7, clock++, nearest);
-  EXPECT_EQ(std::vector<int>(held.begin(), held.end()), (std::vector<int>{10, 11, 12, 13}));
-  EXPECT_EQ(evictions, 0u);
-  EXPECT_EQ(table.insert(7 + 4096, 20, 1.0f, clock++, evictions), O::kInserted);
+  for (std::uint32_t i = 0; i < 4; ++i)
+    EXPECT_EQ(table.insert(keys[i], static_cast<int>(10 + i), 1.0f, i + 1, evictions),
+              O::kInserted);
+  ASSERT_FALSE(table.lookup(keys[0], 5, nearest).empty());  // renews 0x004
+  EXPECT_EQ(table.insert(keys[4], 14, 1.0f, 6, evictions), O::kInserted);
   EXPECT_EQ(evictions, 1u);
-  EXPECT_TRUE(table.lookup(7, clock++, nearest).empty());
-  const std::span<const int> now = table.lookup(7 + 4096, clock++, nearest);
-  ASSERT_EQ(now.size(), 4u);
-  EXPECT_EQ(now[0], 20);
-  EXPECT_EQ(now[1], HRPP_EMPTY_NODE);
-  EXPECT_EQ(table.entries(), 1u);
-  EXPECT_EQ(table.stored_nodes(), 1u);
+  EXPECT_TRUE(table.lookup(keys[1], 7, nearest).empty());  // 0x105 was the oldest
+  for (std::uint64_t key : {keys[0], keys[2], keys[3], keys[4]})
+    EXPECT_FALSE(table.lookup(key, 8, nearest).empty()) << key;
+  EXPECT_EQ(table.insert(keys[0], 20, 1.0f, 9, evictions), O::kInserted);  // replaces node 10
+  EXPECT_EQ(evictions, 2u);
+  const std::span<const int> held = table.lookup(keys[0], 10, nearest);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0], 20);
+  EXPECT_EQ(table.insert(keys[0], 20, 1.0f, 11, evictions), O::kPresent);
+  EXPECT_EQ(table.entries(), 4u);
 }
 
 // Per-SM tables: rays in blocks of HRPP_SM_BLOCK (64) consecutive use clocks go to the K tables
@@ -617,7 +640,7 @@ TEST(HrppPredictor, SmTablesDealBlocksOfRaysRoundRobin) {
   std::uint32_t nearest = 0;
   for (std::uint32_t clock : {0u, 64u, 128u}) {
     const std::uint64_t key = gpu::hrpp_sm_key(5, clock, kTables);
-    EXPECT_EQ(table.set_of(key), (clock / 64) * 4 + 1) << clock;  // table × sets + (5 & 3)
+    EXPECT_EQ(table.set_of(key), (clock / 64) * 4 + gpu::hrpp_folded_set(5, 4)) << clock;
     EXPECT_EQ(table.insert(key, static_cast<int>(clock), 1.0f, clock, evictions),
               ReferenceTable::Outcome::kInserted);
   }

@@ -169,7 +169,8 @@ void add_table_options(CLI::App* cmd, HrppOptions& o, const std::string& g) {
          },
          "Table size: tuned (16384x2x1 lru, 512 KiB), beam (4096x2x4 lru, 224 KiB), small "
          "(1024x8x8 lru, 352 KiB), unbounded (131072x16x16, none, 152 MiB: the paper's limit "
-         "study), tiny (4x2x2 lru)" +
+         "study), tiny (4x2x2 lru), micro21 (2 SM tables of 256x4x1 micro21, 32 KiB: "
+         "MICRO'21's; with its key: configs/hrpp/micro21.json)" +
              per_class)
       ->default_str(per_class_default(
           o.preset, [](TablePreset p) { return std::string(name_in(kTablePresetNames, p)); }))

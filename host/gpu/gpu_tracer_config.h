@@ -16,7 +16,7 @@ struct GpuTracerConfig {
   // total, a few hundred rays' worth: on a CPU device the default is 16, which keeps a wide
   // margin and amortises an invocation's start. A GPU has no such limit and hides latency with
   // more invocations in flight: there the default is 1 (NVIDIA H200, bunny, 2^20 rays: 1.5x
-  // faster AO and diffuse traces than 16; bench/GPU.md). A dispatch whose
+  // faster AO and diffuse traces than 16; DECISIONS.md). A dispatch whose
   // rays do not all finish throws hrpp::Error naming the limit.
   std::uint32_t rays_per_invocation = 0;
   static constexpr std::uint32_t kCpuDeviceRaysPerInvocation = 16;

@@ -24,7 +24,7 @@ TableConfig table_preset(TablePreset preset) {
     case TablePreset::kBeam:
       return {1u << 12, 2, 4, TablePolicy::kLru};
     case TablePreset::kMicro21:
-      return {1u << 12, 1, 4, TablePolicy::kMicro21, 2};
+      return {1u << 8, 4, 1, TablePolicy::kMicro21, 2};
     case TablePreset::kTuned:
       break;
   }

@@ -1,5 +1,5 @@
 // A Wavefront MTL material (as assimp reads it) mapped onto hrpp's Material. The mapping is
-// docs/FORMATS.md's "MTL materials" table; it is approximate where hrpp's lobes are (a
+// docs/FORMATS.md's table in "OBJ and PLY"; it is approximate where hrpp's lobes are (a
 // non-metal's Ks has no specular layer to go to yet).
 #pragma once
 

@@ -1,7 +1,7 @@
 // Ray classes: camera, bounce and shadow rays. Each has its own predictor table, switch,
 // counters and kernel times (shaders/shared/hrpp_types.h, HRPP_RAY_CLASS_*). A new class is one
-// value there and here, plus the place that produces its rays (docs/HRPP.md, "Adding
-// a ray class").
+// value there and here, plus the place that produces its rays (docs/HRPP.md, "Adding a hash / a
+// replacement policy / a ray class / a counter / a backend").
 #pragma once
 
 #include <array>

@@ -5,7 +5,7 @@
 // Why: on lavapipe (llvmpipe) a storage-buffer load with a different address per lane is a loop
 // over the lanes inserting one 32-bit word at a time through the stack, while a texel fetch
 // gathers the lanes' 16-byte texels in one vector operation; the trace kernels' node and triangle
-// fetches run several times faster this way (bench/README.md). Move-only.
+// fetches run several times faster this way (DECISIONS.md). Move-only.
 #pragma once
 
 #include <vulkan/vulkan.h>

@@ -12,8 +12,9 @@
 //   fifo: as lru, but a way's stamp is the clock at which its key came in (an empty way
 //         claimed, or a victim replaced), never renewed: the oldest key is evicted, and a probe
 //         hit writes nothing to the table.
-//   micro21: MICRO'21's table: sets indexed by the key's low bits; no free way: as lru; full
-//         node list: the insert is dropped (its source keeps an entry's first nodes).
+//   micro21: MICRO'21's table: a key's set is its bits xor-folded to the set count's width;
+//         otherwise as lru (its source evicts a full list's least recently used node; with its
+//         published one node an entry the two are the same).
 // Stamps are the ray's clock (PredictorParams.clock + ray index), so they wrap after 2^32 rays.
 // With the distance gate (PredictorParams.gate > 0) the stamp buffer holds after the sets × ways
 // stamps each entry's nearest hit (shaders/shared/hrpp_distance_gate.h): inserts raise it, a key

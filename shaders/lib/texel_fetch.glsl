@@ -4,7 +4,7 @@
 // three triangle planes), a Ray 2; bits are reinterpreted, never converted, so values are exactly
 // the host's.
 // Why not storage buffers: on lavapipe a per-lane storage-buffer load walks the lanes one 32-bit
-// word at a time, a texel fetch gathers all lanes' 16-byte texels at once (bench/README.md).
+// word at a time, a texel fetch gathers all lanes' 16-byte texels at once (DECISIONS.md).
 #ifndef HRPP_TEXEL_FETCH_GLSL
 #define HRPP_TEXEL_FETCH_GLSL
 

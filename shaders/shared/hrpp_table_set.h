@@ -1,6 +1,6 @@
 // The set of an HRPP predictor table that holds a key: (key × the 64-bit golden-ratio constant)
-// >> 32, modulo the power-of-two set count; under MICRO'21's policy the key's low bits, as its
-// table indexes (hash & (size - 1)). One definition for the GPU table
+// >> 32, modulo the power-of-two set count; under MICRO'21's policy its 48 key bits xor-folded
+// in chunks of the set count's width, as its table indexes (ray-predictor.cc, compute_index). One definition for the GPU table
 // (shaders/lib/hrpp_table.glsl) and its CPU mirror (host/hrpp/reference_table.cpp). GLSL
 // includers enable 64-bit integers first.
 #ifndef HRPP_HRPP_TABLE_SET_H
@@ -17,8 +17,18 @@ HRPP_SHARED_FN uint hrpp_set_of(uint64_t key, uint sets) {
   return uint((key * 0x9E3779B97F4A7C15ul) >> 32) & (sets - 1u);
 }
 
+HRPP_SHARED_FN uint hrpp_folded_set(uint64_t key, uint sets) {
+  if (sets <= 1u) return 0u;
+  uint bits = 0u;  // log2(sets)
+  for (uint b = 0u; b < 32u; ++b) bits += (1u << b) < sets ? 1u : 0u;
+  const uint64_t k = key & ((uint64_t(1) << HRPP_KEY_BITS) - 1u);  // the table rides above
+  uint set = 0u;
+  for (uint s = 0u; s < HRPP_KEY_BITS; s += bits) set ^= uint(k >> s) & (sets - 1u);
+  return set;
+}
+
 HRPP_SHARED_FN uint hrpp_set_index(uint64_t key, uint sets, uint policy) {
-  return policy == HRPP_POLICY_MICRO21 ? uint(key) & (sets - 1u) : hrpp_set_of(key, sets);
+  return policy == HRPP_POLICY_MICRO21 ? hrpp_folded_set(key, sets) : hrpp_set_of(key, sets);
 }
 
 // Per-SM tables (sm_tables K > 1), the hardware predictor's setting: K independent tables, each
@@ -43,9 +53,7 @@ HRPP_SHARED_FN uint hrpp_entry_base(uint64_t key, uint sets, uint ways, uint pol
 HRPP_SHARED_FN bool hrpp_renews_stamps(uint policy) {
   return policy == HRPP_POLICY_LRU || policy == HRPP_POLICY_MICRO21;
 }
-HRPP_SHARED_FN bool hrpp_replaces_nodes(uint policy) {
-  return policy == HRPP_POLICY_LRU || policy == HRPP_POLICY_FIFO;
-}
+HRPP_SHARED_FN bool hrpp_replaces_nodes(uint policy) { return policy != HRPP_POLICY_NONE; }
 
 #ifdef __cplusplus
 }  // namespace hrpp::gpu

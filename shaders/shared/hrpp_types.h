@@ -63,9 +63,8 @@ struct HashParams {
 #define HRPP_POLICY_LRU 1   // evict the set's least recently used way (node list full: see
                             // shaders/lib/hrpp_table.glsl)
 #define HRPP_POLICY_FIFO 2  // evict the way whose key came in first (a probe hit writes nothing)
-#define HRPP_POLICY_MICRO21 3  // MICRO'21's table: a key's set is its low bits (no mixing), a new
-                               // key replaces the set's least recently used way, a full node
-                               // list keeps its nodes (ray-predictor.cc, add_entry)
+#define HRPP_POLICY_MICRO21 3  // MICRO'21's table: a key's set is its bits xor-folded to the set
+                               // count's width (ray-predictor.cc, compute_index), then as lru
 #define HRPP_POLICY_COUNT \
   4  // a new policy: its branches in shaders/lib/hrpp_table.glsl and
      // host/hrpp/reference_table.cpp, its name in predictor_config.h
