@@ -15,6 +15,7 @@ COMMANDS = {
     "cpu-model": ("cpu_model", "where would HRPP pay on the CPU? the inline predictor's model"),
     "cpu-table": ("cpu_table", "HRPP inline on the CPU against the same traversal without it"),
     "keys": ("keys", "the keys per ray class (results/KEYS.md)"),
+    "micro21": ("micro21", "MICRO'21's predictor beside HRPP's on the same rays"),
     "figures": ("figures", "the limit study's figures from the sweep CSV"),
     "error": ("estimator_error", "how fast hrpp's estimator converges, per strategy and sampler"),
     "cycles": ("cycles", "hrpp render against Blender's Cycles on the same integral"),

@@ -50,7 +50,8 @@ static_assert(counter_indices_in_order());
 
 // Counters that only a count_baseline run fills.
 constexpr bool is_baseline_counter(std::uint32_t index) {
-  return index == HRPP_PC_BASELINE_INTERIOR || index == HRPP_PC_WRONG_CLOSEST;
+  return index == HRPP_PC_BASELINE_INTERIOR || index == HRPP_PC_BASELINE_LEAVES ||
+         index == HRPP_PC_BASELINE_TRIANGLES || index == HRPP_PC_WRONG_CLOSEST;
 }
 
 struct PredictorSummary {

@@ -97,6 +97,8 @@ struct ReferencePredictor::Trace {
     TraversalCounters b;  // counted whether or not the work is
     const gpu::Hit truth = trace_skipping(*p.bvh_, ray, kind, {}, &b);
     counter(HRPP_PC_BASELINE_INTERIOR) += b.interior_visited;
+    counter(HRPP_PC_BASELINE_LEAVES) += b.leaves_visited;
+    counter(HRPP_PC_BASELINE_TRIANGLES) += b.triangles_tested;
     if (speculative && (truth.prim != predicted.prim || truth.t != predicted.t))
       ++counter(HRPP_PC_WRONG_CLOSEST);
   }

@@ -43,6 +43,8 @@ Hit baseline_traversal(RaySetup r) {
   Hit truth = Hit(-1, 0.0, 0.0, 0.0);
   traverse_from(r, 0, truth);
   count_baseline_interior += g_interior - i0;
+  count_baseline_leaves += g_leaves - l0;
+  count_baseline_triangles += g_triangles - t0;
   g_interior = i0;
   g_leaves = l0;
   g_triangles = t0;

@@ -153,7 +153,8 @@ struct InsertRequest {
 // Interior nodes / leaves / triangles visited are TraceCounters' (they include verification).
 // Counted by hrpp_predict:
 //   verify_*: nodes visited testing predicted nodes;
-//   baseline_interior: count_baseline, a full traversal's interior nodes;
+//   baseline_interior, baseline_leaves, baseline_triangles: count_baseline, what a full
+//     traversal visits;
 //   wrong_closest: count_baseline, speculative: accepted hit != closest hit;
 //   gated: true positives of hit-all rays that the distance gate sent to an exact trace.
 #define HRPP_PREDICT_COUNTERS(X)                   \
@@ -167,16 +168,18 @@ struct InsertRequest {
   X(VERIFY_TRIANGLES, verify_triangles, 7u)        \
   X(BASELINE_INTERIOR, baseline_interior, 8u)      \
   X(WRONG_CLOSEST, wrong_closest, 9u)              \
-  X(GATED, gated, 10u)
+  X(GATED, gated, 10u)                             \
+  X(BASELINE_LEAVES, baseline_leaves, 11u)         \
+  X(BASELINE_TRIANGLES, baseline_triangles, 12u)
 // The outcomes of table inserts (hrpp_resolve, hrpp_insert): node stored, node already in the
 // entry, no room (policy none, or a lost replacement race), entries or nodes replaced (lru).
 #define HRPP_INSERT_OUTCOME_COUNTERS(X)            \
-  X(INSERTS, inserts, 12u)                         \
-  X(INSERT_PRESENT, insert_present, 13u)           \
-  X(INSERT_DROPS, insert_drops, 14u)               \
-  X(EVICTIONS, evictions, 15u)
+  X(INSERTS, inserts, 14u)                         \
+  X(INSERT_PRESENT, insert_present, 15u)           \
+  X(INSERT_DROPS, insert_drops, 16u)               \
+  X(EVICTIONS, evictions, 17u)
 #define HRPP_INSERT_COUNTERS(X)                    \
-  X(INSERT_REQUESTS, insert_requests, 11u)         \
+  X(INSERT_REQUESTS, insert_requests, 13u)         \
   HRPP_INSERT_OUTCOME_COUNTERS(X)
 #define HRPP_PREDICTOR_COUNTERS(X) HRPP_PREDICT_COUNTERS(X) HRPP_INSERT_COUNTERS(X)
 
@@ -191,7 +194,7 @@ HRPP_PREDICTOR_COUNTERS(HRPP_PC_CONSTANT)
 #ifdef __cplusplus
 namespace hrpp::gpu {
 #endif
-#define HRPP_PC_COUNT 16
+#define HRPP_PC_COUNT 18
 
 struct PredictorCounters {
   uint64_t c[HRPP_PC_COUNT];
