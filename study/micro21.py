@@ -13,7 +13,8 @@ Every predictor runs in the deterministic order (batches of 256 rays: a ray sees
 the batches before it, as a ray in MICRO'21's RT unit sees those of rays that finished) and
 counts full traversals (savings, wrong closest hits).
 
-Per row: probes; predicted (a key found) and verified (its nodes held the hit) shares of the
+Per row: probes; the share of rays that hit (or are occluded: no predictor can verify more);
+predicted (a key found) and verified (its nodes held the hit) shares of the
 probes; interior-node visits skipped net of verification; wrong closest hits (speculative
 hit-all); table bytes (per SM where per SM); and the hardware projection: RT-unit cycles per ray
 with the predictor over without, at MICRO'21's MOBILE latencies (HW_* below).
@@ -111,6 +112,8 @@ def ao_rays(export, points, seed):
     origin, normal = (w * pos).sum(axis=1), (w * nrm).sum(axis=1)
     flat = np.cross(pos[:, 1] - pos[:, 0], pos[:, 2] - pos[:, 0])  # where a mesh has no normals
     normal = np.where(np.linalg.norm(normal, axis=1, keepdims=True) > 1e-12, normal, flat)
+    keep = np.linalg.norm(normal, axis=1) > 1e-12  # degenerate triangles: no normal, no rays
+    pos, origin, normal = pos[keep], origin[keep], normal[keep]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     b1, b2 = tangent_basis(normal)
     e1, e2 = rng.random((len(pos), SPP)), rng.random((len(pos), SPP))
@@ -138,13 +141,14 @@ def row_figures(pc, counts, bytes_, sm_tables):
     (count_baseline), in the same order: no second run."""
     probes = pc["probes"]
     n = max(probes, 1)
+    hit = counts["hits"] / max(counts["rays"], 1)
     net = (pc["baseline_interior"] - counts["interior"]) / max(pc["baseline_interior"], 1)
     on = hw_cycles(counts["interior"], counts["leaves"], counts["triangles"], probes)
     off = hw_cycles(pc["baseline_interior"], pc["baseline_leaves"], pc["baseline_triangles"], 0)
     each = bytes_ // max(sm_tables, 1) // 1024
     per_sm = (f"{each} KiB" if each < 1024 else f"{each // 1024} MiB") + (
         f" x {sm_tables}" if sm_tables > 1 else "")
-    return [probes, f"{100 * pc['predictor_hits'] / n:.1f}%",
+    return [probes, f"{100 * hit:.1f}%", f"{100 * pc['predictor_hits'] / n:.1f}%",
             f"{100 * pc['true_positives'] / n:.1f}%", f"{100 * net:.1f}%",
             pc.get("wrong_closest", 0), per_sm, f"{on / off:.3f}" if off > 0 else "-"]
 
@@ -158,7 +162,7 @@ def trace(hrpp, scene, rays_path, flags, out):
 
 def trace_counts(j):
     return {"interior": j["interior_visited"], "leaves": j["leaves_visited"],
-            "triangles": j["triangles_tested"], "rays": j["rays"]}
+            "triangles": j["triangles_tested"], "rays": j["rays"], "hits": j["hits"]}
 
 
 def ao_rows(a, scene, work):
@@ -193,7 +197,7 @@ def render(a, scene, flags, out):
 def class_counts(j, c):
     k = j["classes"][c]
     return {"interior": k["interior_visited"], "leaves": k["leaves_visited"],
-            "triangles": k["triangles_tested"], "rays": k["rays"]}
+            "triangles": k["triangles_tested"], "rays": k["rays"], "hits": k["hits"]}
 
 
 def path_rows(a, scene, work):
@@ -212,7 +216,7 @@ def path_rows(a, scene, work):
     return rows
 
 
-HEAD = ["scene", "rays", "predictor", "probes", "predicted", "verified",
+HEAD = ["scene", "rays", "predictor", "probes", "hit", "predicted", "verified",
         "interior visits skipped, net", "wrong closest", "table bytes", "hardware on/off"]
 
 
