@@ -24,7 +24,10 @@
 #  10. where the device has VK_KHR_ray_query (step 1 says), the driver's ray queries beside the
 #      BVH kernels and Embree, with HRPP in front of them (hrpp bench --tracer rayquery --hrpp on
 #      on bunny, lamborghini and dragon, and python3 -m study bench --tracer rayquery); elsewhere
-#      one line saying that the device has none.
+#      one line saying that the device has none;
+#  11. MICRO'21's predictor as submitted (configs/hrpp/micro21.json: 2 SM tables of 1024
+#      entries) on the scenes of step 2: its stage's kernel time against HRPP off, every ray
+#      probing.
 # Exit status 1 when a step failed (the figures are still written); 2 on bad options.
 #
 # On the GPU machine (no network, a fresh checkout), from the repository's root:
@@ -70,7 +73,7 @@ out=build/gpu_figures
 repeat=5
 deadline=480
 quick=0
-all_steps="bench order trace render hrpp_bench tests every_ray model root rayquery"
+all_steps="bench order trace render hrpp_bench tests every_ray model root rayquery micro21"
 steps=",${all_steps// /,},"
 pack=0
 build=build/portable
@@ -403,6 +406,14 @@ if want rayquery; then
     echo "no VK_KHR_ray_query on this device ($(cat "$out/ray_tracing.txt" 2>/dev/null)):" \
       "the ray-query tracer cannot run here"
   fi
+fi
+
+if want micro21; then
+  step "MICRO'21's predictor as submitted (configs/hrpp/micro21.json)"
+  for scene in "${scenes[@]}"; do
+    limit 60 "micro21 bench $scene" "$hrpp" bench "$scene" --hrpp-config configs/hrpp/micro21.json \
+      --no-embree "${bench_args[@]}" --json "$out/micro21_$scene.json"
+  done
 fi
 
 step "done"
