@@ -296,3 +296,21 @@ def provenance_main(args):
     if len(args) != 2 or args[1] not in ("before", "after"):
         sys.exit("usage: study sweep-provenance OUT_DIR before|after")
     note_run(args[0], args[1])
+
+
+def pyplot():
+    """matplotlib's pyplot drawing without a display, imported on first use (only the figures
+    need matplotlib)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def save_figure(fig, out, name, written):
+    """Writes `fig` as OUT/NAME (a PNG), closes it and appends the path to `written`."""
+    path = os.path.join(out, name)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    pyplot().close(fig)
+    written.append(path)

@@ -2,28 +2,16 @@
 sweep's step after collecting): plot_savings.py's (Table 1 against the paper, hash precision,
 go-up level, spp, bounded tables, hash functions) and plot_error_time.py's (error against run
 time, error against HRPP off, kernel times). Writes PNGs into --out; a grid the CSV lacks is
-skipped. matplotlib draws without a display."""
+skipped. matplotlib draws without a display (common.pyplot)."""
 import argparse
 import os
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (the plot modules draw with it)
-
-from common import read_csv  # noqa: E402
-
-
-def save(fig, out, name, written):
-    p = os.path.join(out, name)
-    fig.tight_layout()
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    written.append(p)
+import plot_error_time
+import plot_savings
+from common import read_csv
 
 
 def main():
-    import plot_error_time
-    import plot_savings
     ap = argparse.ArgumentParser(prog="study figures", description=__doc__)
     ap.add_argument("--csv", required=True)
     ap.add_argument("--out", required=True)

@@ -2,8 +2,9 @@
 relMSE against the high-spp reference versus wall time and versus trace-kernel time for HRPP
 off, speculative and exact (spp ladders; runs without --hrpp-count), and the error each HRPP
 configuration adds against the HRPP-off image of the same seed and spp."""
-from common import rows
-from figures import plt, save
+from common import pyplot, rows, save_figure as save
+
+plt = pyplot()
 
 VARIANTS = (("off", "HRPP off", "k", "o-"), ("exact-small", "exact, small table", "tab:green", "s--"),
             ("spec-small", "speculative, small table", "tab:red", "^-"),

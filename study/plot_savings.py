@@ -1,10 +1,9 @@
 """The limit study's savings figures (study figures): Table 1 against the paper, hash
 precision, go-up level, spp, bounded tables and hash functions."""
-from common import PAPER_TABLE1, rows
-from figures import plt, save
+from common import PAPER_TABLE1, pyplot, rows, save_figure as save
 
+plt = pyplot()
 CLS = (("all", "hit-all"), ("any", "hit-any"))
-
 
 
 def plot_savings_by_bytes(ax, c, rs, style, label):
