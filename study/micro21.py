@@ -58,9 +58,11 @@ def paper_keys(**override):
             "table_preset": "unbounded", **override}
 
 
-# name: (settings, what it is). Every class keyed alike unless said.
+# name: (settings, what it is[, the order's settings over ORDER]). Every class keyed alike.
 PREDICTORS = {
-    "MICRO'21": (micro21_keys(), "as submitted: 2 SM tables"),
+    "MICRO'21": (micro21_keys(), "as submitted: 2 SM tables, inserts after every 256 rays"),
+    "MICRO'21, inserts every 16 rays": (micro21_keys(), "the same, a ray seeing the inserts of all "
+                                        "but the last 15 before it", {"batch": 16}),
     "MICRO'21, one table": (micro21_keys(sm_tables=1, table_sets=512),
                             "its 2 SM tables' entries in one table that every ray probes"),
     "paper": (paper_keys(), "hrpp key N=6, leaves, unbounded table"),
@@ -71,9 +73,10 @@ PREDICTORS = {
 
 
 def settings(name, mode):
-    keys, _ = PREDICTORS[name]
+    keys, _, *order = PREDICTORS[name]
     per_class = {} if keys is None else {c: keys for c in common.RAY_CLASSES}
-    return hrpp_settings(None, {"fallback": "root", "mode": mode, **ORDER}, **per_class)
+    top = {"fallback": "root", "mode": mode, **ORDER, **(order[0] if order else {})}
+    return hrpp_settings(None, top, **per_class)
 
 
 def mesh_manifest(scene, work):
@@ -225,7 +228,7 @@ def block_lines(a, rows, device):
     lines = [f"`{command}` at commit {repo_commit(REPO)}; {common.machine_line(device)}. "
              f"AO: {a.points} points x {SPP} rays per stand-in mesh; paths: {a.size}, "
              f"{a.spp} spp, seed 7. Predictors:", ""]
-    lines += [f"- {name}: {what}" for name, (_, what) in PREDICTORS.items()]
+    lines += [f"- {name}: {p[1]}" for name, p in PREDICTORS.items()]
     lines += ["", table(HEAD, rows), "",
               f"Hardware on/off: RT-unit cycles per ray, {HW_NODE} a node or leaf visit, "
               f"{HW_TRIANGLE} a triangle test, {HW_PROBE} a probe, verification included, "
