@@ -1,4 +1,5 @@
-// OBJ (with MTL) and PLY through assimp and hrpp's checks around it (host/scene/mesh_file.h):
+// OBJ (with MTL) and PLY files and hrpp's checks around their readers (host/scene/obj_file.h,
+// ply_file.h):
 // every face form and encoding against hand-written triangles, the MTL mapping, the bad-input
 // rules, and Debian's assimp-testmodels as a corpus that must load or be refused in one line.
 #include <gtest/gtest.h>

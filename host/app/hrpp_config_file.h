@@ -7,10 +7,10 @@
 //   serial, and keys: {camera | bounce | shadow: {hash, hash_bits, hash_dir_bits, gate, go_up,
 //   go_up_size, table_preset, table_sets, table_ways, table_nodes, table_policy, sm_tables}}
 // with the summaries a --stats JSON adds (the top-level hash, hash_bits, gate, go_up,
-// go_up_size, table_*, sm_tables and keys.*.table_bytes), which must agree with what the rest sets. This is
-// the one place that validates it: an unknown key, a value of the wrong type or name, or a
-// value the predictor would not run with (one that has no effect, or a summary that disagrees)
-// is one line naming the file and the key.
+// go_up_size, table_*, sm_tables and keys.*.table_bytes), which must agree with what the rest
+// sets. This is the one place that validates it: an unknown key, a value of the wrong type or
+// name, or a value the predictor would not run with (one that has no effect, or a summary that
+// disagrees) is one line naming the file and the key.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -51,10 +51,11 @@ std::string describe(const PredictorConfig& config) {
   PerClass<std::string> tables;
   for (RayClass c : kRayClasses) {
     const TableConfig& t = config.table[c];
+    const std::string per_sm =
+        t.sm_tables > 1 ? " in each of " + std::to_string(t.sm_tables) + " SM tables" : "";
     tables[c] = std::to_string(t.sets) + "x" + std::to_string(t.ways) + "x" +
-                std::to_string(t.nodes) + " " + table_policy_name(t.policy) +
-                (t.sm_tables > 1 ? " in each of " + std::to_string(t.sm_tables) + " SM tables" : "") +
-                " (" + format_bytes(config.table_bytes(c)) + ")";
+                std::to_string(t.nodes) + " " + table_policy_name(t.policy) + per_sm + " (" +
+                format_bytes(config.table_bytes(c)) + ")";
   }
   const std::string table = per_class_text(config, tables, [](const std::string& s) { return s; });
   char buf[640];

@@ -56,24 +56,28 @@ bool scaled_direction(const glm::vec3& dir, glm::vec3& u) {
   return true;
 }
 
+float diamond_angle(float x, float y) {
+  const float s = std::fabs(x) + std::fabs(y);
+  const float a = x / s;
+  const float b = y / s;
+  const float q1 = 1.0f - a;
+  const float q2 = 2.0f - b;
+  const float q3 = 3.0f + a;
+  return b >= 0.0f ? (a >= 0.0f ? b : q1) : (a < 0.0f ? q2 : q3);
+}
+
+float signed_cos2(const glm::vec3& u) {
+  const float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
+  return (u.z * std::fabs(u.z)) / len2;
+}
+
 std::uint32_t direction_bins(const glm::vec3& dir, std::uint32_t n) {
   const std::uint32_t cells = 1u << n;
   glm::vec3 u;
   if (!scaled_direction(dir, u)) return 0u;
-  const float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
-  const float c = (u.z * std::fabs(u.z)) / len2;
-  const float theta_x = (c + 1.0f) * from_bits((126u + n) << 23);
+  const float theta_x = (signed_cos2(u) + 1.0f) * from_bits((126u + n) << 23);
   const std::uint32_t theta = bin(theta_x, cells);
-  const float s = std::fabs(u.x) + std::fabs(u.y);
-  float p = 0.0f;
-  if (s > 0.0f) {
-    const float a = u.x / s;
-    const float b = u.y / s;
-    const float q1 = 1.0f - a;
-    const float q2 = 2.0f - b;
-    const float q3 = 3.0f + a;
-    p = b >= 0.0f ? (a >= 0.0f ? b : q1) : (a < 0.0f ? q2 : q3);
-  }
+  const float p = (u.x != 0.0f || u.y != 0.0f) ? diamond_angle(u.x, u.y) : 0.0f;
   const float phi_x = p * from_bits((125u + n) << 23);
   const std::uint32_t phi = bin(phi_x, cells);
   return theta | (phi << n);
@@ -93,16 +97,6 @@ std::uint64_t hash_grid_spherical(const glm::vec3& o, const glm::vec3& d,
          (std::uint64_t{direction_bins(d, h.second_bits)} << (3u * n));
 }
 
-float diamond_angle(float x, float y) {
-  const float s = std::fabs(x) + std::fabs(y);
-  const float a = x / s;
-  const float b = y / s;
-  const float q1 = 1.0f - a;
-  const float q2 = 2.0f - b;
-  const float q3 = 3.0f + a;
-  return b >= 0.0f ? (a >= 0.0f ? b : q1) : (a < 0.0f ? q2 : q3);
-}
-
 std::uint64_t hash_micro21(const glm::vec3& o, const glm::vec3& d, const gpu::HashParams& h) {
   const std::uint32_t n = h.bits, cells = 1u << n;
   const glm::vec3 x = (flushed(o) - h.grid_lo) * h.grid_scale;
@@ -111,9 +105,7 @@ std::uint64_t hash_micro21(const glm::vec3& o, const glm::vec3& d, const gpu::Ha
   glm::vec3 u;
   std::uint32_t theta = HRPP_MICRO21_THETA_BIN_ZERO, phi = HRPP_MICRO21_PHI_BIN_VERTICAL;
   if (scaled_direction(d, u)) {
-    const float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
-    const float c = (u.z * std::fabs(u.z)) / len2;
-    theta = gpu::hrpp_micro21_theta_bin(c);
+    theta = gpu::hrpp_micro21_theta_bin(signed_cos2(u));
     if (u.y == 0.0f && u.x < 0.0f)
       phi = HRPP_MICRO21_PHI_BIN_MINUS_X;
     else if (u.x != 0.0f || u.y != 0.0f)
@@ -185,13 +177,13 @@ gpu::HashParams make_hash_params(const HashConfig& config, const Aabb& scene_box
     throw Error("hash_bits: " + std::to_string(config.bits) + " is outside 1..8");
   if (config.dir_bits > HRPP_HASH_BITS_MAX)
     throw Error("hash_dir_bits: " + std::to_string(config.dir_bits) + " is outside 1..8");
+  if (config.kind == HashKind::kMicro21 && config.dir_bits > 0 &&
+      config.dir_bits != HRPP_MICRO21_SPHERE_BITS)
+    throw Error("hash_dir_bits: micro21 has MICRO'21's 3 sphere bits only");
   if (config.dir_bits > 0 && config.kind != HashKind::kGridSpherical &&
-      !(config.kind == HashKind::kMicro21 && config.dir_bits == HRPP_MICRO21_SPHERE_BITS))
-    throw Error(config.kind == HashKind::kMicro21
-                    ? "hash_dir_bits: micro21 has MICRO'21's 3 sphere bits only"
-                    : std::string("hash_dir_bits: only grid-spherical keys have direction "
-                                  "bins, not ") +
-                          hash_kind_name(config.kind));
+      config.kind != HashKind::kMicro21)
+    throw Error(std::string("hash_dir_bits: only grid-spherical keys have direction bins, not ") +
+                hash_kind_name(config.kind));
   gpu::HashParams p{};
   p.kind = static_cast<std::uint32_t>(config.kind);
   p.bits = config.bits;

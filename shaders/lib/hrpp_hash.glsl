@@ -91,29 +91,38 @@ bool hrpp_scaled_direction(vec3 dir, out vec3 u) {
   return true;
 }
 
-// Direction bins: θ through the signed squared cosine c = d.z|d.z| / |d|² (monotone in θ, no
-// sqrt or acos), θ-bin = bin((c + 1) × 2^(n-1)); φ through the diamond angle p ∈ [0, 4] of
-// (d.x, d.y) (monotone in φ, no atan2), φ-bin = bin(p × 2^(n-2)), on the scaled direction of
-// hrpp_scaled_direction. A zero or non-finite direction gets θ-bin = φ-bin = 0.
-// Returns θ-bin | φ-bin << n.
+// The diamond angle of (x, y) ≠ (0, 0): a number in [0, 4) monotone in the angle from the x axis,
+// counter-clockwise (quadrant q covers [q, q + 1)), from a = x / s, b = y / s, s = |x| + |y|.
+float hrpp_diamond_angle(float x, float y) {
+  precise float s = abs(x) + abs(y);
+  precise float a = ieee_div(x, s);
+  precise float b = ieee_div(y, s);
+  precise float q1 = 1.0 - a;
+  precise float q2 = 2.0 - b;
+  precise float q3 = 3.0 + a;
+  return b >= 0.0 ? (a >= 0.0 ? b : q1) : (a < 0.0 ? q2 : q3);
+}
+
+// cos θ × |cos θ| of the scaled direction u: c = u.z|u.z| / |u|², monotone in θ (no sqrt or
+// acos).
+float hrpp_signed_cos2(vec3 u) {
+  precise float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
+  precise float c = ieee_div(u.z * abs(u.z), len2);
+  return c;
+}
+
+// Direction bins: θ through the signed squared cosine c (hrpp_signed_cos2), θ-bin =
+// bin((c + 1) × 2^(n-1)); φ through the diamond angle p ∈ [0, 4) of (d.x, d.y) (monotone in
+// φ, no atan2), φ-bin = bin(p × 2^(n-2)), on the scaled direction of hrpp_scaled_direction. A
+// zero or non-finite direction gets θ-bin = φ-bin = 0. Returns θ-bin | φ-bin << n.
 uint hrpp_direction_bins(vec3 dir, uint n) {
   const uint cells = 1u << n;
   vec3 u;
   if (!hrpp_scaled_direction(dir, u)) return 0u;
-  precise float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
-  precise float c = ieee_div(u.z * abs(u.z), len2);
+  const float c = hrpp_signed_cos2(u);
   precise float theta_x = (c + 1.0) * uintBitsToFloat((126u + n) << 23);  // × 2^(n-1)
   const uint theta = hrpp_bin(theta_x, cells);
-  precise float s = abs(u.x) + abs(u.y);
-  float p = 0.0;
-  if (s > 0.0) {
-    precise float a = ieee_div(u.x, s);
-    precise float b = ieee_div(u.y, s);
-    precise float q1 = 1.0 - a;
-    precise float q2 = 2.0 - b;
-    precise float q3 = 3.0 + a;
-    p = b >= 0.0 ? (a >= 0.0 ? b : q1) : (a < 0.0 ? q2 : q3);
-  }
+  const float p = (u.x != 0.0 || u.y != 0.0) ? hrpp_diamond_angle(u.x, u.y) : 0.0;
   precise float phi_x = p * uintBitsToFloat((125u + n) << 23);  // × 2^(n-2)
   const uint phi = hrpp_bin(phi_x, cells);
   return theta | (phi << n);
@@ -128,18 +137,6 @@ uint64_t hrpp_hash_grid_spherical(vec3 o, vec3 d, HashParams h) {
          (uint64_t(hrpp_direction_bins(d, h.second_bits)) << (3u * n));
 }
 
-// The diamond angle of (x, y) ≠ (0, 0): a number in [0, 4) monotone in the angle from the x axis,
-// counter-clockwise (quadrant q covers [q, q + 1)), from a = x / s, b = y / s, s = |x| + |y|.
-float hrpp_diamond_angle(float x, float y) {
-  precise float s = abs(x) + abs(y);
-  precise float a = ieee_div(x, s);
-  precise float b = ieee_div(y, s);
-  precise float q1 = 1.0 - a;
-  precise float q2 = 2.0 - b;
-  precise float q3 = 3.0 + a;
-  return b >= 0.0 ? (a >= 0.0 ? b : q1) : (a < 0.0 ? q2 : q3);
-}
-
 // MICRO'21's own grid-spherical hash (its simulator's rt-sim.cc, hash_grid_spherical): the
 // origin's cell on the 2^n grid packed x << 2n | y << n | z (x highest), xor the direction's
 // bins φ-bin << 3 | θ-bin at 32° each (shaders/shared/micro21_bins.h), on the scaled direction
@@ -152,9 +149,7 @@ uint64_t hrpp_hash_micro21(vec3 o, vec3 d, HashParams h) {
   vec3 u;
   uint theta = HRPP_MICRO21_THETA_BIN_ZERO, phi = HRPP_MICRO21_PHI_BIN_VERTICAL;
   if (hrpp_scaled_direction(d, u)) {
-    precise float len2 = u.x * u.x + u.y * u.y + u.z * u.z;
-    precise float c = ieee_div(u.z * abs(u.z), len2);
-    theta = hrpp_micro21_theta_bin(c);
+    theta = hrpp_micro21_theta_bin(hrpp_signed_cos2(u));
     if (u.y == 0.0 && u.x < 0.0)
       phi = HRPP_MICRO21_PHI_BIN_MINUS_X;
     else if (u.x != 0.0 || u.y != 0.0)

@@ -1,7 +1,7 @@
-// The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag (the full key;
-// all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE = empty). A key lives in
-// set hrpp_entry_base (shaders/shared/hrpp_table_set.h), in any of its ways. Concurrent rays update it
-// with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
+// The HRPP predictor table of one ray class on the GPU: sets × ways entries, each a 64-bit tag
+// (the full key; all ones = empty), a use stamp and `nodes` node slots (HRPP_EMPTY_NODE =
+// empty). A key lives in the set hrpp_entry_base gives (shaders/shared/hrpp_table_set.h), in any
+// of its ways. Concurrent rays update it with compare-and-swap on tags and slots, so a node list never holds a node twice (a slot is
 // claimed only by a CAS from empty, after every earlier slot was seen holding another node).
 //
 // Policies (PredictorParams.policy), when an insert finds no room:

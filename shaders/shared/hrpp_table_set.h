@@ -1,6 +1,7 @@
 // The set of an HRPP predictor table that holds a key: (key × the 64-bit golden-ratio constant)
 // >> 32, modulo the power-of-two set count; under MICRO'21's policy its 48 key bits xor-folded
-// in chunks of the set count's width, as its table indexes (ray-predictor.cc, compute_index). One definition for the GPU table
+// in chunks of the set count's width, as its table indexes (ray-predictor.cc, compute_index);
+// the policies' shared rules and per-SM tables. One definition for the GPU table
 // (shaders/lib/hrpp_table.glsl) and its CPU mirror (host/hrpp/reference_table.cpp). GLSL
 // includers enable 64-bit integers first.
 #ifndef HRPP_HRPP_TABLE_SET_H
@@ -17,10 +18,16 @@ HRPP_SHARED_FN uint hrpp_set_of(uint64_t key, uint sets) {
   return uint((key * 0x9E3779B97F4A7C15ul) >> 32) & (sets - 1u);
 }
 
+// The set bits of v (SWAR; no loop).
+HRPP_SHARED_FN uint hrpp_popcount(uint v) {
+  v = v - ((v >> 1) & 0x55555555u);
+  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+  return (((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
+
 HRPP_SHARED_FN uint hrpp_folded_set(uint64_t key, uint sets) {
   if (sets <= 1u) return 0u;
-  uint bits = 0u;  // log2(sets)
-  for (uint b = 0u; b < 32u; ++b) bits += (1u << b) < sets ? 1u : 0u;
+  const uint bits = hrpp_popcount(sets - 1u);  // log2 of the power of two
   const uint64_t k = key & ((uint64_t(1) << HRPP_KEY_BITS) - 1u);  // the table rides above
   uint set = 0u;
   for (uint s = 0u; s < HRPP_KEY_BITS; s += bits) set ^= uint(k >> s) & (sets - 1u);
@@ -28,7 +35,8 @@ HRPP_SHARED_FN uint hrpp_folded_set(uint64_t key, uint sets) {
 }
 
 HRPP_SHARED_FN uint hrpp_set_index(uint64_t key, uint sets, uint policy) {
-  return policy == HRPP_POLICY_MICRO21 ? hrpp_folded_set(key, sets) : hrpp_set_of(key, sets);
+  if (policy == HRPP_POLICY_MICRO21) return hrpp_folded_set(key, sets);
+  return hrpp_set_of(key, sets);
 }
 
 // Per-SM tables (sm_tables K > 1), the hardware predictor's setting: K independent tables, each
