@@ -16,6 +16,7 @@ COMMANDS = {
     "cpu-table": ("cpu_table", "HRPP inline on the CPU against the same traversal without it"),
     "keys": ("keys", "the keys per ray class (results/KEYS.md)"),
     "micro21": ("micro21", "MICRO'21's predictor beside HRPP's on the same rays"),
+    "ray-maps": ("ray_maps", "per-pixel pictures of where prediction works, per ray class"),
     "figures": ("figures", "the limit study's figures from the sweep CSV"),
     "error": ("estimator_error", "how fast hrpp's estimator converges, per strategy and sampler"),
     "cycles": ("cycles", "hrpp render against Blender's Cycles on the same integral"),

@@ -1,5 +1,6 @@
 // The built-in EXR encoder (render/exr_encoder.h), read back by OpenImageIO: the size, the
-// channels and every float bit for bit, extreme values included, and string attributes.
+// channels and every float bit for bit, extreme values included, string attributes and
+// channels beside R, G and B.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -96,6 +97,48 @@ TEST(ExrEncoder, StringAttributesReadBack) {
   std::filesystem::remove(file);
   EXPECT_THROW(encode_exr(1, 1, {0, 0, 0}, {{std::string(32, 'n'), "too long a name"}}),
                std::invalid_argument);
+}
+
+// Channels beside R, G and B (per-pixel statistics, render/ray_stat_layers.h): each read back
+// by name, bit for bit; a repeated name, one of R, G, B or an empty one is refused.
+TEST(ExrEncoder, ExtraChannelsReadBackByName) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("hrpp_exr_layers_test_" + std::to_string(getpid()) + ".exr");
+  const std::uint32_t w = 3, h = 2;
+  std::vector<float> rgb(w * h * 3);
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.5f * static_cast<float>(i);
+  // Not in the file's (sorted) order, and one name before "B" in it.
+  const std::vector<hrpp::ImageChannel> extra = {
+      {"shadow.rays", {1, 2, 3, 4, 5, 6}},
+      {"camera.verified", {-1, -2, 0.25f, 9, 1e-40f, 7}},
+      {"A.b", {6, 5, 4, 3, 2, 1}}};
+  {
+    const std::string bytes = encode_exr(w, h, rgb, {}, extra);
+    std::ofstream(file, std::ios::binary)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(file.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  const OIIO::ImageSpec spec = in->spec();
+  ASSERT_EQ(spec.nchannels, 6);
+  std::vector<float> all(std::size_t{w} * h * 6);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 6, OIIO::TypeDesc::FLOAT, all.data())) << in->geterror();
+  in->close();
+  std::filesystem::remove(file);
+  auto channel = [&](const std::string& name) {
+    std::vector<float> v;
+    for (int c = 0; c < 6; ++c)
+      if (spec.channel_name(c) == name)
+        for (std::size_t p = 0; p < std::size_t{w} * h; ++p) v.push_back(all[p * 6 + c]);
+    return v;
+  };
+  for (const hrpp::ImageChannel& e : extra) expect_same_bits(channel(e.name), e.values);
+  std::vector<float> red;
+  for (std::size_t p = 0; p < std::size_t{w} * h; ++p) red.push_back(rgb[p * 3]);
+  expect_same_bits(channel("R"), red);
+  EXPECT_THROW(encode_exr(1, 1, {0, 0, 0}, {}, {{"x", {1}}, {"x", {2}}}), std::invalid_argument);
+  EXPECT_THROW(encode_exr(1, 1, {0, 0, 0}, {}, {{"G", {1}}}), std::invalid_argument);
+  EXPECT_THROW(encode_exr(1, 1, {0, 0, 0}, {}, {{"", {1}}}), std::invalid_argument);
 }
 
 }  // namespace

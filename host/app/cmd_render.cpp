@@ -3,6 +3,8 @@
 // reference renderer (host/cpu_render/: the same image up to float rounding); prints per-kernel
 // device time and per-ray-class counters, writes the image (EXR linear, PNG sRGB) and
 // optionally the stats JSON.
+#include <strings.h>
+
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -197,10 +199,11 @@ void run_cpu_render(const RenderOptions& o, const Scene& scene, const GpuBvh& bv
                name_in(kCpuTracerNames, o.cpu_tracer) +
                (embree ? " (" + embree_version() + ")" : std::string());
   RenderSession session(o.render.spp, o.limits, [&](const RenderResult& r) {
-    write_image(o.out, r.width, r.height, r.rgb, image_attributes(cpu.name, r));
+    write_image(o.out, r.width, r.height, r.rgb, image_attributes(cpu.name, r), r.channels);
   });
   const RenderResult result = renderer.render(&session);
-  write_image(o.out, result.width, result.height, result.rgb, image_attributes(cpu.name, result));
+  write_image(o.out, result.width, result.height, result.rgb, image_attributes(cpu.name, result),
+              result.channels);
   std::string hrpp_text;
   nlohmann::json hrpp_json = predictor_config_json(o.render.predictor);
   if (o.render.predictor.enabled)
@@ -244,6 +247,11 @@ void check_render_options(RenderOptions& o) {
                 ": the CPU backend (--backend cpu) traverses binary nodes");
   if (o.backend == RenderBackend::kCpu && o.shared.device_tracer != DeviceTracerKind::kCompute)
     throw Error("--tracer: the CPU backend (--backend cpu) traces on the CPU (--cpu-tracer)");
+  if (o.render.ray_stats && o.backend != RenderBackend::kCpu)
+    throw Error("--ray-stats: the CPU backend's (--backend cpu); the GPU stage keeps no per-ray "
+                "counters");
+  if (o.render.ray_stats && strcasecmp(std::filesystem::path(o.out).extension().c_str(), ".exr"))
+    throw Error("--ray-stats: " + o.out + ": the layers need an .exr --out");
   if (o.backend != RenderBackend::kCpu && o.cpu_tracer != CpuTracer::kScalar)
     throw Error("--cpu-tracer: the CPU backend's (--backend cpu); the device traces with --tracer");
   o.render.tracer = o.shared.tracer;
@@ -332,6 +340,10 @@ void add_render_command(CLI::App& app) {
                   "rtcIntersect1/rtcOccluded1; with --hrpp on, HRPP in front of it)")
       ->transform(one_of(kCpuTracerNames))
       ->default_str(name_in(kCpuTracerNames, o->cpu_tracer));
+  cmd->add_flag("--ray-stats", o->render.ray_stats,
+               "--backend cpu, .exr: per-pixel ray statistics as layers camera, bounce, shadow "
+               "(rays, interior; with --hrpp on predicted, verified; with count_baseline "
+               "skipped)");
   o->spp_option = cmd->add_option("--spp", o->render.spp,
                                   "Samples per pixel (one wavefront pass each; default: the "
                                   "scene file's own where it has one, pbrt's Sampler)")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "cpu_render/scene_lookups.h"
 #include "hrpp/reference_predictor.h"
 #include "path_vertex.h"
+#include "render/ray_stat_layers.h"
 #include "render/render_params.h"
 #include "render/render_result.h"
 #include "trace/cpu_traversal.h"
@@ -32,10 +34,22 @@ struct PathTracer {
   ReferencePredictor* hrpp;  // this thread's tables; nullptr: HRPP off
   const PredictorConfig& predictor;
   const OutsideTracer& outside;
+  RayStatLayers* layers;         // nullptr: no per-pixel statistics
+  std::uint32_t path_pixel = 0;  // the pixel of the path being traced (layers)
+
+  // trace_ray, its counters added to the path's pixel in `layers`.
+  gpu::Hit trace(const gpu::Ray& ray, RayClass c) {
+    if (!layers) return trace_ray(ray, c);
+    const RayClassStats& s = stats[c];
+    const RayStatLayers::Counts before{s.counters, s.predictor};
+    const gpu::Hit hit = trace_ray(ray, c);
+    layers->add(path_pixel, c, before, {s.counters, s.predictor});
+    return hit;
+  }
 
   // trace_closest / trace_any (or the outside tracer's), or with HRPP on for a predicting class,
   // HRPP inline (the reference predictor's code: probe, verify, fall back, insert) before it.
-  gpu::Hit trace(const gpu::Ray& ray, RayClass c) {
+  gpu::Hit trace_ray(const gpu::Ray& ray, RayClass c) {
     RayClassStats& s = stats[c];
     if (hrpp && predictor.predicts(c)) return hrpp->trace_one(ray, c, s.counters, s.predictor);
     if (outside.closest) return trace_outside(ray, c, s.counters);
@@ -102,6 +116,7 @@ struct PathTracer {
   // The path of one pixel and sample, from the camera to its end (render_generate, then
   // trace_closest and render_shade per bounce).
   void trace_path(std::uint32_t pixel_index, std::uint32_t sample, glm::vec4& pixel) {
+    path_pixel = pixel_index;
     gpu::Ray ray = gpu::camera_ray(params, pixel_index, sample);
     gpu::PathState path = gpu::camera_path(pixel_index, sample);
     for (;;) {
@@ -148,9 +163,18 @@ RenderResult CpuRenderer::render(PassObserver* observer) const {
       if (outside_.closest) tables.back().set_full_trace(outside_.closest);
     }
   const auto first_pass = std::chrono::steady_clock::now();
+  std::unique_ptr<RayStatLayers> layers;
+  if (cfg_.ray_stats) layers = std::make_unique<RayStatLayers>(pixels);
+  PerClass<bool> predicting;
+  for (RayClass c : kRayClasses) predicting[c] = cfg_.predictor.predicts(c);
+  auto finish = [&](RenderResult& r) {  // the mean image (and layers) of the passes so far
+    const auto samples = static_cast<std::uint32_t>(out.stats.frames.size());
+    set_mean_image(r, sum, samples);
+    if (layers) r.channels = layers->channels(samples, predicting, cfg_.predictor.count_baseline);
+  };
   auto mean_so_far = [&] {
     RenderResult r = out;
-    set_mean_image(r, sum, static_cast<std::uint32_t>(out.stats.frames.size()));
+    finish(r);
     return r;
   };
   for (std::uint32_t sample = 0; sample < cfg_.spp; ++sample) {
@@ -159,7 +183,7 @@ RenderResult CpuRenderer::render(PassObserver* observer) const {
     pool.parallel_for(blocks, [&](std::size_t block, int thread) {
       const auto t = static_cast<std::size_t>(thread);
       PathTracer tracer{bvh_, rs_, params_, stats[t], tables.empty() ? nullptr : &tables[t],
-                        cfg_.predictor, outside_};
+                        cfg_.predictor, outside_, layers.get()};
       const auto begin = static_cast<std::uint32_t>(block * kPixelBlock);
       const std::uint32_t end = std::min(pixels, begin + kPixelBlock);
       for (std::uint32_t p = begin; p < end; ++p) tracer.trace_path(p, sample, sum[p]);
@@ -175,7 +199,7 @@ RenderResult CpuRenderer::render(PassObserver* observer) const {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - first_pass).count();
     if (observer && !observer->after_pass(sample + 1, elapsed, mean_so_far)) break;
   }
-  set_mean_image(out, sum, static_cast<std::uint32_t>(out.stats.frames.size()));
+  finish(out);
   out.stats.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -82,18 +82,35 @@ class TempImage {
 };
 
 #ifdef HRPP_HAVE_OIIO
+// R, G, B and the extra channels interleaved, pixel by pixel.
+std::vector<float> interleave(const std::vector<float>& rgb,
+                              const std::vector<ImageChannel>& channels) {
+  const std::size_t pixels = rgb.size() / 3, n = 3 + channels.size();
+  std::vector<float> out(pixels * n);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    for (std::size_t c = 0; c < 3; ++c) out[p * n + c] = rgb[p * 3 + c];
+    for (std::size_t c = 0; c < channels.size(); ++c) out[p * n + 3 + c] = channels[c].values[p];
+  }
+  return out;
+}
+
 void write_oiio(const TempImage& tmp, bool exr, std::uint32_t width, std::uint32_t height,
-                const std::vector<float>& rgb, const ImageAttributes& attributes) {
+                const std::vector<float>& rgb, const ImageAttributes& attributes,
+                const std::vector<ImageChannel>& channels) {
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.path().string());
   if (!out) throw tmp.fail(OIIO::geterror());
-  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 3,
+  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height),
+                       3 + static_cast<int>(channels.size()),
                        exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  for (std::size_t c = 0; c < channels.size(); ++c) spec.channelnames[3 + c] = channels[c].name;
+  spec.alpha_channel = -1;  // a fourth channel is not alpha
   if (!exr) spec.attribute("oiio:ColorSpace", "sRGB");
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
   if (!out->open(tmp.path().string(), spec)) throw tmp.fail(out->geterror());
   bool ok;
   if (exr) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
+    ok = out->write_image(OIIO::TypeDesc::FLOAT,
+                          channels.empty() ? rgb.data() : interleave(rgb, channels).data());
   } else {
     std::vector<std::uint8_t> bytes(rgb.size());
     for (std::size_t i = 0; i < rgb.size(); ++i)
@@ -109,8 +126,9 @@ void write_oiio(const TempImage& tmp, bool exr, std::uint32_t width, std::uint32
 }
 #else
 void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
-               const std::vector<float>& rgb, const ImageAttributes& attributes) {
-  const std::string bytes = encode_exr(width, height, rgb, attributes);
+               const std::vector<float>& rgb, const ImageAttributes& attributes,
+               const std::vector<ImageChannel>& channels) {
+  const std::string bytes = encode_exr(width, height, rgb, attributes, channels);
   std::ofstream out(tmp.path(), std::ios::binary);
   if (!out) throw tmp.fail("cannot create " + tmp.path().string());
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -122,16 +140,22 @@ void write_exr(const TempImage& tmp, std::uint32_t width, std::uint32_t height,
 }  // namespace
 
 void write_image(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
-                 const std::vector<float>& rgb, const ImageAttributes& attributes) {
+                 const std::vector<float>& rgb, const ImageAttributes& attributes,
+                 const std::vector<ImageChannel>& channels) {
   check_image_format(file);
-  if (rgb.size() != std::size_t{width} * height * 3)
+  const std::size_t pixels = std::size_t{width} * height;
+  bool sizes_match = rgb.size() == pixels * 3;
+  for (const ImageChannel& c : channels) sizes_match = sizes_match && c.values.size() == pixels;
+  if (!sizes_match)
     throw Error(file.string() + ": image data does not match " + std::to_string(width) + "x" +
                 std::to_string(height));
+  if (!channels.empty() && lower_extension(file) != ".exr")
+    throw Error(file.string() + ": only .exr holds channels beside R, G and B");
   TempImage tmp(file);
 #ifdef HRPP_HAVE_OIIO
-  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb, attributes);
+  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb, attributes, channels);
 #else
-  write_exr(tmp, width, height, rgb, attributes);  // check_image_format refused the rest
+  write_exr(tmp, width, height, rgb, attributes, channels);  // check_image_format refused the rest
 #endif
   tmp.commit();
 }

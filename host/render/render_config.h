@@ -15,6 +15,7 @@
 #include "gpu_types.h"
 #include "hrpp/adaptive_predictor.h"
 #include "hrpp/predictor_config.h"
+#include "render/image_output.h"
 #include "trace/ray_class.h"
 #include "vk/timer_label.h"
 #include "render_interface.h"
@@ -97,6 +98,9 @@ struct RenderConfig {
   // queries (HRPP off and rays in their order there; the context must have ray queries on).
   DeviceTracerKind device_tracer = DeviceTracerKind::kCompute;
   PredictorConfig predictor;  // HRPP: off unless predictor.enabled
+  // Per-pixel statistics of the traced rays as RenderResult::channels (render/ray_stat_layers.h,
+  // `--ray-stats`): the CPU renderer only.
+  bool ray_stats = false;
 };
 
 // Device times by their names in reports (label_name: the ray sorter's kernels summed as
@@ -151,6 +155,7 @@ struct RenderStats : FrameStats {
 struct RenderResult {
   std::uint32_t width = 0, height = 0;
   std::vector<float> rgb;  // linear radiance, mean over the samples, rows top down
+  std::vector<ImageChannel> channels;  // RenderConfig::ray_stats: the rays' per-pixel statistics
   RenderStats stats;
   // A render the device failed mid-way (lost, out of memory): the error's one line, and how many
   // passes had finished when it came; rgb and stats are those of the last pass boundary the host

@@ -30,6 +30,16 @@ namespace hrpp {
 
 namespace {
 
+// check_render_config, and what the GPU renderer cannot do: per-pixel ray statistics need each
+// ray's counters, which the GPU stage does not keep.
+const RenderConfig& checked(const RenderConfig& config, const Scene& scene) {
+  check_render_config(config, scene);
+  if (config.ray_stats)
+    throw Error("--ray-stats: the CPU backend's (--backend cpu); the GPU stage keeps no per-ray "
+                "counters");
+  return config;
+}
+
 constexpr auto kBindingTypes = [] {
   std::array<VkDescriptorType, HRPP_RENDER_BINDING_COUNT> t{};
   t.fill(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
@@ -197,7 +207,7 @@ struct WavefrontRenderer::State {
   State(VulkanContext& c, const Scene& scene, RenderScene render_scene, const GpuBvh& bvh,
         const RenderConfig& config, HostCopies host = {})
       : ctx(c),
-        cfg((check_render_config(config, scene), config)),
+        cfg(checked(config, scene)),
         rs(std::move(render_scene)),
         wave(wavefront_paths(c, config)),
         needs(check_render_fits(c, scene, bvh, config, wave, RenderBufferNeeds(rs, config, wave))),
