@@ -10,7 +10,7 @@ interleaved and their order reversed round by round. Two kinds of ray set per sc
     the side facing that camera, cosine-distributed AO rays (0.1 of the radius long, any hit) and
     diffuse rays (unbounded, closest hit).
 Prints a Markdown table, Mrays/s per cell (best of the rounds) and each cell's ratio to the first
-(the reference), headed by one line of provenance (command, commit, date, drivers, binaries,
+(the reference), with the run-to-run spread (a cell's worst round against its best), headed by one line of provenance (command, commit, date, drivers, binaries,
 load). With --results the same lines become the generated block --block of that file.
 
 Usage: python3 -m study driver-ab --driver A=ICD.json [--driver B=ICD.json]
@@ -24,6 +24,7 @@ Example (Mesa 22.3 unpacked beside the system's Mesa 25, an old build beside thi
 import argparse
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -178,9 +179,10 @@ def main():
                     for b, d in order:
                         loads.append(os.getloadavg()[0])
                         v = mrays(a, a.binaries[b], a.drivers[d], scene, rays, kind, hits)
-                        key = (scene, rset, kind, b, d)
-                        best[key] = max(best.get(key, 0.0), v)
+                        best.setdefault((scene, rset, kind, b, d), []).append(v)
                 print(f"{WHO}: round {rnd + 1}/{a.rounds} {scene}", file=sys.stderr, flush=True)
+    spread = statistics.median(1 - min(v) / max(v) for v in best.values())
+    best = {k: max(v) for k, v in best.items()}
     names = [f"{b} / {d}" for b, d in cells]
     drivers = "; ".join(f"{d}: {driver_of(a, icd)}" for d, icd in a.drivers.items())
     results = f" --results {a.results} --block {a.block}" if a.results else ""
@@ -189,8 +191,9 @@ def main():
              f"--repeat {a.repeat}{results}` at commit {repo_commit(REPO)}, "
              f"{time.strftime('%Y-%m-%d')}, {cpu_model()}; {drivers}; load "
              f"{min(loads):.1f}-{max(loads):.1f}. Mrays/s, best of the rounds (ratio to "
-             f"{names[0]}); bench: `hrpp bench`'s batches (2^20 rays), close: the independent "
-             f"close-camera rays (2^19):", "",
+             f"{names[0]}); a cell's rounds differ by {spread:.0%} (median over the cells); bench: "
+             f"`hrpp bench`'s batches (2^20 rays), close: the independent close-camera rays "
+             f"(2^19):", "",
              "| scene | rays | kind | " + " | ".join(names) + " |",
              "|---|---|---|" + "---|" * len(names)]
     for scene in scenes:
