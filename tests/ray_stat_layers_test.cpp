@@ -1,24 +1,13 @@
-// Per-pixel ray statistics (render/ray_stat_layers.h, `hrpp render --backend
-// cpu --ray-stats`): each layer against a witness outside the layers' own
-// bookkeeping:
-//   - camera.interior at every pixel is what the CPU traversal visits tracing
-//   that pixel's
+// Per-pixel ray statistics (render/ray_stat_layers.h, `hrpp render --backend cpu --ray-stats`):
+// each layer against a witness outside the layers' own bookkeeping:
+//   - camera.interior at every pixel is what the CPU traversal visits tracing that pixel's
 //     camera rays itself (gpu::camera_ray), and camera.rays is one a sample;
-//   - with exact HRPP and count_baseline, camera.interior + camera.skipped at
-//   every pixel is
-//     the HRPP-off render's camera.interior (what a full traversal of the same
-//     rays visits);
+//   - with exact HRPP and count_baseline, camera.interior + camera.skipped at every pixel is
+//     the HRPP-off render's camera.interior (what a full traversal of the same rays visits);
 //   - camera.verified summed over the pixels is the render's true positives;
-//   - the CLI writes the layers into the EXR under their names (read back by
-//   OpenImageIO) and
+//   - the CLI writes the layers into the EXR under their names (read back by OpenImageIO) and
 //     refuses the flag with the GPU backend or a PNG.
-#include "render/ray_stat_layers.h"
-
-#include <OpenImageIO/imageio.h>
-#include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -26,11 +15,16 @@
 #include <string>
 #include <vector>
 
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include "bvh/binned_sah_builder.h"
 #include "bvh/gpu_layout.h"
 #include "cli_runner.h"
 #include "cpu_render/cpu_renderer.h"
 #include "path_vertex.h"
+#include "render/ray_stat_layers.h"
 #include "render/render_params.h"
 #include "render/render_scene.h"
 #include "test_scenes.h"
@@ -55,9 +49,9 @@ RenderConfig small_config(std::uint32_t width = 24, std::uint32_t height = 16,
   return c;
 }
 
-Rendered render(const Scene &scene, const GpuBvh &bvh, const RenderConfig &c) {
+Rendered render(const Scene& scene, const GpuBvh& bvh, const RenderConfig& c) {
   Rendered r{CpuRenderer(scene, bvh, c).render(), {}};
-  for (const ImageChannel &ch : r.result.channels) r.layers[ch.name] = ch.values;
+  for (const ImageChannel& ch : r.result.channels) r.layers[ch.name] = ch.values;
   return r;
 }
 
@@ -71,8 +65,7 @@ TEST_F(RayStatLayersTest, CameraInteriorIsThePixelsOwnTraversal) {
   const RenderConfig c = small_config();
   const Rendered r = render(scene, bvh, c);
   ASSERT_EQ(r.layers.count("camera.interior"), 1u);
-  EXPECT_EQ(r.layers.count("camera.verified"),
-            0u);  // HRPP off: no predictor layers
+  EXPECT_EQ(r.layers.count("camera.verified"), 0u);  // HRPP off: no predictor layers
   const RenderScene rs = make_render_scene(scene, c.default_lighting);
   const gpu::RenderParams params = make_render_params(c, scene.cameras[c.camera], rs, 0);
   double visited = 0.0;
@@ -99,10 +92,10 @@ TEST_F(RayStatLayersTest, SkippedIsTheFullTraversalMinusThePredictedWork) {
   c.predictor.adaptive = false;
   c.predictor.count_baseline = true;
   const Rendered on = render(scene, bvh, c);
-  for (const char *name : {"camera.predicted", "camera.verified", "camera.skipped",
+  for (const char* name : {"camera.predicted", "camera.verified", "camera.skipped",
                            "bounce.skipped", "shadow.verified"})
     ASSERT_EQ(on.layers.count(name), 1u) << name;
-  const std::vector<float> &skipped = on.layers.at("camera.skipped");
+  const std::vector<float>& skipped = on.layers.at("camera.skipped");
   double verified = 0.0, saved = 0.0;
   for (std::size_t p = 0; p < skipped.size(); ++p) {
     const double full = off.layers.at("camera.interior")[p];
@@ -112,14 +105,14 @@ TEST_F(RayStatLayersTest, SkippedIsTheFullTraversalMinusThePredictedWork) {
     verified += on.layers.at("camera.verified")[p] * static_cast<double>(c.spp);
     saved += skipped[p];
   }
-  const auto &camera = on.result.stats.classes[RayClass::kCamera].predictor;
+  const auto& camera = on.result.stats.classes[RayClass::kCamera].predictor;
   EXPECT_GT(camera.c[HRPP_PC_TRUE_POSITIVES], 0u);
   EXPECT_NEAR(verified, static_cast<double>(camera.c[HRPP_PC_TRUE_POSITIVES]), 1e-3 * verified);
   EXPECT_NE(saved, 0.0);
 }
 
-// The layers through the CLI into the file: every channel name, in an image
-// that still holds its R, G and B.
+// The layers through the CLI into the file: every channel name, in an image that still holds its
+// R, G and B.
 TEST(RayStatLayersCli, LayersInTheExrAndRefusals) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("hrpp_ray_stats_" + std::to_string(getpid()));
@@ -133,12 +126,12 @@ TEST(RayStatLayersCli, LayersInTheExrAndRefusals) {
   std::vector<std::string> names;
   for (int i = 0; i < in->spec().nchannels; ++i) names.push_back(in->spec().channel_name(i));
   in->close();
-  for (const char *name : {"R", "G", "B", "camera.rays", "camera.interior", "camera.predicted",
+  for (const char* name : {"R", "G", "B", "camera.rays", "camera.interior", "camera.predicted",
                            "camera.verified", "bounce.rays", "shadow.interior"})
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
   EXPECT_EQ(std::find(names.begin(), names.end(), "camera.skipped"), names.end());
 
-  for (const std::string &bad :
+  for (const std::string& bad :
        {std::string("render --ray-stats --size 8x8 --out ") + out,
         "render --backend cpu --ray-stats --size 8x8 --out " + (dir / "s.png").string()}) {
     r = test::run_hrpp(bad, dir);
