@@ -137,12 +137,23 @@ def read_exr(path):
         import OpenImageIO as oiio
     except ImportError:
         return read_uncompressed_exr(path)
+    channels = read_exr_channels(path, oiio)
+    return np.stack([channels[c] for c in "RGB"], axis=-1)
+
+
+def read_exr_channels(path, oiio=None):
+    """An EXR's channels by name, each a height × width float64 array (OpenImageIO): R, G, B and
+    the layers hrpp writes beside them (`hrpp render --ray-stats`)."""
+    import numpy as np
+    if oiio is None:
+        import OpenImageIO as oiio
     inp = oiio.ImageInput.open(path)
     if inp is None:
         raise RuntimeError(f"cannot read {path}")
-    px = inp.read_image("float")
+    names = list(inp.spec().channelnames)
+    px = np.asarray(inp.read_image("float"), dtype=np.float64)
     inp.close()
-    return np.asarray(px, dtype=np.float64)[..., :3]
+    return {n: px[..., i] for i, n in enumerate(names)}
 
 
 def read_uncompressed_exr(path):

@@ -27,27 +27,16 @@ COLUMNS = (("predicted", "viridis"), ("verified", "viridis"), ("skipped", "RdBu"
            ("interior", "magma"))
 
 
-def read_layers(path):
-    """An EXR's channels by name, each as a height × width float array (OpenImageIO)."""
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        sys.exit(f"{WHO}: cannot read {path}: {oiio.geterror()}")
-    names = list(inp.spec().channelnames)
-    px = np.asarray(inp.read_image("float"), dtype=np.float64)
-    inp.close()
-    return {n: px[..., i] for i, n in enumerate(names)}
-
-
 def draw(scene, layers, out, written):
     plt = common.pyplot()
     fig, axes = plt.subplots(len(RAY_CLASSES), 1 + len(COLUMNS), figsize=(15, 7.5))
     rgb = np.stack([layers[c] for c in "RGB"], axis=-1)
-    srgb = np.where(rgb <= 0.0031308, 12.92 * rgb, 1.055 * np.power(np.clip(rgb, 0, 1), 1 / 2.4) - 0.055)
+    rgb = np.clip(rgb, 0, 1)
+    srgb = np.where(rgb <= 0.0031308, 12.92 * rgb, 1.055 * np.power(rgb, 1 / 2.4) - 0.055)
     for row, cls in enumerate(RAY_CLASSES):
         first = axes[row][0]
         if cls == "camera":
-            first.imshow(np.clip(srgb, 0, 1))
+            first.imshow(srgb)
             first.set_title(f"{scene}: the render")
         else:
             im = first.imshow(layers[f"{cls}.rays"], cmap="gray")
@@ -115,7 +104,7 @@ def main():
                                        mode["spp"], 7, ["--backend", "cpu", "--ray-stats", SETTINGS],
                                        who=WHO)
             device = common.device_name(stats)
-            layers = read_layers(exr)
+            layers = common.read_exr_channels(exr)
             draw(scene, layers, args.out, written)
             results.append((scene, means(layers)))
             for cls, m in results[-1][1].items():

@@ -3,8 +3,6 @@
 // reference renderer (host/cpu_render/: the same image up to float rounding); prints per-kernel
 // device time and per-ray-class counters, writes the image (EXR linear, PNG sRGB) and
 // optionally the stats JSON.
-#include <strings.h>
-
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -247,10 +245,8 @@ void check_render_options(RenderOptions& o) {
                 ": the CPU backend (--backend cpu) traverses binary nodes");
   if (o.backend == RenderBackend::kCpu && o.shared.device_tracer != DeviceTracerKind::kCompute)
     throw Error("--tracer: the CPU backend (--backend cpu) traces on the CPU (--cpu-tracer)");
-  if (o.render.ray_stats && o.backend != RenderBackend::kCpu)
-    throw Error("--ray-stats: the CPU backend's (--backend cpu); the GPU stage keeps no per-ray "
-                "counters");
-  if (o.render.ray_stats && strcasecmp(std::filesystem::path(o.out).extension().c_str(), ".exr"))
+  // --ray-stats with the GPU backend: WavefrontRenderer refuses it.
+  if (o.render.ray_stats && !is_exr(o.out))
     throw Error("--ray-stats: " + o.out + ": the layers need an .exr --out");
   if (o.backend != RenderBackend::kCpu && o.cpu_tracer != CpuTracer::kScalar)
     throw Error("--cpu-tracer: the CPU backend's (--backend cpu); the device traces with --tracer");

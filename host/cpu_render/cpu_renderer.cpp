@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cstddef>
+#include <memory>
 #include <utility>
 #include <vector>
 

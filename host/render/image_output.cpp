@@ -36,6 +36,8 @@ std::string lower_extension(const std::filesystem::path& file) {
 
 }  // namespace
 
+bool is_exr(const std::filesystem::path& file) { return lower_extension(file) == ".exr"; }
+
 void check_image_format(const std::filesystem::path& file) {
   const std::string ext = lower_extension(file);
   if (ext != ".exr" && ext != ".png")
@@ -149,11 +151,11 @@ void write_image(const std::filesystem::path& file, std::uint32_t width, std::ui
   if (!sizes_match)
     throw Error(file.string() + ": image data does not match " + std::to_string(width) + "x" +
                 std::to_string(height));
-  if (!channels.empty() && lower_extension(file) != ".exr")
+  if (!channels.empty() && !is_exr(file))
     throw Error(file.string() + ": only .exr holds channels beside R, G and B");
   TempImage tmp(file);
 #ifdef HRPP_HAVE_OIIO
-  write_oiio(tmp, lower_extension(file) == ".exr", width, height, rgb, attributes, channels);
+  write_oiio(tmp, is_exr(file), width, height, rgb, attributes, channels);
 #else
   write_exr(tmp, width, height, rgb, attributes, channels);  // check_image_format refused the rest
 #endif
