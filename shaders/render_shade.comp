@@ -94,7 +94,7 @@ vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   vec3 albedo = m.base_color * s.color;
   if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
   const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);
-  const Lobe lobe = choose_lobe(m, albedo, u.lobe);
+  const Lobe lobe = choose_lobe(m, albedo, ieee_dot(s.ns, wo), u.lobe);
   shadow_end = queue_shadow_ray(path, lobe, s, wo, u);
   queue_continuation(path, lobe, m, s, wo, u);
   return radiance;

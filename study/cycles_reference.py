@@ -46,9 +46,10 @@ def parse_args():
 
 def check_supported(s):
     for m in s["materials"]:
-        if m["metallic"] > 0.0 or m["transmission"] > 0.5 or m["textured"]:
-            fail(f"material '{m['name']}': metal, glass or a texture (only Lambertian "
-                 "materials with emission compare like for like)")
+        if (m["metallic"] > 0.0 or m["transmission"] > 0.5 or m["textured"]
+                or m.get("specular", 0.0) > 0.0):
+            fail(f"material '{m['name']}': metal, glass, a specular layer or a texture (only "
+                 "Lambertian materials with emission compare like for like)")
     for light in s["lights"]:
         if light["type"] not in ("area", "environment"):
             fail(f"a {light['type']} light (only emissive triangles and environments)")

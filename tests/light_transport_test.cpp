@@ -3,7 +3,8 @@
 // reference renderer (host/cpu_render/). A receiver close to a two-sided emissive
 // square (gaps 1e-4..1, the scene translated by 0, 1e2 and 1e4), the Cornell box with its light
 // hung at a gap below the ceiling, point/spot/directional lights over a diffuse plane (with
-// blockers before and behind the light), a diffuse convex body in a constant environment, and
+// blockers before and behind the light), a diffuse convex body in a constant environment, a
+// smooth dielectric's Fresnel at normal incidence, and
 // the shadow-ray construction of shaders/lib/offset_ray.glsl against its C++ mirror
 // (host/trace/offset_ray.h), bit for bit.
 #include <algorithm>
@@ -443,6 +444,40 @@ TEST_P(ClosedForm, FurnaceConvexBodyInEnvironment) {
     EXPECT_EQ(other, 0u) << "shift " << shift << ": pixels neither L nor the body's ρ L";
     EXPECT_GT(body, r.rgb.size() / 4) << "shift " << shift;  // the body fills the view's middle
     EXPECT_EQ(r.stats.shadow().counters.rays, 0u);
+  }
+  expect_no_validation_messages();
+}
+
+// --- Fresnel at normal incidence on a smooth dielectric ------------------------------------
+
+// A black smooth dielectric (roughness 0: its specular layer a mirror) seen head-on in a constant
+// environment L reflects Schlick's f0 = ((ior - 1) / (ior + 1))² times specularFactor of it, and
+// its diffuse nothing: 0.04 L for ior 1.5, L / 9 for ior 2, exactly 0 without a layer. Each
+// sample reflects f0 / p or 0 (the layer is picked with probability p), so the mean is tested.
+TEST_P(ClosedForm, SmoothDielectricReflectsF0AtNormalIncidence) {
+  const float environment = 0.5f;
+  for (const auto& [ior, specular] :
+       {std::pair{1.5f, 1.0f}, std::pair{2.0f, 1.0f}, std::pair{1.5f, 0.0f}}) {
+    Scene scene;
+    scene.name = "test:smooth-dielectric";
+    Material m;
+    m.base_color = V(0.0f);
+    m.roughness = 0.0f;
+    m.ior = ior;
+    m.specular = specular;
+    scene.materials.push_back(m);
+    add_quad(scene, V(-1, -1, 0), V(2, 0, 0), V(0, 2, 0), 0);
+    Light env;
+    env.type = LightType::kEnvironment;
+    env.color = V(environment);
+    scene.lights.push_back(env);
+    scene.cameras.push_back(narrow_camera(V(0, 0, 3), V(0, 0, -1), V(0, 1, 0)));
+    RenderConfig config = direct_only(16, 64);
+    config.max_depth = 2;
+    const Estimate e = estimate(render(scene, config, GetParam()).rgb);
+    const double r = (ior - 1.0) / (ior + 1.0);
+    const double want = r * r * specular * environment;
+    EXPECT_NEAR(e.mean, want, 0.01 * want) << "ior " << ior << " specular " << specular;
   }
   expect_no_validation_messages();
 }

@@ -153,13 +153,20 @@ TEST(Mis, LobePdfsAreTheSamplingDensities) {
   s.ng = s.ns = n;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  for (float roughness : {1.0f, 0.5f, 0.3f}) {
+  // Roughness 1: the diffuse lobe; 0.5 and 0.3: the metal; 0.4: a dielectric's specular layer
+  // (u_lobe 0 picks it).
+  for (float roughness : {1.0f, 0.5f, 0.3f, 0.4f}) {
     gpu::GpuMaterial m{};
     m.base_color = vec3(1.0f);
-    m.metallic = roughness < 1.0f ? 1.0f : 0.0f;  // 1.0: the diffuse lobe
+    m.metallic = roughness < 1.0f && roughness != 0.4f ? 1.0f : 0.0f;
     m.roughness = roughness;
+    m.specular_f0 = vec3(0.04f);
+    m.specular_f90 = roughness == 0.4f ? 1.0f : 0.0f;
     const vec3 wo = glm::normalize(vec3(0.5f, 0.1f, 0.8f));
-    const gpu::Lobe lobe = gpu::choose_lobe(m, m.base_color, 0.0f);
+    const gpu::Lobe lobe = gpu::choose_lobe(m, m.base_color, wo.z, 0.0f);
+    if (roughness == 0.4f) {
+      ASSERT_EQ(lobe.kind, gpu::kLobeSpecular);
+    }
     // Samples: the share above the horizon, and Bounce.pdf against lobe_pdf.
     int above = 0;
     const int n_samples = 20000;

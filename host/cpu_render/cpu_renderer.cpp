@@ -103,7 +103,7 @@ struct PathTracer {
     vec3 albedo = m.base_color * s.color;
     if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
     const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);
-    const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, u.lobe);
+    const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, gpu::ieee_dot(s.ns, wo), u.lobe);
     add_light(path, lobe, s, wo, u, pixel);
     const gpu::Bounce b = gpu::sample_bounce(lobe, m, s, wo, u.u1, u.u2);
     vec3 throughput = path.throughput * b.weight;

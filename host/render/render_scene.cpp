@@ -17,9 +17,9 @@ static_assert(sizeof(gpu::PathState) == 32);
 static_assert(sizeof(gpu::ShadowRecord) == 16);
 static_assert(sizeof(gpu::RenderQueues) == 64);
 static_assert(sizeof(gpu::RenderPushConstants) == 16);
-// Read as 2, 1, 3 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).
+// Read as 2, 1, 4 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).
 static_assert(sizeof(gpu::Ray) == 32 && sizeof(gpu::Hit) == 16);
-static_assert(sizeof(gpu::GpuMaterial) == 48);
+static_assert(sizeof(gpu::GpuMaterial) == 64);
 static_assert(sizeof(gpu::GpuLight) == 64);
 static_assert(offsetof(gpu::GpuLight, cdf) == 28);  // light_cdf(): texel 1, .w
 static_assert(sizeof(gpu::GpuTexture) == 16);
@@ -86,7 +86,8 @@ void add_textures(const Scene& scene, std::size_t budget, RenderScene& out) {
 const char* RenderFeatures::name(int feature) {
   static const char* const kNames[HRPP_FEATURE_COUNT] = {
       "textures",    "emissive_triangles", "point_lights", "spot_lights",
-      "directional_lights", "environment", "metal",        "glass"};
+      "directional_lights", "environment", "metal",        "glass",
+      "specular_layer"};
   return kNames[feature];
 }
 
@@ -99,11 +100,23 @@ std::vector<std::string> RenderFeatures::names_on() const {
 
 namespace {
 
-// The materials and the features they need (textures, metal, glass).
+// The Fresnel of a dielectric's specular layer at grazing incidence (KHR_materials_specular's
+// factor, within [0, 1]) and at normal incidence: the ior's, tinted by the specular colour,
+// times that factor.
+float specular_f90(const Material& m) { return std::clamp(m.specular, 0.0f, 1.0f); }
+
+glm::vec3 specular_f0(const Material& m) {
+  const float r = (m.ior - 1.0f) / (m.ior + 1.0f);
+  const glm::vec3 tint = glm::max(m.specular_color, glm::vec3(0.0f));
+  return glm::min(r * r * tint, glm::vec3(1.0f)) * specular_f90(m);
+}
+
+// The materials and the features they need (textures, metal, glass, a specular layer).
 void add_materials(const Scene& scene, RenderScene& out) {
   bool& f_tex = out.features.on[HRPP_FEATURE_TEXTURES];
   bool& f_metal = out.features.on[HRPP_FEATURE_METAL];
   bool& f_glass = out.features.on[HRPP_FEATURE_GLASS];
+  bool& f_specular = out.features.on[HRPP_FEATURE_SPECULAR_LAYER];
   for (const Material& m : scene.materials) {
     gpu::GpuMaterial g{};
     g.base_color = m.base_color;
@@ -116,10 +129,14 @@ void add_materials(const Scene& scene, RenderScene& out) {
     g.transmission = m.transmission;
     g.ior = m.ior;
     g.flags = m.two_sided_emission ? 0u : HRPP_MATERIAL_ONE_SIDED;
+    g.specular_f0 = specular_f0(m);
+    g.specular_f90 = specular_f90(m);
     out.materials.push_back(g);
+    const bool opaque = m.transmission <= 0.5f;
     f_tex = f_tex || textured;
-    f_glass = f_glass || m.transmission > 0.5f;
-    f_metal = f_metal || (m.transmission <= 0.5f && m.metallic > 0.0f);
+    f_glass = f_glass || !opaque;
+    f_metal = f_metal || (opaque && m.metallic > 0.0f);
+    f_specular = f_specular || (opaque && m.metallic < 1.0f && g.specular_f90 > 0.0f);
   }
 }
 

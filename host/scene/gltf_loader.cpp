@@ -241,6 +241,20 @@ class GltfLoader {
     return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
   }
 
+  // An extension's RGB factor (NaN in a channel that is not a number, for the finite check).
+  static glm::vec3 ext_rgb(const tinygltf::ExtensionMap& ext, const char* name, const char* key,
+                           glm::vec3 fallback) {
+    auto it = ext.find(name);
+    if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return fallback;
+    const tinygltf::Value& a = it->second.Get(key);
+    glm::vec3 v(NAN);
+    for (int c = 0; c < 3; ++c) {
+      if (a.IsArray() && a.ArrayLen() == 3 && a.Get(c).IsNumber())
+        v[c] = static_cast<float>(a.Get(c).GetNumberAsDouble());
+    }
+    return v;
+  }
+
   void convert_materials() {
     for (std::size_t i = 0; i < m_.materials.size(); ++i) {
       const tinygltf::Material& gm = m_.materials[i];
@@ -256,9 +270,14 @@ class GltfLoader {
       mat.ior = static_cast<float>(ext_number(gm.extensions, "KHR_materials_ior", "ior", 1.5));
       mat.transmission = static_cast<float>(
           ext_number(gm.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0));
+      mat.specular = static_cast<float>(
+          ext_number(gm.extensions, "KHR_materials_specular", "specularFactor", 1.0));
+      mat.specular_color = ext_rgb(gm.extensions, "KHR_materials_specular", "specularColorFactor",
+                                   glm::vec3(1.0f));
       const glm::vec3 checks[] = {mat.base_color, mat.emission,
                                   glm::vec3(mat.metallic, mat.roughness, mat.ior),
-                                  glm::vec3(mat.transmission)};
+                                  glm::vec3(mat.transmission, mat.specular, 0.0f),
+                                  mat.specular_color};
       for (const glm::vec3& c : checks) {
         if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
           fail("material " + std::to_string(i) + " has a non-finite factor");

@@ -97,6 +97,20 @@ void conductor(PbrtMaterial& out, const PbrtParams& p, const PbrtMaterialContext
   m.base_color = conductor_f0(eta, k);  // pbrt-v4's default conductor is copper
 }
 
+// coateddiffuse's coat (its interface's roughness and eta) as the dielectric's specular layer
+// over the diffuse: glTF's Appendix B, which has no scattering between coat and base (pbrt's
+// thickness, albedo and g).
+void coat(Material& m, const PbrtParams& p, const PbrtMaterialContext& ctx) {
+  m.specular = 1.0f;
+  m.roughness = roughness_of(p, 0.0f, ctx.warnings);
+  const std::optional<glm::vec3> eta = spectrum(p, "eta", false, ctx.warnings);
+  m.ior = eta ? eta->y : 1.5f;
+  if (!(m.ior > 0.0f)) throw Error(p.where() + "coateddiffuse eta must be positive");
+  ctx.warnings.add(p.where() +
+                   "coateddiffuse approximated as a specular layer over the diffuse (no "
+                   "scattering between them)");
+}
+
 void dielectric(PbrtMaterial& out, const std::string& type, const PbrtParams& p,
                 const PbrtMaterialContext& ctx) {
   Material& m = out.material;
@@ -136,10 +150,11 @@ PbrtMaterial pbrt_material(const std::string& type, const PbrtParams& p,
   out.material.name = type;
   if (type == "diffuse" || type == "coateddiffuse" || type == "diffusetransmission") {
     reflectance(out.material, out.texture, p, ctx, glm::vec3(0.5f));
-    if (type != "diffuse") {
-      ctx.warnings.add(p.where() + type +
-                       " approximated as diffuse (its coat or transmission "
-                       "is left out)");
+    if (type == "coateddiffuse") {
+      coat(out.material, p, ctx);
+    } else if (type != "diffuse") {
+      ctx.warnings.add(p.where() +
+                       "diffusetransmission approximated as diffuse (its transmission is left out)");
     }
   } else if (type == "conductor" || type == "coatedconductor") {
     conductor(out, p, ctx);

@@ -30,8 +30,9 @@ struct TriangleShading {
   std::uint32_t material = 0;     // index into Scene::materials
 };
 
-// One material model for every source: glTF metallic-roughness plus transmission and emission.
-// Manifest overrides set it as: diffuse (metallic 0), metal (metallic 1), glass (transmission 1).
+// One material model for every source: glTF metallic-roughness (its Appendix B BRDF) plus
+// transmission and emission. Manifest overrides set it as: diffuse (metallic 0, no specular
+// layer), metal (metallic 1), glass (transmission 1).
 struct Material {
   std::string name;
   glm::vec3 base_color{0.8f};
@@ -40,6 +41,11 @@ struct Material {
   float roughness = 1.0f;
   float transmission = 0.0f;    // 1: dielectric (glass)
   float ior = 1.5f;
+  // The dielectric's specular layer, KHR_materials_specular's specularFactor and
+  // specularColorFactor: GGX over the diffuse, Fresnel-mixed. glTF's default is 1 (the glTF
+  // loader sets it); 0 here: none, the Lambertian diffuse of pbrt's diffuse, OBJ, PLY, manifests.
+  float specular = 0.0f;
+  glm::vec3 specular_color{1.0f};
   glm::vec3 emission{0.0f};     // emissive factor × KHR_materials_emissive_strength
   // false: only the front emits (pbrt's area lights unless "twosided"), the side that
   // cross(v1 - v0, v2 - v0) points to; glTF and manifests emit from both sides.

@@ -17,6 +17,8 @@ nlohmann::json material_json(const Material& m) {
           {"roughness", m.roughness},
           {"transmission", m.transmission},
           {"ior", m.ior},
+          {"specular", m.specular},
+          {"specular_color", vec(m.specular_color)},
           {"emission", vec(m.emission)},
           {"two_sided_emission", m.two_sided_emission}};
 }

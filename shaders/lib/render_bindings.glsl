@@ -19,6 +19,7 @@ layout(constant_id = HRPP_FEATURE_DIRECTIONAL_LIGHTS) const bool kDirectionalLig
 layout(constant_id = HRPP_FEATURE_ENVIRONMENT) const bool kEnvironment = true;
 layout(constant_id = HRPP_FEATURE_METAL) const bool kMetal = true;
 layout(constant_id = HRPP_FEATURE_GLASS) const bool kGlass = true;
+layout(constant_id = HRPP_FEATURE_SPECULAR_LAYER) const bool kSpecularLayer = true;
 
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_PARAMS) readonly restrict buffer ParamBuffer {
   RenderParams params;
@@ -109,12 +110,13 @@ ShadeTriangle load_shade_triangle(uint i) {
 }
 
 GpuMaterial load_material(uint i) {
-  const uvec4 a = texel_at(material_texels, 3u * i);
-  const uvec4 b = texel_at(material_texels, 3u * i + 1u);
-  const uvec4 c = texel_at(material_texels, 3u * i + 2u);
+  const uvec4 a = texel_at(material_texels, 4u * i);
+  const uvec4 b = texel_at(material_texels, 4u * i + 1u);
+  const uvec4 c = texel_at(material_texels, 4u * i + 2u);
+  const uvec4 d = texel_at(material_texels, 4u * i + 3u);
   return GpuMaterial(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz),
                      uintBitsToFloat(b.w), uintBitsToFloat(c.x), uintBitsToFloat(c.y),
-                     uintBitsToFloat(c.z), c.w);
+                     uintBitsToFloat(c.z), c.w, uintBitsToFloat(d.xyz), uintBitsToFloat(d.w));
 }
 
 GpuLight load_light(uint i) {

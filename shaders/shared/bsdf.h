@@ -1,7 +1,8 @@
 // The material lobes of the path tracer, in a local frame around the shading normal n:
-// Lambertian diffuse, GGX microfacet metal (Walter et al. 2007; visible-normal sampling, Heitz,
-// "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018; Schlick Fresnel) and a
-// smooth dielectric (exact Fresnel, reflect or refract). Vectors point away from the surface.
+// Lambertian diffuse, GGX microfacet reflection (Walter et al. 2007; visible-normal sampling,
+// Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4), 2018; Schlick Fresnel
+// between f0 and f90: glTF's metal and its dielectric's specular layer) and a smooth dielectric
+// (exact Fresnel, reflect or refract). Vectors point away from the surface.
 // Shared by render_shade and the CPU reference renderer (glsl_cpp.h).
 #ifndef HRPP_BSDF_H
 #define HRPP_BSDF_H
@@ -36,10 +37,12 @@ HRPP_INLINE vec3 cosine_hemisphere(vec3 n, float u1, float u2) {
   return ieee_normalize(r * cos(phi) * t + r * sin(phi) * b + ieee_sqrt(max(0.0f, 1.0f - u1)) * n);
 }
 
-HRPP_INLINE vec3 fresnel_schlick(vec3 f0, float cos_theta) {
+// Schlick's Fresnel from f0 at normal incidence to f90 at grazing (glTF: f90 1 for a metal,
+// specularFactor for a dielectric's layer).
+HRPP_INLINE vec3 fresnel_schlick(vec3 f0, float f90, float cos_theta) {
   const float m = clamp(1.0f - cos_theta, 0.0f, 1.0f);
   const float m2 = m * m;
-  return f0 + (vec3(1.0f) - f0) * (m2 * m2 * m);
+  return f0 + (vec3(f90) - f0) * (m2 * m2 * m);
 }
 
 // Unpolarised Fresnel reflectance of a smooth dielectric; eta = n_incident / n_transmitted.
@@ -62,18 +65,18 @@ HRPP_INLINE float ggx_g1(float n_v, float a2) {
   return ieee_div(2.0f * n_v, n_v + ieee_sqrt(a2 + (1.0f - a2) * n_v * n_v));
 }
 
-// GGX metal: f(wo, wi) · cos(wi) for light sampling.
-HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float alpha) {
+// GGX reflection with Schlick's Fresnel (f0, f90): f(wo, wi) · cos(wi) for light sampling.
+HRPP_INLINE vec3 ggx_eval_cos(vec3 n, vec3 wo, vec3 wi, vec3 f0, float f90, float alpha) {
   const float n_o = ieee_dot(n, wo), n_i = ieee_dot(n, wi);
   if (n_o <= 0.0f || n_i <= 0.0f) return vec3(0.0f);
   const vec3 h = ieee_normalize(wo + wi);
   const float a2 = alpha * alpha;
   const float d = ggx_d(max(ieee_dot(n, h), 0.0f), a2);
   const float g = ggx_g1(n_o, a2) * ggx_g1(n_i, a2);
-  return fresnel_schlick(f0, max(ieee_dot(wi, h), 0.0f)) * ieee_div(d * g, 4.0f * n_o);
+  return fresnel_schlick(f0, f90, max(ieee_dot(wi, h), 0.0f)) * ieee_div(d * g, 4.0f * n_o);
 }
 
-// GGX metal: the solid-angle pdf with which ggx_sample draws wi (visible normals):
+// GGX reflection: the solid-angle pdf with which ggx_sample draws wi (visible normals):
 // G1(wo) D(h) / (4 n·wo).
 HRPP_INLINE float ggx_pdf(vec3 n, vec3 wo, vec3 wi, float alpha) {
   const float n_o = ieee_dot(n, wo);
@@ -84,9 +87,9 @@ HRPP_INLINE float ggx_pdf(vec3 n, vec3 wo, vec3 wi, float alpha) {
   return ieee_div(ggx_g1(n_o, a2) * ggx_d(n_h, a2), 4.0f * n_o);
 }
 
-// GGX metal: samples wi from the visible normals; returns f·cos/pdf = F · G1(wi), or 0 when
-// wi falls below the surface.
-HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, float u2,
+// GGX reflection: samples wi from the visible normals; returns f·cos/pdf = F · G1(wi), or 0
+// when wi falls below the surface.
+HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float f90, float alpha, float u1, float u2,
                             HRPP_OUT(vec3) wi) {
   vec3 t, b;
   basis(n, t, b);
@@ -109,7 +112,7 @@ HRPP_INLINE vec3 ggx_sample(vec3 n, vec3 wo, vec3 f0, float alpha, float u1, flo
   wi = reflect(-wo, h);
   const float n_i = ieee_dot(n, wi);
   if (n_i <= 0.0f) return vec3(0.0f);
-  return fresnel_schlick(f0, max(ieee_dot(wi, h), 0.0f)) * ggx_g1(n_i, alpha * alpha);
+  return fresnel_schlick(f0, f90, max(ieee_dot(wi, h), 0.0f)) * ggx_g1(n_i, alpha * alpha);
 }
 
 #ifdef __cplusplus

@@ -1,15 +1,15 @@
 // One vertex of a path, the decisions render_shade makes at a hit: the random numbers it
-// draws, the lobe it picks, the light it adds through next-event estimation, the direction it
-// continues in and Russian roulette, and the multiple importance sampling weights of the light
+// draws, the light it adds through next-event estimation (through the lobe material_lobes.h
+// picks), the direction it continues in and Russian roulette, and the multiple importance sampling weights of the light
 // it sees; and the camera ray render_generate starts a path with.
 // Shared by the render kernels and the CPU reference renderer (glsl_cpp.h): what differs
 // between the two is only how they read the scene's arrays and queue the rays.
 #ifndef HRPP_PATH_VERTEX_H
 #define HRPP_PATH_VERTEX_H
 
-#include "bsdf.h"
 #include "glsl_cpp.h"
 #include "light_sample.h"
+#include "material_lobes.h"
 #include "render_interface.h"
 #include "rng.h"
 #include "sobol_sampler.h"
@@ -167,43 +167,6 @@ HRPP_INLINE vec3 emission_toward(GpuMaterial m, ShadeTriangle t, vec3 dir) {
   return m.emission;
 }
 
-const uint kLobeDiffuse = 0u;
-const uint kLobeMetal = 1u;
-const uint kLobeGlass = 2u;
-
-// The lobe a vertex samples (one of the material's, picked with u_lobe) and its parameters.
-struct Lobe {
-  uint kind;  // kLobe*
-  bool delta;  // a mirror or glass: no light sample can land in it
-  vec3 albedo;  // base colour × texture
-  float alpha;  // GGX roughness parameter
-};
-
-HRPP_INLINE Lobe choose_lobe(GpuMaterial m, vec3 albedo, float u_lobe) {
-  Lobe l;
-  l.kind = kLobeDiffuse;
-  if (kGlass && m.transmission > 0.5f) l.kind = kLobeGlass;
-  else if (kMetal && u_lobe < m.metallic) l.kind = kLobeMetal;
-  l.delta = l.kind == kLobeGlass || (l.kind == kLobeMetal && m.roughness < kMirrorRoughness);
-  l.albedo = albedo;
-  l.alpha = max(m.roughness * m.roughness, 1e-4f);
-  return l;
-}
-
-// f · cos(wi) of the chosen lobe (the lobe choice probability cancels its mixture weight).
-HRPP_INLINE vec3 eval_lobe_cos(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
-  if (ieee_dot(wi, s.ng) <= 0.0f) return vec3(0.0f);
-  if (kMetal && lobe.kind == kLobeMetal) return ggx_eval_cos(s.ns, wo, wi, lobe.albedo, lobe.alpha);
-  return lobe.albedo * ieee_div(max(ieee_dot(s.ns, wi), 0.0f), kPi);
-}
-
-// The pdf with which the lobe's sampling (sample_bounce) draws wi (solid angle; delta: 0).
-HRPP_INLINE float lobe_pdf(Lobe lobe, SurfaceHit s, vec3 wo, vec3 wi) {
-  if (lobe.delta) return 0.0f;
-  if (kMetal && lobe.kind == kLobeMetal) return ggx_pdf(s.ns, wo, wi, lobe.alpha);
-  return ieee_div(max(ieee_dot(s.ns, wi), 0.0f), kPi);
-}
-
 // Next-event estimation: what light sample ls (of a light picked with probability prob) adds
 // through the path's vertex at s when its shadow ray is unoccluded, with its MIS weight
 // (nee_weight; delta lights: 1).
@@ -221,53 +184,6 @@ HRPP_INLINE vec3 light_contribution(PathState path, Lobe lobe, SurfaceHit s, vec
 HRPP_INLINE bool traces_shadow_ray(vec3 contribution, LightSample ls) {
   return max(contribution.r, max(contribution.g, contribution.b)) > 0.0f &&
          ieee_dot(ls.shadow.dir, ls.wi) > 0.0f;
-}
-
-// The continuation of a path: its direction, the lobe's f·cos/pdf, the pdf (solid angle;
-// delta lobes: 0) and the geometric normal on the side it leaves into (zero weight: the path
-// ends).
-struct Bounce {
-  vec3 wi;
-  vec3 weight;
-  float pdf;
-  vec3 leave_normal;
-};
-
-HRPP_INLINE Bounce sample_bounce(Lobe lobe, GpuMaterial m, SurfaceHit s, vec3 wo, float u1,
-                                 float u2) {
-  Bounce b;
-  b.wi = vec3(0.0f);
-  b.weight = vec3(0.0f);
-  b.pdf = 0.0f;
-  b.leave_normal = s.ng;
-  if (kGlass && lobe.kind == kLobeGlass) {
-    const float eta = s.front ? ieee_div(1.0f, m.ior) : m.ior;
-    const float cos_i = ieee_dot(s.ns, wo);
-    const float f = fresnel_dielectric(abs(cos_i), eta);
-    if (u1 < f) {
-      b.wi = reflect(-wo, s.ns);
-      b.weight = vec3(1.0f);
-    } else {
-      b.wi = ieee_refract(-wo, s.ns, eta);
-      b.weight = lobe.albedo;
-      b.leave_normal = -s.ng;
-    }
-  } else if (kMetal && lobe.kind == kLobeMetal) {
-    if (lobe.delta) {
-      b.wi = reflect(-wo, s.ns);
-      b.weight = fresnel_schlick(lobe.albedo, max(ieee_dot(s.ns, b.wi), 0.0f));
-    } else {
-      b.weight = ggx_sample(s.ns, wo, lobe.albedo, lobe.alpha, u1, u2, b.wi);
-      b.pdf = ggx_pdf(s.ns, wo, b.wi, lobe.alpha);
-    }
-  } else {
-    b.wi = cosine_hemisphere(s.ns, u1, u2);
-    b.weight = lobe.albedo;
-    b.pdf = ieee_div(max(ieee_dot(s.ns, b.wi), 0.0f), kPi);
-  }
-  // A direction on the wrong side of the geometric surface ends the path.
-  if (ieee_dot(b.wi, b.leave_normal) <= 0.0f) b.weight = vec3(0.0f);
-  return b;
 }
 
 // A path whose ray left its last interaction (the max depth): that ray was the BSDF sample of

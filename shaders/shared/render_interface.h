@@ -54,7 +54,8 @@ namespace hrpp::gpu {
 #define HRPP_FEATURE_ENVIRONMENT 5
 #define HRPP_FEATURE_METAL 6
 #define HRPP_FEATURE_GLASS 7
-#define HRPP_FEATURE_COUNT 8
+#define HRPP_FEATURE_SPECULAR_LAYER 8
+#define HRPP_FEATURE_COUNT 9
 #ifdef __cplusplus
 // The CPU reference renderer (host/cpu_render/) compiles every feature in: a feature that is
 // off only removes code the scene's data cannot reach (make_render_scene sets them).
@@ -66,6 +67,7 @@ inline constexpr bool kDirectionalLights = true;
 inline constexpr bool kEnvironment = true;
 inline constexpr bool kMetal = true;
 inline constexpr bool kGlass = true;
+inline constexpr bool kSpecularLayer = true;
 #endif
 
 #define HRPP_LIGHT_TRIANGLE 0u
@@ -213,6 +215,10 @@ struct GpuMaterial {
   float transmission;
   float ior;
   uint flags;  // HRPP_MATERIAL_*
+  // The dielectric's specular layer (glTF's Appendix B with KHR_materials_specular): Schlick's
+  // Fresnel between specular_f0 and specular_f90; f90 0: none, a Lambertian diffuse.
+  vec3 specular_f0;
+  float specular_f90;
 };
 
 // Light for next-event estimation, chosen with probability cdf - previous cdf (by power).
