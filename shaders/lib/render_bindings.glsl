@@ -113,7 +113,8 @@ GpuMaterial load_material(uint i) {
   const uvec4 a = texel_at(material_texels, 4u * i);
   const uvec4 b = texel_at(material_texels, 4u * i + 1u);
   const uvec4 c = texel_at(material_texels, 4u * i + 2u);
-  const uvec4 d = texel_at(material_texels, 4u * i + 3u);
+  // The specular layer's texel only where a material has one (else f90 0: no layer).
+  const uvec4 d = kSpecularLayer ? texel_at(material_texels, 4u * i + 3u) : uvec4(0u);
   return GpuMaterial(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz),
                      uintBitsToFloat(b.w), uintBitsToFloat(c.x), uintBitsToFloat(c.y),
                      uintBitsToFloat(c.z), c.w, uintBitsToFloat(d.xyz), uintBitsToFloat(d.w));
