@@ -23,6 +23,7 @@ COMMANDS = {
     "embree-check": ("embree_check", "hrpp bench's Embree figure against an independent harness"),
     "rayquery-table": ("rayquery_table", "the driver's ray queries beside the kernels and Embree"),
     "driver-ab": ("driver_ab", "Vulkan drivers and hrpp binaries on the same rays, interleaved"),
+    "render-ab": ("render_ab", "hrpp binaries rendering the same frames, interleaved"),
     "build-scaling": ("build_scaling", "BVH build time and memory across scene sizes"),
     "render-session": ("render_session", "what stopping, limiting and sharing a render cost"),
     "big-scene": ("big_scene", "writes a big scene manifest of many meshes"),

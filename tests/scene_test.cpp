@@ -253,6 +253,8 @@ TEST_F(SceneTest, MetallicRoughnessEmissiveAndExtensions) {
        {"extensions",
         {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}},
          {"KHR_materials_ior", {{"ior", 1.33}}},
+         {"KHR_materials_specular",
+          {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.5, 0.25}}}},
          {"KHR_materials_transmission", {{"transmissionFactor", 0.75}}}}}});
   const int defaults = w.add_material(json::object());
   const int pos = w.add_vec3(kTri);
@@ -267,12 +269,16 @@ TEST_F(SceneTest, MetallicRoughnessEmissiveAndExtensions) {
   expect_near(a.emission, {4.0f, 2.0f, 1.0f});
   EXPECT_FLOAT_EQ(a.ior, 1.33f);
   EXPECT_FLOAT_EQ(a.transmission, 0.75f);
+  EXPECT_FLOAT_EQ(a.specular, 0.5f);
+  expect_near(a.specular_color, {1.0f, 0.5f, 0.25f});
   const hrpp::Material& b = s.materials[s.shading[1].material];  // glTF defaults
   EXPECT_FLOAT_EQ(b.metallic, 1.0f);
   EXPECT_FLOAT_EQ(b.roughness, 1.0f);
   EXPECT_EQ(b.emission, glm::vec3(0.0f));
   EXPECT_FLOAT_EQ(b.ior, 1.5f);
   EXPECT_FLOAT_EQ(b.transmission, 0.0f);
+  EXPECT_FLOAT_EQ(b.specular, 1.0f);  // a glTF dielectric has its specular layer
+  EXPECT_EQ(b.specular_color, glm::vec3(1.0f));
   // No material: a default material, distinct from the file's.
   ASSERT_LT(s.shading[2].material, s.materials.size());
   EXPECT_GE(s.shading[2].material, 2u);
@@ -845,6 +851,17 @@ TEST_F(ManifestTest, ObjectsSharingAFileGetTheirOwnCopies) {
   EXPECT_EQ(s.materials[s.shading[2].material].name, "own");
   expect_near(s.triangles[4].v0, {-0.25f, 0, -0.25f});  // largest extent 4 → 1, base at 0
   EXPECT_EQ(s.materials[s.shading[4].material].name, "own");
+}
+
+// "specular" scales the file's specular layers (0: Lambertian); out of [0, 1] is an error.
+TEST_F(ManifestTest, SpecularScalesTheFilesLayers) {
+  const Scene s = manifest({{"objects",
+                             {{{"gltf", "meshes/part.glb"}},
+                              {{"gltf", "meshes/part.glb"}, {"specular", 0.0}}}}});
+  EXPECT_FLOAT_EQ(s.materials[s.shading[0].material].specular, 1.0f);
+  EXPECT_FLOAT_EQ(s.materials[s.shading[2].material].specular, 0.0f);
+  manifest_error({{"objects", {{{"gltf", "meshes/part.glb"}, {"specular", 2.0}}}}},
+                 "objects[0].specular");
 }
 
 TEST_F(ManifestTest, GltfCameraIsKeptAndLoadSceneFindsIt) {

@@ -157,7 +157,7 @@ class ManifestLoader {
   // ---- objects -------------------------------------------------------------------------------
   void load_object(Scene& scene, const json& j, const std::string& path) {
     object(j, path);
-    check_keys(j, path, {"gltf", "mesh", "quad", "fit", "transform", "material"});
+    check_keys(j, path, {"gltf", "mesh", "quad", "fit", "transform", "material", "specular"});
     const int sources = int(j.contains("gltf")) + int(j.contains("mesh")) + int(j.contains("quad"));
     if (sources != 1) fail(path, "needs exactly one of \"gltf\", \"mesh\" or \"quad\"");
 
@@ -191,6 +191,11 @@ class ManifestLoader {
         s.material = 0;
         s.c0 = s.c1 = s.c2 = kNoVertexColor;
       }
+    }
+    if (j.contains("specular")) {  // the file's specular layers, scaled (0: Lambertian)
+      const float f = number(j["specular"], path + ".specular");
+      if (!(f >= 0.0f && f <= 1.0f)) fail(path + ".specular", "must be in [0, 1]");
+      for (Material& mat : part.materials) mat.specular *= f;
     }
     append(scene, std::move(part));
   }
