@@ -1,8 +1,9 @@
 """Two or more hrpp binaries rendering the same frames, interleaved: what a change to the renderer
 costs per frame. Every binary renders every scene with the same size, samples and seed, round by
 round, the binaries' order reversed each round. Per scene and binary: the frame's kernel time
-(kernels_ms_total, best of the rounds), the shade kernel's, the rays traced per pixel and each
-time's ratio to the first binary (the reference); the rounds' spread (a cell's worst round
+(kernels_ms_total, the median of the rounds), the shade kernel's, the rays traced per sample and
+each time's ratio to the first binary (the reference), taken round by round (the pair rendered
+back to back) and its median printed; the rounds' spread (a cell's worst round
 against its best, median over the cells); the load. The images' means and the share of pixels
 that differ from the reference binary's image at all: a change meant to leave a scene's light
 as it was shows whether it did, one meant to change it by how much.
@@ -72,28 +73,32 @@ def main():
             print(f"{WHO}: round {rnd + 1}/{a.rounds}", file=sys.stderr, flush=True)
     spread = statistics.median(1 - min(r["total"] for r in v) / max(r["total"] for r in v)
                                for v in runs.values())
-    best = {k: {"total": min(r["total"] for r in v), "shade": min(r["shade"] for r in v),
-                "rays": v[0]["rays"], "image": v[0]["image"]} for k, v in runs.items()}
+    med = {k: {"total": statistics.median(r["total"] for r in v),
+               "shade": statistics.median(r["shade"] for r in v),
+               "rays": v[0]["rays"], "image": v[0]["image"]} for k, v in runs.items()}
+
+    def ratio(scene, b, key):  # the median of the rounds' ratios, pair by pair
+        pairs = zip(runs[(scene, b)], runs[(scene, names[0])])
+        return statistics.median(x[key] / y[key] for x, y in pairs)
     results = f" --results {a.results} --block {a.block}" if a.results else ""
     flags = " -- " + " ".join(a.flags) if a.flags else ""
     lines = [f"Made by `python3 -m study render-ab "
              + " ".join(f"--binary {b}" for b in a.binary)
              + f" --scenes {a.scenes} --size {a.size} --spp {a.spp} --rounds {a.rounds}"
              f"{results}{flags}` at commit {repo_commit(REPO)}, {time.strftime('%Y-%m-%d')}, "
-             f"{cpu_model()}; load {min(loads):.1f}-{max(loads):.1f}. Kernel ms a frame, best of "
-             f"the rounds (ratio to {names[0]}); a cell's rounds differ by {spread:.0%} (median "
-             f"over the cells):", "",
+             f"{cpu_model()}; load {min(loads):.1f}-{max(loads):.1f}. Kernel ms a frame, the median "
+             f"of the rounds (in brackets the median of the rounds' ratios to {names[0]}, round by "
+             f"round); a cell's rounds differ by {spread:.0%} (median over the cells):", "",
              "| scene | binary | frame ms | shade ms | rays/sample | image mean | pixels that "
              "differ |", "|---|---|---|---|---|---|---|"]
     for scene in scenes:
-        ref = best[(scene, names[0])]
+        ref = med[(scene, names[0])]
         for b in names:
-            c = best[(scene, b)]
-            ratio = "" if b == names[0] else \
-                f" ({c['total'] / ref['total']:.3f})"
-            shade = "" if b == names[0] else f" ({c['shade'] / ref['shade']:.3f})"
+            c = med[(scene, b)]
+            total = "" if b == names[0] else f" ({ratio(scene, b, 'total'):.3f})"
+            shade = "" if b == names[0] else f" ({ratio(scene, b, 'shade'):.3f})"
             differ = image_errors(c["image"], ref["image"])[2]
-            lines.append(f"| {scene} | {b} | {c['total']:.1f}{ratio} | {c['shade']:.1f}{shade} | "
+            lines.append(f"| {scene} | {b} | {c['total']:.1f}{total} | {c['shade']:.1f}{shade} | "
                          f"{c['rays']:.2f} | {c['image'].mean():.4f} | {differ:.1%} |")
     if a.results:
         rewrite_block(a.results, a.block, lines, WHO)
