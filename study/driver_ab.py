@@ -202,6 +202,10 @@ def main():
                 v = [best[(scene, rset, kind, b, d)] for b, d in cells]
                 row = [f"{v[0]:.2f}"] + [f"{x:.2f} ({x / v[0]:.2f})" for x in v[1:]]
                 lines.append(f"| {scene} | {rset} | {kind} | " + " | ".join(row) + " |")
+    ratios = [[best[k + c] / best[k + cells[0]] for k in {key[:3] for key in best}]
+              for c in cells[1:]]
+    lines.append("| geometric mean | | | 1 | " +
+                 " | ".join(f"{float(np.exp(np.mean(np.log(r)))):.3f}" for r in ratios) + " |")
     print("\n".join(lines))
     if a.results:
         rewrite_block(a.results, a.block, lines, "python3 -m study driver-ab")
