@@ -86,9 +86,10 @@ def main():
              + " ".join(f"--binary {b}" for b in a.binary)
              + f" --scenes {a.scenes} --size {a.size} --spp {a.spp} --rounds {a.rounds}"
              f"{results}{flags}` at commit {repo_commit(REPO)}, {time.strftime('%Y-%m-%d')}, "
-             f"{cpu_model()}; load {min(loads):.1f}-{max(loads):.1f}. Kernel ms a frame, the median "
-             f"of the rounds (in brackets the median of the rounds' ratios to {names[0]}, round by "
-             f"round); a cell's rounds differ by {spread:.0%} (median over the cells):", "",
+             f"{cpu_model()}; load {min(loads):.1f}-{max(loads):.1f}. Kernel ms a frame, the "
+             f"median of the rounds (in brackets the median of the rounds' ratios to {names[0]}, "
+             f"round by round); a cell's rounds differ by {spread:.0%} (median over the cells):",
+             "",
              "| scene | binary | frame ms | shade ms | rays/sample | image mean | pixels that "
              "differ |", "|---|---|---|---|---|---|---|"]
     for scene in scenes:

@@ -194,7 +194,8 @@ TEST(MaterialLobes, WhiteFurnaceLosesWhatTheQuadratureSays) {
         m.specular = specular;
         for (double c : {1.0, 0.7, 0.3, 0.1}) {
           const dvec3 v(std::sqrt(1.0 - c * c), 0.0, c);
-          const double quad = hemisphere_integral([&](dvec3 l) { return spec_brdf_cos(m, v, l); }).x;
+          const double quad =
+              hemisphere_integral([&](dvec3 l) { return spec_brdf_cos(m, v, l); }).x;
           const MonteCarlo mc = sampled_albedo(m, vec3(v), 100000);
           const Picks k = picks(gpu_material(m), vec3(v));
           double lobe_albedo[3] = {0.0, 0.0, 0.0};

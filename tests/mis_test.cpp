@@ -1,7 +1,8 @@
-// shaders/shared/path_vertex.h and bsdf.h on the host: the multiple importance sampling weights
-// of light and BSDF sampling and the pdfs they are made of. The weights of the two ways a
-// direction can be sampled must sum to one under every strategy (a weight that counts emission
-// twice, or drops it, fails here); each lobe's pdf must be the density its sampling draws.
+// shaders/shared/path_vertex.h, material_lobes.h and bsdf.h on the host: the multiple importance
+// sampling weights of light and BSDF sampling and the pdfs they are made of. The weights of the
+// two ways a direction can be sampled must sum to one under every strategy (a weight that counts
+// emission twice, or drops it, fails here); each lobe's pdf must be the density its sampling
+// draws.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,11 +1,11 @@
 // The CPU reference renderer: a scalar path tracer that runs the wavefront renderer's own
-// shading code (shaders/shared/path_vertex.h: the same camera rays, PCG streams, lobes, light
-// samples, offsets and Russian roulette) one path at a time, tracing with the CPU traversal
-// (trace/cpu_traversal.h, which answers as the trace kernels do). It adds light to a pixel in
-// the order the kernels do (per sample and bounce: emission, then the shadow ray's payload), so
-// its image equals the device's up to the device's own sqrt, sin, cos and pow, and the path
-// decisions those can flip (tests/cpu_render_test.cpp). The ground truth of render_generate,
-// render_shade and render_accumulate; `hrpp render --backend cpu`.
+// shading code (shaders/shared/path_vertex.h, material_lobes.h: the same camera rays, PCG
+// streams, lobes, light samples, offsets and Russian roulette) one path at a time, tracing with
+// the CPU traversal (trace/cpu_traversal.h, which answers as the trace kernels do). It adds
+// light to a pixel in the order the kernels do (per sample and bounce: emission, then the shadow
+// ray's payload), so its image equals the device's up to the device's own sqrt, sin, cos and
+// pow, and the path decisions those can flip (tests/cpu_render_test.cpp). The ground truth of
+// render_generate, render_shade and render_accumulate; `hrpp render --backend cpu`.
 #pragma once
 
 #include <functional>

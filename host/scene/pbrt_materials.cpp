@@ -153,8 +153,8 @@ PbrtMaterial pbrt_material(const std::string& type, const PbrtParams& p,
     if (type == "coateddiffuse") {
       coat(out.material, p, ctx);
     } else if (type != "diffuse") {
-      ctx.warnings.add(p.where() +
-                       "diffusetransmission approximated as diffuse (its transmission is left out)");
+      ctx.warnings.add(p.where() + "diffusetransmission approximated as diffuse (its "
+                                   "transmission is left out)");
     }
   } else if (type == "conductor" || type == "coatedconductor") {
     conductor(out, p, ctx);
