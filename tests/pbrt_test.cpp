@@ -188,7 +188,9 @@ TEST(Pbrt, LightsAndMaterials) {
                "\"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\" \"float roughness\" 0.01\n"
                "Material \"dielectric\" \"float eta\" 1.33\n") +
                kTriangle + "NamedMaterial \"gold\"\n" + kTriangle +
-               "Material \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\n" + kTriangle);
+               "Material \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]\n" + kTriangle +
+               "Material \"coateddiffuse\" \"float roughness\" 0.04 \"float eta\" 1.7\n" +
+               kTriangle);
   ASSERT_EQ(s.lights.size(), 4u);
   EXPECT_EQ(s.lights[0].type, LightType::kPoint);
   expect_near(s.lights[0].position, {1, 2, 3});
@@ -208,6 +210,13 @@ TEST(Pbrt, LightsAndMaterials) {
   // pbrt's roughness 0.01, remapped: alpha = sqrt(0.01) = 0.1; hrpp's roughness sqrt(alpha)
   EXPECT_NEAR(gold.roughness, std::sqrt(0.1f), 1e-6f);
   EXPECT_EQ(s.materials[s.shading[2].material].base_color, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(s.materials[s.shading[2].material].specular, 0.0f);  // diffuse: Lambertian
+  // coateddiffuse: its coat as the specular layer, roughness remapped as above (alpha 0.2).
+  const Material& coated = s.materials[s.shading[3].material];
+  EXPECT_EQ(coated.specular, 1.0f);
+  EXPECT_FLOAT_EQ(coated.ior, 1.7f);
+  EXPECT_NEAR(coated.roughness, std::sqrt(0.2f), 1e-6f);
+  EXPECT_EQ(coated.base_color, glm::vec3(0.5f));  // pbrt's default reflectance
 }
 
 TEST(Pbrt, ShapesOtherThanMeshes) {
