@@ -3,9 +3,7 @@
 # (trixie), from Debian packages only; any other system is refused with one line.
 # Idempotent: does nothing when all packages are present. Uses sudo when not run as root.
 # Both releases get the same lavapipe, Mesa 25 (ray queries): Debian 13's own, and on Debian 12
-# the one in bookworm-backports (Debian's official backports), whose source this adds. Measured
-# on the same rays, Debian 12's own Mesa 22.3.6 is no faster (study driver-ab: bench/README.md on
-# an Intel Xeon, results/DRIVERS.md on an AMD EPYC) and has no ray queries.
+# the one in bookworm-backports (Debian's official backports), whose source this adds.
 # clang, llvm and libclang-rt-dev are the release's default LLVM (14 or 19): llvm puts
 # llvm-symbolizer in /usr/bin, where the asan preset points the sanitizers; without it their
 # reports have no function names and no suppression matches.
