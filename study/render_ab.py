@@ -51,11 +51,12 @@ def parse_args():
     return a
 
 
-def frame(a, binary, scene, out):
+def frame(a, binary, scene, out, image):
+    """One render's figures; its image only when `image` (the first round's are compared)."""
     stats, exr = render(binary, scene, out, a.size, a.spp, a.seed, a.flags, WHO)
     pixels = stats["config"]["width"] * stats["config"]["height"] * a.spp
     return {"total": stats["kernels_ms_total"], "shade": stats["kernels_ms"]["render_shade"],
-            "rays": stats["totals"]["rays"] / pixels, "image": read_exr(exr)}
+            "rays": stats["totals"]["rays"] / pixels, "image": read_exr(exr) if image else None}
 
 
 def main():
@@ -68,7 +69,8 @@ def main():
             for scene in scenes:
                 for b in order:
                     loads.append(os.getloadavg()[0])
-                    f = frame(a, a.binaries[b], scene, os.path.join(tmp, f"{b}_{rnd}"))
+                    f = frame(a, a.binaries[b], scene, os.path.join(tmp, f"{b}_{rnd}"),
+                              rnd == 0)
                     runs.setdefault((scene, b), []).append(f)
             print(f"{WHO}: round {rnd + 1}/{a.rounds}", file=sys.stderr, flush=True)
     spread = statistics.median(1 - min(r["total"] for r in v) / max(r["total"] for r in v)

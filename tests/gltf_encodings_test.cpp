@@ -449,8 +449,8 @@ TEST(GltfCorpus, EveryEncodingFlattensToThePlainTriangles) {
 
 // The renderer sees the same surfaces: the CPU reference image of each encoding at the plain
 // file's camera and seed is the plain file's within relMSE 1e-4. Rendered without the files'
-// specular layer (glTF's default), whose highlights magnify 8-bit normals' quantization (relMSE
-// 1.4e-4 with it) where the surfaces are the question.
+// specular layer (glTF's default), whose highlights magnify 8-bit normals' quantization where
+// the surfaces are the question.
 TEST(GltfCorpus, EveryEncodingRendersThePlainImage) {
   const Scene plain = hrpp::load_scene((kCorpus / "plain.glb").string());
   auto render = [](Scene s) {

@@ -97,15 +97,21 @@ void conductor(PbrtMaterial& out, const PbrtParams& p, const PbrtMaterialContext
   m.base_color = conductor_f0(eta, k);  // pbrt-v4's default conductor is copper
 }
 
+// A dielectric interface's index of refraction: `eta` (its green channel), 1.5 when absent.
+float ior_of(const PbrtParams& p, const PbrtMaterialContext& ctx, const std::string& type) {
+  const std::optional<glm::vec3> eta = spectrum(p, "eta", false, ctx.warnings);
+  const float ior = eta ? eta->y : 1.5f;
+  if (!(ior > 0.0f)) throw Error(p.where() + type + " eta must be positive");
+  return ior;
+}
+
 // coateddiffuse's coat (its interface's roughness and eta) as the dielectric's specular layer
 // over the diffuse: glTF's Appendix B, which has no scattering between coat and base (pbrt's
 // thickness, albedo and g).
 void coat(Material& m, const PbrtParams& p, const PbrtMaterialContext& ctx) {
   m.specular = 1.0f;
   m.roughness = roughness_of(p, 0.0f, ctx.warnings);
-  const std::optional<glm::vec3> eta = spectrum(p, "eta", false, ctx.warnings);
-  m.ior = eta ? eta->y : 1.5f;
-  if (!(m.ior > 0.0f)) throw Error(p.where() + "coateddiffuse eta must be positive");
+  m.ior = ior_of(p, ctx, "coateddiffuse");
   ctx.warnings.add(p.where() +
                    "coateddiffuse approximated as a specular layer over the diffuse (no "
                    "scattering between them)");
@@ -116,9 +122,7 @@ void dielectric(PbrtMaterial& out, const std::string& type, const PbrtParams& p,
   Material& m = out.material;
   m.transmission = 1.0f;
   m.base_color = glm::vec3(1.0f);
-  const std::optional<glm::vec3> eta = spectrum(p, "eta", false, ctx.warnings);
-  m.ior = eta ? eta->y : 1.5f;
-  if (!(m.ior > 0.0f)) throw Error(p.where() + "dielectric eta must be positive");
+  m.ior = ior_of(p, ctx, "dielectric");
   if (type == "thindielectric") {
     ctx.warnings.add(p.where() + "thindielectric approximated as a smooth dielectric");
   } else if (roughness_of(p, 0.0f, ctx.warnings) > 0.0f) {

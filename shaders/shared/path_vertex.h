@@ -1,7 +1,7 @@
 // One vertex of a path, the decisions render_shade makes at a hit: the random numbers it
 // draws, the light it adds through next-event estimation (through the lobe material_lobes.h
-// picks), the direction it continues in and Russian roulette, and the multiple importance sampling weights of the light
-// it sees; and the camera ray render_generate starts a path with.
+// picks), the direction it continues in and Russian roulette, and the multiple importance
+// sampling weights of the light it sees; and the camera ray render_generate starts a path with.
 // Shared by the render kernels and the CPU reference renderer (glsl_cpp.h): what differs
 // between the two is only how they read the scene's arrays and queue the rays.
 #ifndef HRPP_PATH_VERTEX_H
