@@ -15,12 +15,20 @@
 #include "lib/render_bindings.glsl"
 #include "path_vertex.h"
 
-// Bilinear, repeat wrap, texels decoded from sRGB (glTF base colour).
-vec3 sample_texture(int index, vec2 uv) {
+// Bilinear, repeat wrap, texels decoded from sRGB (glTF's colours) or linear (its data).
+vec3 sample_texture(int index, vec2 uv, bool srgb) {
   const GpuTexture t = textures[index];
   const TextureFootprint f = texture_footprint(t, uv);
-  return bilerp(decode_texel(texels[f.i00]), decode_texel(texels[f.i10]),
-                decode_texel(texels[f.i01]), decode_texel(texels[f.i11]), f.f);
+  return bilerp(decode_texel(texels[f.i00], srgb), decode_texel(texels[f.i10], srgb),
+                decode_texel(texels[f.i01], srgb), decode_texel(texels[f.i11], srgb), f.f);
+}
+
+// Material m at uv: its metallic-roughness and emissive textures applied.
+GpuMaterial textured_material(GpuMaterial m, vec2 uv) {
+  if (m.metallic_roughness_texture >= 0)
+    m = with_metallic_roughness(m, sample_texture(m.metallic_roughness_texture, uv, false));
+  if (m.emissive_texture >= 0) m.emission *= sample_texture(m.emissive_texture, uv, true);
+  return m;
 }
 
 // Light index with probability cdf[i] - cdf[i - 1] (binary search; bounded by 32 steps).
@@ -86,13 +94,14 @@ vec3 hit_emission(Ray ray, Hit hit, PathState path, ShadeTriangle t, vec3 emissi
 vec3 shade_hit(Ray ray, Hit hit, PathState path, out uint shadow_end) {
   const ShadeTriangle t = load_shade_triangle(uint(hit.prim));
   const SurfaceHit s = make_surface_hit(t, hit, ray.dir);
-  const GpuMaterial m = load_material(s.material);
+  GpuMaterial m = load_material(s.material);
+  if (kMaterialTextures) m = textured_material(m, s.uv);
   const vec3 wo = -ray.dir;
   vec3 radiance = hit_emission(ray, hit, path, t, emission_toward(m, t, ray.dir));
   shadow_end = 0u;
   if (closes_path(path, params.max_depth)) return radiance;
   vec3 albedo = m.base_color * s.color;
-  if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv);
+  if (kTextures && m.texture >= 0) albedo *= sample_texture(m.texture, s.uv, true);
   const VertexSamples u = vertex_samples(path, params.seed, params.sampler_kind);
   const Lobe lobe = choose_lobe(m, albedo, ieee_dot(s.ns, wo), u.lobe);
   shadow_end = queue_shadow_ray(path, lobe, s, wo, u);

@@ -46,7 +46,9 @@ def parse_args():
 
 def check_supported(s):
     for m in s["materials"]:
-        if (m["metallic"] > 0.0 or m["transmission"] > 0.5 or m["textured"]
+        textured = (m["textured"] or m.get("metallic_roughness_textured")
+                    or m.get("emissive_textured"))
+        if (m["metallic"] > 0.0 or m["transmission"] > 0.5 or textured
                 or m.get("specular", 0.0) > 0.0):
             fail(f"material '{m['name']}': metal, glass, a specular layer or a texture (only "
                  "Lambertian materials with emission compare like for like)")

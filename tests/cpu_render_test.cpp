@@ -144,8 +144,9 @@ TEST(CpuReference, VertexColoursAgreeWithTheDevice) {
 }
 
 // builtin:cornell with every lobe, light type and a texture: the short block glass, the tall
-// block a rough metal chosen with probability 0.7 (the rest diffuse), the back wall a mirror,
-// the green wall textured (4 × 4 sRGB checker); a point light, a spot light, a directional
+// block a rough metal chosen with probability 0.7 (the rest diffuse) scaled by the checker as
+// a metallic-roughness texture, the back wall a mirror, the green wall textured (4 × 4 sRGB
+// checker) and emissive through the checker (no light: found by BSDF samples); a point light, a spot light, a directional
 // light through the open front and a constant environment beside the ceiling's emitter.
 Scene every_feature_cornell() {
   Scene s = load_scene("builtin:cornell");
@@ -161,6 +162,7 @@ Scene every_feature_cornell() {
   metal.metallic = 0.7f;
   metal.roughness = 0.35f;
   metal.base_color = V(0.9f, 0.7f, 0.5f);
+  metal.metallic_roughness_texture = 0;  // the checker read as linear data
   Material mirror;
   mirror.metallic = 1.0f;
   mirror.roughness = 0.0f;
@@ -175,6 +177,8 @@ Scene every_feature_cornell() {
   s.textures.push_back(checker);
   Material textured;
   textured.base_color_texture = 0;
+  textured.emission = V(0.2f, 0.1f, 0.05f);
+  textured.emissive_texture = 0;  // emits, but is no light
   const std::uint32_t ids[] = {add(glass), add(metal), add(mirror), add(textured)};
   // Triangles of builtin:cornell: back wall 6-7, green wall 10-11, short block 12-21, tall 22-31.
   for (std::size_t t = 12; t < 22; ++t) s.shading[t].material = ids[0];
@@ -207,7 +211,7 @@ TEST(CpuReference, AgreesWithTheDeviceOnEveryLobeLightAndTexture) {
   const BothImages r = render_both(scene, small(48, 4));
   expect_agreement(r, "every feature");
   // Every feature was compiled into the kernels, so every one was compared.
-  EXPECT_EQ(r.device.stats.features.size(), 8u);
+  EXPECT_EQ(r.device.stats.features.size(), 9u);
   EXPECT_EQ(context().validation_messages(), 0u);
 }
 

@@ -1,6 +1,6 @@
 // glTF encodings the loader reads besides plain FLOAT triangles: quantized attributes
 // (KHR_mesh_quantization, dequantized as the spec says), sparse accessors, KHR_texture_transform
-// on the base colour texture, the extensions it honours or refuses, and the corpus of one mesh
+// on a material's textures, the extensions it honours or refuses, and the corpus of one mesh
 // in each encoding (meshopt, Draco, quantized; tests/data/gltf_encodings).
 #include <algorithm>
 #include <array>
@@ -260,6 +260,30 @@ TEST_F(GltfEncodings, TextureTransformAppliesTheSpecMatrixToTexcoords) {
     EXPECT_NEAR(got[i].x, expected(in[i]).x, 1e-6f) << i;
     EXPECT_NEAR(got[i].y, expected(in[i]).y, 1e-6f) << i;
   }
+}
+
+// A material's textures share one set of texcoords: the first textured slot's transform moves
+// them (here the metallic-roughness texture's, the base colour having none), and an emissive
+// texture with another transform is named in a warning.
+TEST_F(GltfEncodings, TextureTransformOfAMaterialIsItsFirstTexturesOne) {
+  GltfWriter w;
+  const int pos = w.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  const int uv = w.add_vec2({{0, 0}, {1, 0}, {0, 1}});
+  const int tex = w.add_png_texture(hrpp::test::make_png(1, 1, {255, 255, 255, 255}));
+  const auto info = [&](double offset) {
+    return json{{"index", tex},
+                {"extensions", {{"KHR_texture_transform", {{"offset", {offset, 0.0}}}}}}};
+  };
+  const int mat = w.add_material({{"pbrMetallicRoughness", {{"metallicRoughnessTexture", info(0.5)}}},
+                                  {"emissiveFactor", {1, 1, 1}},
+                                  {"emissiveTexture", info(0.25)}});
+  const Scene s = load_triangle(w, pos, -1, uv, mat);
+  ASSERT_EQ(s.shading.size(), 1u);
+  EXPECT_EQ(s.shading[0].uv1, glm::vec2(1.5f, 0.0f));
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0], path() +
+                               ": material 0: the emissiveTexture's KHR_texture_transform differs "
+                               "from the metallicRoughnessTexture's, which is used");
 }
 
 TEST_F(GltfEncodings, VertexColoursArePackedPerVertex) {

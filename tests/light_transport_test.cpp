@@ -4,7 +4,7 @@
 // square (gaps 1e-4..1, the scene translated by 0, 1e2 and 1e4), the Cornell box with its light
 // hung at a gap below the ceiling, point/spot/directional lights over a diffuse plane (with
 // blockers before and behind the light), a diffuse convex body in a constant environment, a
-// smooth dielectric's Fresnel at normal incidence, and
+// smooth dielectric's Fresnel at normal incidence, metallic-roughness and emissive textures, and
 // the shadow-ray construction of shaders/lib/offset_ray.glsl against its C++ mirror
 // (host/trace/offset_ray.h), bit for bit.
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -479,6 +480,74 @@ TEST_P(ClosedForm, SmoothDielectricReflectsF0AtNormalIncidence) {
     const double want = r * r * specular * environment;
     EXPECT_NEAR(e.mean, want, 0.01 * want) << "ior " << ior << " specular " << specular;
   }
+  expect_no_validation_messages();
+}
+
+// A 1 × 1 texture of one RGBA8 texel.
+Texture one_texel(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  Texture t;
+  t.width = t.height = 1;
+  t.rgba = {r, g, b, 255};
+  return t;
+}
+
+// glTF's metallicRoughnessTexture scales metallic by its B channel and roughness by its G. The
+// factors metallic 1, roughness 1 (a rough metal) under the texel (0, 0, 255) make a mirror,
+// which seen at 60° from its normal in a constant environment L reflects Schlick's
+// F = c + (1 - c)(1 - cos 60°)⁵ of it; under (0, 255, 0) a Lambertian diffuse, which reflects
+// c L (every sample's weight is c: both are exact per sample).
+TEST_P(ClosedForm, MetallicRoughnessTextureScalesTheFactors) {
+  const float environment = 0.5f, c = 0.2f;
+  const double mirror = c + (1.0 - c) * std::pow(0.5, 5.0);
+  for (const auto& [g, b, want] : {std::tuple{0, 255, mirror}, std::tuple{255, 0, double(c)}}) {
+    Scene scene;
+    scene.name = "test:metallic-roughness-texture";
+    scene.textures.push_back(one_texel(0, static_cast<std::uint8_t>(g),
+                                       static_cast<std::uint8_t>(b)));
+    Material m;
+    m.base_color = V(c);
+    m.metallic = 1.0f;
+    m.roughness = 1.0f;
+    m.metallic_roughness_texture = 0;
+    scene.materials.push_back(m);
+    add_quad(scene, V(-1, -1, 0), V(2, 0, 0), V(0, 2, 0), 0);
+    Light env;
+    env.type = LightType::kEnvironment;
+    env.color = V(environment);
+    scene.lights.push_back(env);
+    const V eye = 3.0f * V(0.0f, -std::sin(kPi / 3.0), std::cos(kPi / 3.0));
+    scene.cameras.push_back(narrow_camera(eye, -glm::normalize(eye), V(0, 0, 1)));
+    RenderConfig config = direct_only(16, 16);
+    config.max_depth = 2;
+    const Estimate e = estimate(render(scene, config, GetParam()).rgb);
+    EXPECT_NEAR(e.mean, want * environment, 2e-3 * want) << "texel G " << g << " B " << b;
+  }
+  expect_no_validation_messages();
+}
+
+// glTF's emissiveTexture (sRGB-encoded) scales emissiveFactor: a texel of 188 decodes to
+// ((188/255 + 0.055)/1.055)^2.4 (0.737 if it were read as linear), so a factor of its inverse
+// makes radiance 1. A triangle with an emissive texture is no light sample's target; the
+// ceiling above the textured square is lit through its BSDF samples alone, to the closed form
+// of EmitterCloseToReceiver, and a camera looking down sees radiance 1.
+TEST_P(ClosedForm, EmissiveTextureScalesEmission) {
+  const double texel = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
+  const float gap = 0.1f;
+  Scene scene = near_emitter_scene(gap, 0.0f);
+  scene.textures.push_back(one_texel(188, 188, 188));
+  scene.materials[1].emission = V(static_cast<float>(1.0 / texel));
+  scene.materials[1].emissive_texture = 0;
+  scene.cameras.push_back(narrow_camera(V(kCentre, kCeilingY - 0.5f * gap, kCentre), V(0, -1, 0),
+                                        V(0, 0, 1)));
+  RenderConfig config = direct_only(16, 64);
+  config.max_depth = 2;
+  const Estimate ceiling = estimate(render(scene, config, GetParam()).rgb);
+  const double expected = kCeilingAlbedo / kPi * irradiance_above_centre(1.0, gap, gap, gap);
+  EXPECT_NEAR(ceiling.mean, expected, 4.0 * ceiling.se + 1e-4);
+  EXPECT_LT(ceiling.se, 0.02 * expected);
+  config.camera = 1;
+  const Estimate square = estimate(render(scene, config, GetParam()).rgb);
+  EXPECT_NEAR(square.mean, 1.0, 1e-3);
   expect_no_validation_messages();
 }
 

@@ -218,6 +218,36 @@ TEST_F(SceneTest, BaseColourFactorAndTexture) {
   expect_near(mat[s.shading[2].material].base_color, {0.1f, 0.2f, 0.3f});
 }
 
+// metallicRoughnessTexture and emissiveTexture land in their slots with their texels as stored;
+// an emissive texture without an emissiveFactor (default 0) emits nothing and is not decoded.
+TEST_F(SceneTest, MetallicRoughnessAndEmissiveTextures) {
+  const std::vector<std::uint8_t> mr_texel = {0, 128, 255, 255}, em_texel = {10, 20, 30, 255};
+  GltfWriter w;
+  const int mr = w.add_png_texture(hrpp::test::make_png(1, 1, mr_texel));
+  const int em = w.add_png_texture(hrpp::test::make_png(1, 1, em_texel));
+  const int m0 = w.add_material(
+      {{"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", mr}}}}},
+       {"emissiveFactor", {1.0, 0.5, 0.25}},
+       {"emissiveTexture", {{"index", em}}}});
+  const int m1 = w.add_material({{"emissiveTexture", {{"index", em}}}});
+  const int pos = w.add_vec3(kTri);
+  w.add_scene({w.add_node(w.add_mesh(
+      {GltfWriter::primitive(pos, -1, m0), GltfWriter::primitive(pos, -1, m1)}))});
+  const Scene s = load(w);
+  ASSERT_EQ(s.triangles.size(), 2u);
+  const hrpp::Material& a = s.materials[s.shading[0].material];
+  const hrpp::Material& b = s.materials[s.shading[1].material];
+  EXPECT_EQ(a.base_color_texture, -1);
+  ASSERT_GE(a.metallic_roughness_texture, 0);
+  ASSERT_GE(a.emissive_texture, 0);
+  EXPECT_EQ(s.textures[a.metallic_roughness_texture].rgba, mr_texel);
+  EXPECT_EQ(s.textures[a.emissive_texture].rgba, em_texel);
+  EXPECT_EQ(a.emission, glm::vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_EQ(b.emissive_texture, -1);
+  EXPECT_EQ(b.emission, glm::vec3(0.0f));
+  EXPECT_EQ(s.textures.size(), 2u);
+}
+
 TEST_F(SceneTest, TextureFromExternalFileAndDataUri) {
   const std::vector<std::uint8_t> pixels = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
   const std::vector<std::uint8_t> png = hrpp::test::make_png(3, 1, pixels);

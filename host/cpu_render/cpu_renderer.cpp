@@ -87,7 +87,8 @@ struct PathTracer {
   bool shade_hit(gpu::Ray& ray, const gpu::Hit& hit, gpu::PathState& path, glm::vec4& pixel) {
     const gpu::ShadeTriangle t = rs.shading.triangle(static_cast<std::size_t>(hit.prim));
     const gpu::SurfaceHit s = gpu::make_surface_hit(t, hit, ray.dir);
-    const gpu::GpuMaterial& m = rs.materials[s.material];
+    gpu::GpuMaterial m = rs.materials[s.material];
+    if (gpu::kMaterialTextures) m = textured_material(rs, m, s.uv);
     const vec3 wo = -ray.dir;
     vec3 radiance(0.0f);
     const vec3 emission = gpu::emission_toward(m, t, ray.dir);
@@ -101,7 +102,7 @@ struct PathTracer {
     if (radiance != vec3(0.0f)) pixel += glm::vec4(radiance, 0.0f);
     if (gpu::closes_path(path, params.max_depth)) return false;
     vec3 albedo = m.base_color * s.color;
-    if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv);
+    if (gpu::kTextures && m.texture >= 0) albedo *= sample_texture(rs, m.texture, s.uv, true);
     const gpu::VertexSamples u = gpu::vertex_samples(path, params.seed, params.sampler_kind);
     const gpu::Lobe lobe = gpu::choose_lobe(m, albedo, gpu::ieee_dot(s.ns, wo), u.lobe);
     add_light(path, lobe, s, wo, u, pixel);

@@ -19,7 +19,7 @@ static_assert(sizeof(gpu::RenderQueues) == 64);
 static_assert(sizeof(gpu::RenderPushConstants) == 16);
 // Read as 2, 1, 4 and 4 16-byte texels (shaders/lib/render_bindings.glsl: load_*).
 static_assert(sizeof(gpu::Ray) == 32 && sizeof(gpu::Hit) == 16);
-static_assert(sizeof(gpu::GpuMaterial) == 64);
+static_assert(sizeof(gpu::GpuMaterial) == 80);
 static_assert(sizeof(gpu::GpuLight) == 64);
 static_assert(offsetof(gpu::GpuLight, cdf) == 28);  // light_cdf(): texel 1, .w
 static_assert(sizeof(gpu::GpuTexture) == 16);
@@ -87,7 +87,7 @@ const char* RenderFeatures::name(int feature) {
   static const char* const kNames[HRPP_FEATURE_COUNT] = {
       "textures",    "emissive_triangles", "point_lights", "spot_lights",
       "directional_lights", "environment", "metal",        "glass",
-      "specular_layer"};
+      "specular_layer", "material_textures"};
   return kNames[feature];
 }
 
@@ -111,18 +111,26 @@ glm::vec3 specular_f0(const Material& m) {
   return glm::min(r * r * tint, glm::vec3(1.0f)) * specular_f90(m);
 }
 
+// Texture `t` of the scene, -1 for none or one that does not exist.
+int texture_index(const Scene& scene, int t) {
+  return t >= 0 && t < static_cast<int>(scene.textures.size()) ? t : -1;
+}
+
 // The materials and the features they need (textures, metal, glass, a specular layer).
 void add_materials(const Scene& scene, RenderScene& out) {
   bool& f_tex = out.features.on[HRPP_FEATURE_TEXTURES];
   bool& f_metal = out.features.on[HRPP_FEATURE_METAL];
   bool& f_glass = out.features.on[HRPP_FEATURE_GLASS];
   bool& f_specular = out.features.on[HRPP_FEATURE_SPECULAR_LAYER];
+  bool& f_material_tex = out.features.on[HRPP_FEATURE_MATERIAL_TEXTURES];
   for (const Material& m : scene.materials) {
     gpu::GpuMaterial g{};
     g.base_color = m.base_color;
     const bool textured = m.base_color_texture >= 0 &&
                           m.base_color_texture < static_cast<int>(scene.textures.size());
     g.texture = textured ? m.base_color_texture : -1;
+    g.metallic_roughness_texture = texture_index(scene, m.metallic_roughness_texture);
+    g.emissive_texture = texture_index(scene, m.emissive_texture);
     g.emission = m.emission;
     g.metallic = m.metallic;
     g.roughness = m.roughness;
@@ -134,15 +142,26 @@ void add_materials(const Scene& scene, RenderScene& out) {
     out.materials.push_back(g);
     const bool opaque = m.transmission <= 0.5f;
     f_tex = f_tex || textured;
+    f_material_tex =
+        f_material_tex || g.metallic_roughness_texture >= 0 || g.emissive_texture >= 0;
     f_glass = f_glass || !opaque;
     f_metal = f_metal || (opaque && m.metallic > 0.0f);
     f_specular = f_specular || (opaque && m.metallic < 1.0f && g.specular_f90 > 0.0f);
   }
 }
 
-// Whether triangle t of emission e is a light (next-event estimation samples it).
-bool is_triangle_light(const Triangle& t, const glm::vec3& e) {
-  return emits(e) && !is_degenerate(t);
+// Whether triangle t of material m is a light (next-event estimation samples it). An emissive
+// texture makes its emission vary over the triangle, which a light sample does not look up:
+// such triangles are found by the paths' BSDF samples alone (emission_weight 1).
+bool is_triangle_light(const Triangle& t, const gpu::GpuMaterial& m) {
+  return emits(m.emission) && m.emissive_texture < 0 && !is_degenerate(t);
+}
+
+// Whether a material emits through an emissive texture (its triangles emit, but are no lights).
+bool has_textured_emission(const RenderScene& rs) {
+  for (const gpu::GpuMaterial& m : rs.materials)
+    if (emits(m.emission) && m.emissive_texture >= 0) return true;
+  return false;
 }
 
 std::uint32_t material_of(const Scene& scene, const TriangleShading& s) {
@@ -157,8 +176,9 @@ float add_triangle_lights(const Scene& scene, RenderScene& out, std::vector<floa
     const Triangle& t = scene.triangles[i];
     lo = glm::min(lo, glm::min(t.v0, glm::min(t.v1, t.v2)));
     hi = glm::max(hi, glm::max(t.v0, glm::max(t.v1, t.v2)));
-    const glm::vec3 e = out.materials[material_of(scene, scene.shading[i])].emission;
-    if (!is_triangle_light(t, e)) continue;
+    const gpu::GpuMaterial& m = out.materials[material_of(scene, scene.shading[i])];
+    if (!is_triangle_light(t, m)) continue;
+    const glm::vec3 e = m.emission;
     // Flux π · L · area a side.
     const float area = 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0));
     const bool one_sided = (out.materials[material_of(scene, scene.shading[i])].flags &
@@ -218,7 +238,7 @@ void add_shading(const Scene& scene, RenderScene& out) {
       const Triangle& t = scene.triangles[i];
       const TriangleShading& s = scene.shading[i];
       const std::uint32_t material = material_of(scene, s);
-      const bool light = lights && is_triangle_light(t, out.materials[material].emission);
+      const bool light = lights && is_triangle_light(t, out.materials[material]);
       const std::array<ShadeCorner, 3> c = {
           shade_corner(t.v0, s.n0, s.c0, s.uv0, light ? next_light++ : 0u),
           shade_corner(t.v1, s.n1, s.c1, s.uv1, 0u), shade_corner(t.v2, s.n2, s.c2, s.uv2, 0u)};
@@ -315,17 +335,21 @@ RenderScene make_render_scene(const Scene& scene, const DefaultLighting& lightin
   out.triangle_count = scene.triangles.size();
   add_materials(scene, out);
   if (out.materials.empty()) out.materials.push_back(gpu::GpuMaterial{});
-  if (out.features.on[HRPP_FEATURE_TEXTURES]) add_textures(scene, texel_budget_bytes, out);
+  if (out.features.on[HRPP_FEATURE_TEXTURES] || out.features.on[HRPP_FEATURE_MATERIAL_TEXTURES])
+    add_textures(scene, texel_budget_bytes, out);
   if (out.texels.empty()) out.texels.push_back(0);  // bindings need a non-empty buffer
   if (out.textures.empty()) out.textures.push_back(gpu::GpuTexture{});
 
   std::vector<float> power;
   const float radius = add_triangle_lights(scene, out, power);
-  out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] = out.emissive_triangles > 0;
+  const bool textured_emission = has_textured_emission(out);
+  out.features.on[HRPP_FEATURE_EMISSIVE_TRIANGLES] =
+      out.emissive_triangles > 0 || textured_emission;
   add_scene_lights(scene, radius, out, power);
   make_light_cdf(power, out);
   add_shading(scene, out);  // emissive triangles are lights only while a light has power
-  if (out.lights.empty() && !emits(out.environment)) add_default_lighting(lighting, out);
+  if (out.lights.empty() && !emits(out.environment) && !textured_emission)
+    add_default_lighting(lighting, out);
   out.features.on[HRPP_FEATURE_ENVIRONMENT] = emits(out.environment);
   return out;
 }

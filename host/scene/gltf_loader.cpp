@@ -285,9 +285,39 @@ class GltfLoader {
       }
       scene_.materials.push_back(std::move(mat));
       // Texture decoding is deferred until first use (see walk), but resolved here for errors.
-      base_texture_.push_back(pbr.baseColorTexture.index);
-      uv_transform_.push_back(texture_transform(pbr.baseColorTexture.extensions, i));
+      slots_.push_back({pbr.baseColorTexture.index, pbr.metallicRoughnessTexture.index,
+                        gm.emissiveTexture.index});
+      uv_transform_.push_back(material_transform(gm, i));
     }
+  }
+
+  // The KHR_texture_transform of material i's texcoords. Vertices carry one set, so its textures
+  // share the first one's transform (base colour, metallic-roughness, emissive); another slot's
+  // different transform is warned about.
+  std::optional<glm::mat3> material_transform(const tinygltf::Material& gm, std::size_t i) {
+    const auto& pbr = gm.pbrMetallicRoughness;
+    const struct {
+      int index;
+      const tinygltf::ExtensionMap& ext;
+      const char* name;
+    } slots[] = {{pbr.baseColorTexture.index, pbr.baseColorTexture.extensions, "baseColorTexture"},
+                 {pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.extensions,
+                  "metallicRoughnessTexture"},
+                 {gm.emissiveTexture.index, gm.emissiveTexture.extensions, "emissiveTexture"}};
+    std::optional<glm::mat3> chosen;
+    const char* chosen_name = nullptr;
+    for (const auto& slot : slots) {
+      if (slot.index < 0) continue;
+      const std::optional<glm::mat3> t = texture_transform(slot.ext, i);
+      if (!chosen_name) {
+        chosen = t;
+        chosen_name = slot.name;
+      } else if (t != chosen) {
+        warn("material " + std::to_string(i) + ": the " + slot.name +
+             "'s KHR_texture_transform differs from the " + chosen_name + "'s, which is used");
+      }
+    }
+    return chosen;
   }
 
   // KHR_texture_transform of a material's base colour texture as the matrix the spec gives:
@@ -325,10 +355,10 @@ class GltfLoader {
     for (glm::vec2& p : uv) p = glm::vec2(*t * glm::vec3(p, 1.0f));
   }
 
-  int texture_for(int material_index) {
-    const int tex = base_texture_[material_index];
+  // The scene's texture for glTF texture `tex` of material material_index's slot (-1: none).
+  int texture_for(int material_index, int tex, const char* slot) {
     if (tex < 0) return -1;
-    const std::string where = "material " + std::to_string(material_index) + " baseColorTexture";
+    const std::string where = "material " + std::to_string(material_index) + " " + slot;
     if (static_cast<std::size_t>(tex) >= m_.textures.size()) {
       fail(where + ": texture " + std::to_string(tex) + " does not exist");
     }
@@ -384,7 +414,14 @@ class GltfLoader {
     }
     if (!texture_resolved_.count(index)) {
       texture_resolved_.insert(index);
-      scene_.materials[index].base_color_texture = texture_for(index);
+      const TextureSlots& t = slots_[index];
+      Material& mat = scene_.materials[index];
+      mat.base_color_texture = texture_for(index, t.base_color, "baseColorTexture");
+      mat.metallic_roughness_texture =
+          texture_for(index, t.metallic_roughness, "metallicRoughnessTexture");
+      // emissiveFactor (default 0) scales the texture: without it, nothing emits.
+      if (mat.emission != glm::vec3(0.0f))
+        mat.emissive_texture = texture_for(index, t.emissive, "emissiveTexture");
     }
     return static_cast<std::uint32_t>(index);
   }
@@ -727,7 +764,10 @@ class GltfLoader {
   AccessorReader reader_{m_};
   std::string file_;
   Scene& scene_;
-  std::vector<int> base_texture_;       // per glTF material: baseColorTexture.index
+  struct TextureSlots {  // a glTF material's texture indices, -1: none
+    int base_color, metallic_roughness, emissive;
+  };
+  std::vector<TextureSlots> slots_;     // per glTF material
   std::vector<int> texture_of_image_;   // glTF image -> Scene::textures index, -1: not decoded
   std::set<int> texture_resolved_;
   std::vector<std::uint8_t> state_;     // per node: 1 while on the current path

@@ -371,7 +371,8 @@ class ManifestLoader {
     const auto mat_offset = static_cast<std::uint32_t>(scene.materials.size());
     const int tex_offset = static_cast<int>(scene.textures.size());
     for (Material& m : part.materials) {
-      if (m.base_color_texture >= 0) m.base_color_texture += tex_offset;
+      for (int* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture})
+        if (*t >= 0) *t += tex_offset;
       scene.materials.push_back(std::move(m));
     }
     for (Texture& t : part.textures) scene.textures.push_back(std::move(t));

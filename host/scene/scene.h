@@ -39,6 +39,10 @@ struct Material {
   int base_color_texture = -1;  // index into Scene::textures, -1: none
   float metallic = 0.0f;
   float roughness = 1.0f;
+  // glTF's metallicRoughnessTexture (linear: B scales metallic, G roughness) and
+  // emissiveTexture (sRGB: it scales emission); indices into Scene::textures, -1: none.
+  int metallic_roughness_texture = -1;
+  int emissive_texture = -1;
   float transmission = 0.0f;    // 1: dielectric (glass)
   float ior = 1.5f;
   // The dielectric's specular layer, KHR_materials_specular's specularFactor and

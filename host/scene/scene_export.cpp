@@ -13,6 +13,8 @@ nlohmann::json material_json(const Material& m) {
   return {{"name", m.name},
           {"base_color", vec(m.base_color)},
           {"textured", m.base_color_texture >= 0},
+          {"metallic_roughness_textured", m.metallic_roughness_texture >= 0},
+          {"emissive_textured", m.emissive_texture >= 0},
           {"metallic", m.metallic},
           {"roughness", m.roughness},
           {"transmission", m.transmission},

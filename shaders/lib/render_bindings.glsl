@@ -20,6 +20,7 @@ layout(constant_id = HRPP_FEATURE_ENVIRONMENT) const bool kEnvironment = true;
 layout(constant_id = HRPP_FEATURE_METAL) const bool kMetal = true;
 layout(constant_id = HRPP_FEATURE_GLASS) const bool kGlass = true;
 layout(constant_id = HRPP_FEATURE_SPECULAR_LAYER) const bool kSpecularLayer = true;
+layout(constant_id = HRPP_FEATURE_MATERIAL_TEXTURES) const bool kMaterialTextures = true;
 
 layout(std430, set = 0, binding = HRPP_RENDER_BINDING_PARAMS) readonly restrict buffer ParamBuffer {
   RenderParams params;
@@ -110,14 +111,17 @@ ShadeTriangle load_shade_triangle(uint i) {
 }
 
 GpuMaterial load_material(uint i) {
-  const uvec4 a = texel_at(material_texels, 4u * i);
-  const uvec4 b = texel_at(material_texels, 4u * i + 1u);
-  const uvec4 c = texel_at(material_texels, 4u * i + 2u);
-  // The specular layer's texel only where a material has one (else f90 0: no layer).
-  const uvec4 d = kSpecularLayer ? texel_at(material_texels, 4u * i + 3u) : uvec4(0u);
+  const uvec4 a = texel_at(material_texels, 5u * i);
+  const uvec4 b = texel_at(material_texels, 5u * i + 1u);
+  const uvec4 c = texel_at(material_texels, 5u * i + 2u);
+  // The specular layer's texel only where a material has one (else f90 0: no layer), the
+  // textures' only where one has metallic-roughness or emissive textures (else -1: none).
+  const uvec4 d = kSpecularLayer ? texel_at(material_texels, 5u * i + 3u) : uvec4(0u);
+  const ivec4 e = kMaterialTextures ? ivec4(texel_at(material_texels, 5u * i + 4u)) : ivec4(-1);
   return GpuMaterial(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz),
                      uintBitsToFloat(b.w), uintBitsToFloat(c.x), uintBitsToFloat(c.y),
-                     uintBitsToFloat(c.z), c.w, uintBitsToFloat(d.xyz), uintBitsToFloat(d.w));
+                     uintBitsToFloat(c.z), c.w, uintBitsToFloat(d.xyz), uintBitsToFloat(d.w),
+                     e.x, e.y, e.z, e.w);
 }
 
 GpuLight load_light(uint i) {

@@ -42,6 +42,14 @@ struct Lobe {
 
 HRPP_INLINE float max_channel(vec3 v) { return max(v.x, max(v.y, v.z)); }
 
+// glTF's metallicRoughnessTexture at a vertex: its (linear) texel's B channel scales metallic,
+// its G channel roughness.
+HRPP_INLINE GpuMaterial with_metallic_roughness(GpuMaterial m, vec3 texel) {
+  m.metallic *= texel.z;
+  m.roughness *= texel.y;
+  return m;
+}
+
 // The probability with which a dielectric's vertex samples its specular layer: the layer's
 // Fresnel at n·wo against the diffuse's share under it, kept within kMinLayerProb of 0 and 1;
 // 0 without a layer.

@@ -55,7 +55,8 @@ namespace hrpp::gpu {
 #define HRPP_FEATURE_METAL 6
 #define HRPP_FEATURE_GLASS 7
 #define HRPP_FEATURE_SPECULAR_LAYER 8
-#define HRPP_FEATURE_COUNT 9
+#define HRPP_FEATURE_MATERIAL_TEXTURES 9  // metallicRoughnessTexture, emissiveTexture
+#define HRPP_FEATURE_COUNT 10
 #ifdef __cplusplus
 // The CPU reference renderer (host/cpu_render/) compiles every feature in: a feature that is
 // off only removes code the scene's data cannot reach (make_render_scene sets them).
@@ -68,6 +69,7 @@ inline constexpr bool kEnvironment = true;
 inline constexpr bool kMetal = true;
 inline constexpr bool kGlass = true;
 inline constexpr bool kSpecularLayer = true;
+inline constexpr bool kMaterialTextures = true;
 #endif
 
 #define HRPP_LIGHT_TRIANGLE 0u
@@ -219,6 +221,12 @@ struct GpuMaterial {
   // Fresnel between specular_f0 and specular_f90; f90 0: none, a Lambertian diffuse.
   vec3 specular_f0;
   float specular_f90;
+  // glTF's metallicRoughnessTexture (linear; B scales metallic, G roughness) and emissiveTexture
+  // (sRGB; it scales emission): indices into the GpuTexture array, -1: none.
+  int metallic_roughness_texture;
+  int emissive_texture;
+  int pad0;
+  int pad1;
 };
 
 // Light for next-event estimation, chosen with probability cdf - previous cdf (by power).

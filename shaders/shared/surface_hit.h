@@ -81,8 +81,12 @@ HRPP_INLINE vec3 srgb_to_linear(vec3 c) {
   return mix(ieee_div(c, 12.92f), pow(ieee_div(c + 0.055f, 1.055f), vec3(2.4f)), greaterThan(c, vec3(0.04045f)));
 }
 
-// An RGBA8 texel (R in the low byte; glTF base colour, sRGB) as linear RGB.
-HRPP_INLINE vec3 decode_texel(uint rgba8) { return srgb_to_linear(vec3(unpackUnorm4x8(rgba8))); }
+// An RGBA8 texel (R in the low byte) as linear RGB: sRGB-encoded (glTF's base colour and
+// emissive textures) or linear (its metallicRoughnessTexture).
+HRPP_INLINE vec3 decode_texel(uint rgba8, bool srgb) {
+  const vec3 c = vec3(unpackUnorm4x8(rgba8));
+  return srgb ? srgb_to_linear(c) : c;
+}
 
 // The four texels of a bilinear lookup at uv (repeat wrap): their indices in the texel array,
 // and the weights of the second column and row.
